@@ -1,0 +1,3 @@
+from marblevideo.cli import main
+
+raise SystemExit(main())

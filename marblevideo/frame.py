@@ -1,0 +1,112 @@
+"""Per-frame parameters: what the renderers consume.
+
+A :class:`~marblevideo.recipe.Recipe` evaluated at a time ``t`` gives a
+:class:`FrameSpec`: every keyframe track resolved to a plain value and every
+op's ``start``/``end`` progress already applied (drop and spray radius scaled
+by sqrt(p), tine/comb/circle/vortex alpha by p, wave amplitude by p). Both
+renderers, the NumPy reference and the OpenCL kernel, read only this.
+
+Conventions (see shared/recipe-format.md): canvas units, origin top-left,
+x right, y down; angles in degrees; colors are (r, g, b) floats in 0..255.
+
+:class:`Geometry` holds the two per-axis affine maps of a render:
+output pixel coordinates -> canvas point, and canvas point -> input pixel
+coordinates. Pixel (i, j) covers [i, i+1] x [j, j+1]; its centre is
+(i + 0.5, j + 0.5), in output and input alike.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+Value = float | tuple[float, ...]
+
+#: Parameter names of each op type, in the order the kernel packs them.
+OP_PARAMS: dict[str, tuple[str, ...]] = {
+    "drop": ("center", "radius", "color"),
+    "spray": ("center", "radius", "color"),
+    "tine": ("point", "angle", "alpha", "lambda"),
+    "comb": ("point", "angle", "spacing", "alpha", "lambda"),
+    "wave": ("amplitude", "wavelength", "phase", "angle"),
+    "circle": ("center", "radius", "alpha", "lambda"),
+    "vortex": ("center", "alpha", "lambda"),
+}
+
+INK_OPS = frozenset({"drop", "spray"})
+EDGE_MODES = ("clamp", "repeat", "mirror", "background")
+
+
+@dataclass(frozen=True)
+class OpState:
+    """One op at one instant: ``values`` maps each parameter name of
+    ``OP_PARAMS[type]`` to a float (numbers) or a tuple (points, colors)."""
+
+    type: str
+    values: dict[str, Value] = field(hash=False)
+
+    def __getitem__(self, name: str) -> Value:
+        return self.values[name]
+
+
+@dataclass(frozen=True)
+class FrameSpec:
+    """Everything needed to render one frame, independent of image sizes."""
+
+    ops: tuple[OpState, ...]
+    background: tuple[float, float, float]
+    antialias: str
+    edges: str
+    canvas: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class Geometry:
+    """Per-axis affine maps of one render.
+
+    canvas = (ox * to_canvas[0] + to_canvas[2], oy * to_canvas[1] + to_canvas[3])
+    for an output point (ox, oy); input pixel coordinates are
+    (cx * to_input[0] + to_input[2], cy * to_input[1] + to_input[3]).
+    """
+
+    out_w: int
+    out_h: int
+    to_canvas: tuple[float, float, float, float]
+    to_input: tuple[float, float, float, float]
+
+
+def fit(canvas: tuple[float, float], w: int, h: int) -> tuple[float, float, float]:
+    """Scale and offsets that show ``canvas`` uniformly scaled and centred in w x h:
+    output point o = s * c + (dx, dy)."""
+    cw, ch = canvas
+    s = min(w / cw, h / ch)
+    return s, (w - s * cw) / 2.0, (h - s * ch) / 2.0
+
+
+def geometry(
+    canvas: tuple[float, float],
+    out_size: tuple[int, int],
+    input_size: tuple[int, int] | None = None,
+    view: tuple[float, float, float, float] | None = None,
+) -> Geometry:
+    """Build the maps for an output of ``out_size`` = (w, h).
+
+    Without ``view`` the canvas is fitted into the output frame (contract's
+    geometry). With ``view`` = (x, y, w, h) in canvas units, that window is
+    fitted instead (deep zoom); the input stays attached to the canvas as in
+    the unzoomed frame. An input fills the (unzoomed) output frame, stretched
+    per axis when its aspect differs.
+    """
+    w, h = out_size
+    s, dx, dy = fit(canvas, w, h)
+    if view is None:
+        to_canvas = (1.0 / s, 1.0 / s, -dx / s, -dy / s)
+    else:
+        vx, vy, vw, vh = view
+        vs, vdx, vdy = fit((vw, vh), w, h)
+        to_canvas = (1.0 / vs, 1.0 / vs, vx - vdx / vs, vy - vdy / vs)
+    if input_size is None:
+        to_input = (s, s, dx, dy)
+    else:
+        kx, ky = input_size[0] / w, input_size[1] / h
+        to_input = (s * kx, s * ky, dx * kx, dy * ky)
+    return Geometry(w, h, to_canvas, to_input)
