@@ -17,8 +17,14 @@ def _cells(n: int, cells: list[tuple[int, int]]) -> list[tuple[float, float, flo
 
 PATTERNS: dict[str, list[tuple[float, float, float]]] = {
     "none": [(0.0, 0.0, 1.0)],
-    "rgss": [(-1 / 8, -3 / 8, 0.25), (3 / 8, -1 / 8, 0.25), (1 / 8, 3 / 8, 0.25), (-3 / 8, 1 / 8, 0.25)],
-    "quincunx": [(0.0, 0.0, 0.5)] + [(sx * 0.5, sy * 0.5, 0.125) for sy in (-1, 1) for sx in (-1, 1)],
+    "rgss": [
+        (-1 / 8, -3 / 8, 0.25),
+        (3 / 8, -1 / 8, 0.25),
+        (1 / 8, 3 / 8, 0.25),
+        (-3 / 8, 1 / 8, 0.25),
+    ],
+    "quincunx": [(0.0, 0.0, 0.5)]
+    + [(sx * 0.5, sy * 0.5, 0.125) for sy in (-1, 1) for sx in (-1, 1)],
     "checker4": _cells(4, [(c, r) for r in range(4) for c in range(4) if (c + r) % 2 == 0]),
     "grid4": _cells(4, [(c, r) for r in range(4) for c in range(4)]),
     "rooks8": _cells(8, list(enumerate((3, 7, 1, 5, 0, 4, 2, 6)))),
