@@ -1,0 +1,261 @@
+"""The OpenCL renderer: one kernel evaluates a frame's whole inverse walk.
+
+A recipe's *structure* (op types in order, antialiasing pattern, edges mode,
+blank sheet or input) is built into a program once; the per-frame values (a
+:class:`~marblevideo.frame.FrameSpec`) are packed into a small float buffer by
+:func:`pack_params`, so animating a recipe never recompiles. Programs are
+cached per structure and their kernel fetched once.
+
+Images are RGBA uint8 arrays of shape (H, W, 4), rows top to bottom; RGB and
+grey inputs are widened to RGBA on upload. On CPU devices the kernel runs
+16-lane vector code with several independent chains per work-item (see
+shared/PERF-NOTES.md); on GPUs one pixel per work-item.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+
+from marblevideo.antialias import pattern
+from marblevideo.device import DeviceInfo, choose_device
+from marblevideo.errors import DeviceError, UsageError
+from marblevideo.frame import EDGE_MODES, FrameSpec, Geometry
+
+PSTRIDE = 12  # floats per op in the parameter buffer; the last holds the type code
+TYPE_CODES = {"drop": 0, "spray": 1, "tine": 2, "comb": 3, "wave": 4, "circle": 5, "vortex": 6}
+#: Recipes longer than this walk their ops in a loop instead of unrolled code.
+UNROLL_LIMIT = 48
+#: Largest output or input side accepted (OpenCL buffers and int indices).
+MAX_SIDE = 1 << 15
+
+
+def kernel_source(name: str = "marble.cl") -> str:
+    """An OpenCL source from the installed package, or from the repository's kernels/."""
+    packaged = resources.files("marblevideo") / "kernels" / name
+    if packaged.is_file():
+        return packaged.read_text()
+    return (Path(__file__).resolve().parent.parent / "kernels" / name).read_text()
+
+
+def pack_params(spec: FrameSpec) -> np.ndarray:
+    """Per-frame op values as float32, PSTRIDE per op (layout documented in marble.cl).
+
+    Angles become direction cosines, wave phase and circle rotation become
+    turns, so the kernel needs no library trigonometry.
+    """
+    out = np.zeros((max(len(spec.ops), 1), PSTRIDE), dtype=np.float64)
+    for i, op in enumerate(spec.ops):
+        v, row = op.values, out[i]
+        row[PSTRIDE - 1] = TYPE_CODES[op.type]
+        if op.type in ("drop", "spray"):
+            row[:6] = (*v["center"], v["radius"] ** 2, *v["color"])
+        elif op.type in ("tine", "comb"):
+            a = math.radians(v["angle"])
+            ca, sa = math.cos(a), math.sin(a)
+            row[:8] = (*v["point"], ca, sa, -sa, ca, v["alpha"] * v["lambda"], v["lambda"])
+            if op.type == "comb":
+                s = v["spacing"]
+                row[8:11] = (s, 1.0 / s, s / 2.0)
+        elif op.type == "wave":
+            t = math.radians(v["angle"])
+            row[:5] = (
+                v["amplitude"],
+                1.0 / v["wavelength"],
+                v["phase"] / 360.0,
+                math.cos(t),
+                math.sin(t),
+            )
+        else:  # circle, vortex
+            radius = v["radius"] if op.type == "circle" else 0.0
+            row[:5] = (*v["center"], radius, v["alpha"] * v["lambda"] / (2 * math.pi), v["lambda"])
+    return out.astype(np.float32).ravel()
+
+
+@dataclass(frozen=True)
+class Structure:
+    """What a program is built for; everything else is a per-frame value."""
+
+    types: tuple[str, ...]
+    antialias: str
+    edges: str
+    has_input: bool
+
+    @classmethod
+    def of(cls, spec: FrameSpec, has_input: bool) -> Structure:
+        return cls(tuple(op.type for op in spec.ops), spec.antialias, spec.edges, has_input)
+
+
+def _walk_source(types: tuple[str, ...]) -> str:
+    """The generated header that bakes a recipe's structure into the program."""
+    if len(types) > UNROLL_LIMIT:
+        return f"#define NOPS {len(types)}\n#define WALK WALK_LOOP\n#define INK INK_LOOP\n"
+    walk = " ".join(f"OP_{t.upper()}({i})" for i, t in reversed(list(enumerate(types))))
+    ink = " ".join(f"INK_COLOR({i})" for i, t in enumerate(types) if t in ("drop", "spray"))
+    return f"#define WALK {walk}\n#define INK {ink}\n"
+
+
+def to_rgba(image: np.ndarray) -> np.ndarray:
+    """An (H, W, 4) C-contiguous uint8 view or copy of an RGBA, RGB or grey image."""
+    if image.dtype != np.uint8:
+        raise UsageError(f"images must be 8-bit, got {image.dtype}")
+    if image.ndim == 2:
+        image = image[:, :, None].repeat(3, axis=2)
+    if image.ndim != 3 or image.shape[2] not in (3, 4):
+        raise UsageError(f"images must be (H, W, 3|4), got shape {image.shape}")
+    if image.shape[2] == 3:
+        alpha = np.full(image.shape[:2] + (1,), 255, np.uint8)
+        image = np.concatenate([image, alpha], axis=2)
+    return np.ascontiguousarray(image)
+
+
+class Renderer:
+    """Renders :class:`FrameSpec` s on one OpenCL device.
+
+    ``device``: a choice as in :func:`marblevideo.device.choose_device`.
+    ``lanes`` and ``chains`` override the vector width and the independent
+    chains per work-item (defaults: 16 and 4 on CPUs, 1 and 1 on GPUs).
+    """
+
+    def __init__(
+        self, device: str | None = None, *, lanes: int | None = None, chains: int | None = None
+    ):
+        import pyopencl as cl
+
+        self._cl = cl
+        self.info: DeviceInfo = choose_device(device)
+        dev = self.info.device
+        try:
+            self.context = cl.Context([dev])
+            self.queue = cl.CommandQueue(self.context)
+        except cl.Error as exc:
+            raise DeviceError(f"cannot open OpenCL device {self.info.name}: {exc}") from None
+        is_cpu = bool(dev.type & cl.device_type.CPU)
+        self.lanes = lanes or (16 if is_cpu else 1)
+        self.chains = chains or (4 if is_cpu else 1)
+        self._source = kernel_source()
+        self._kernels: dict[tuple, object] = {}
+        self._buffers: dict[str, tuple[int, object]] = {}
+        self._samples: dict[str, object] = {}
+
+    # -- programs ---------------------------------------------------------
+    def _layout(self, nsamples: int) -> tuple[int, int]:
+        """(rows per work-item, chains) for a pattern of ``nsamples``."""
+        if self.lanes == 1 or self.chains == 1:
+            return 1, 1
+        if nsamples == 1:
+            return self.chains, self.chains
+        if nsamples <= 5 or nsamples % self.chains:
+            return 1, nsamples
+        return 1, self.chains
+
+    def kernel_for(self, structure: Structure):
+        """The kernel for ``structure``, built on first use and cached."""
+        key = (structure,)
+        kernel = self._kernels.get(key)
+        if kernel is not None:
+            return kernel
+        cl = self._cl
+        nsamples = len(pattern(structure.antialias))
+        rows, chains = self._layout(nsamples)
+        options = [
+            f"-DLANES={self.lanes}",
+            f"-DCHAINS={chains}",
+            f"-DROWS={rows}",
+            f"-DNSAMPLES={nsamples}",
+            f"-DHAS_INPUT={int(structure.has_input)}",
+            f"-DEDGES={EDGE_MODES.index(structure.edges)}",
+        ]
+        source = _walk_source(structure.types) + self._source
+        try:
+            program = cl.Program(self.context, source).build(options=options)
+        except cl.Error as exc:
+            first = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
+            raise DeviceError(f"OpenCL build failed on {self.info.name}: {first}") from None
+        kernel = (cl.Kernel(program, "marble"), rows)
+        self._kernels[key] = kernel
+        return kernel
+
+    # -- buffers ----------------------------------------------------------
+    def _buffer(self, name: str, nbytes: int):
+        nbytes = max(int(nbytes), 4)
+        have = self._buffers.get(name)
+        if have is None or have[0] < nbytes:
+            flags = self._cl.mem_flags.READ_WRITE
+            buf = self._cl.Buffer(self.context, flags, nbytes)
+            self._buffers[name] = (nbytes, buf)
+            return buf
+        return have[1]
+
+    def _sample_buffer(self, name: str):
+        buf = self._samples.get(name)
+        if buf is None:
+            data = pattern(name).astype(np.float32).ravel()
+            mf = self._cl.mem_flags
+            buf = self._cl.Buffer(self.context, mf.READ_ONLY | mf.COPY_HOST_PTR, hostbuf=data)
+            self._samples[name] = buf
+        return buf
+
+    # -- rendering --------------------------------------------------------
+    def render(
+        self,
+        spec: FrameSpec,
+        geom: Geometry,
+        image: np.ndarray | None = None,
+        out: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """Render one frame: (geom.out_h, geom.out_w, 4) uint8 RGBA.
+
+        ``image`` is the input (RGBA, RGB or grey uint8), or None for a blank
+        sheet; ``out`` an optional destination array of the right shape.
+        """
+        cl = self._cl
+        w, h = geom.out_w, geom.out_h
+        if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
+            raise UsageError(f"output size {w}x{h} is outside 1..{MAX_SIDE} per side")
+        kernel, rows = self.kernel_for(Structure.of(spec, image is not None))
+        queue = self.queue
+        params = pack_params(spec)
+        pbuf = self._buffer("params", params.nbytes)
+        cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
+        if image is not None:
+            rgba = to_rgba(image)
+            sh, sw = rgba.shape[:2]
+            src = self._buffer("src", rgba.nbytes)
+            cl.enqueue_copy(queue, src, rgba, is_blocking=False)
+        else:
+            sw = sh = 1
+            src = self._buffer("src", 4)
+        dst = self._buffer("dst", w * h * 4)
+        bg = [float(c) for c in spec.background]
+        packed_bg = int(round(bg[0])) | int(round(bg[1])) << 8 | int(round(bg[2])) << 16
+        packed_bg |= 255 << 24
+        geo = np.array([*geom.to_canvas, *geom.to_input], dtype=np.float32)
+        nbx = -(-w // self.lanes)
+        nby = -(-h // rows)
+        total = -(-(nbx * nby) // 64) * 64
+        kernel.set_args(
+            dst,
+            np.int32(w),
+            np.int32(h),
+            src,
+            np.int32(sw),
+            np.int32(sh),
+            pbuf,
+            self._sample_buffer(spec.antialias),
+            geo.view(cl.cltypes.float8)[0],
+            np.array(bg + [255.0], dtype=np.float32).view(cl.cltypes.float4)[0],
+            np.uint32(packed_bg),
+        )
+        try:
+            cl.enqueue_nd_range_kernel(queue, kernel, (total,), None)
+            if out is None:
+                out = np.empty((h, w, 4), dtype=np.uint8)
+            cl.enqueue_copy(queue, out, dst, is_blocking=True)
+        except cl.Error as exc:
+            raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
+        return out
