@@ -1,0 +1,141 @@
+"""The command line: ``marblevideo [INPUT] --ops RECIPE -o OUTPUT``, ``devices``, ``schema``.
+
+What is rendered follows from the files: an image input or a blank sheet to an
+image output is a still; a video input, or a blank sheet to a video output, is
+a video. Exit status: 0 done, 1 runtime failure, 2 usage or recipe error,
+130/143 interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import signal
+import sys
+from pathlib import Path
+
+from marblevideo import __version__
+from marblevideo.errors import Interrupted, MarbleError, UsageError
+
+VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm")
+EPILOG = """\
+examples:
+  marblevideo in.mp4 --ops samples/swirl.json -o out.mp4
+  marblevideo photo.jpg --ops samples/comb-wave.json -o out.png --time 2
+  marblevideo --ops samples/figure6.json -o design.png --size 2048x2048
+  marblevideo devices            list OpenCL devices
+  marblevideo schema             print the recipe's JSON Schema
+
+exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143 interrupted
+"""
+
+
+class _Parser(argparse.ArgumentParser):
+    """argparse with one-line errors and exit status 2."""
+
+    def error(self, message: str):
+        raise UsageError(f"{message} (see {self.prog} --help)")
+
+
+def _render_parser() -> argparse.ArgumentParser:
+    p = _Parser(
+        prog="marblevideo",
+        description="Marble videos, live sources and stills with the closed-form "
+        "operations of Mathematical Marbling (Lu et al. 2012), rendered by OpenCL.",
+        epilog=EPILOG,
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument("input", nargs="?", help="image or video to marble; omit for a blank sheet")
+    p.add_argument("--ops", required=True, metavar="RECIPE", help="recipe JSON file")
+    p.add_argument(
+        "-o",
+        "--output",
+        required=True,
+        help="output file; the format follows "
+        "the extension (.png .jpg .tif .webp | .mp4 .mov .mkv .webm)",
+    )
+    p.add_argument("-y", "--overwrite", action="store_true", help="replace an existing output")
+    p.add_argument("--size", metavar="WxH", help="output size (default: input or canvas)")
+    p.add_argument(
+        "--time",
+        type=float,
+        metavar="T",
+        help="stills: render at T seconds (default: the end of the animation)",
+    )
+    p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
+    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or notes")
+    p.add_argument("--version", action="version", version=f"marblevideo {__version__}")
+    return p
+
+
+def _cmd_devices(argv: list[str]) -> int:
+    from marblevideo.device import describe_devices, list_devices
+
+    _Parser(prog="marblevideo devices", description="List OpenCL devices.").parse_args(argv)
+    print(describe_devices())
+    return 0 if list_devices() else 1
+
+
+def _cmd_schema(argv: list[str]) -> int:
+    from marblevideo.recipe import schema
+
+    _Parser(prog="marblevideo schema", description="Print the recipe JSON Schema.").parse_args(argv)
+    print(json.dumps(schema(), indent=2))
+    return 0
+
+
+def _cmd_render(argv: list[str]) -> int:
+    from marblevideo.api import as_recipe, parse_size, render_still
+    from marblevideo.images import is_image_path
+
+    args = _render_parser().parse_args(argv)
+    recipe = as_recipe(args.ops)  # validated before any input is opened
+    size = parse_size(args.size) if args.size else None
+    out_ext = Path(args.output).suffix.lower()
+    if is_image_path(args.output):
+        if args.input is not None and not is_image_path(args.input):
+            raise UsageError(f"{args.input}: stills take an image input (.png .jpg .tif .webp)")
+        render_still(
+            args.input,
+            recipe,
+            args.output,
+            time=args.time,
+            size=size,
+            overwrite=args.overwrite,
+            device=args.device,
+        )
+        if not args.quiet:
+            print(f"wrote {args.output}", file=sys.stderr)
+        return 0
+    if out_ext in VIDEO_EXTENSIONS:
+        raise UsageError(f"{args.output}: video output is not available yet")
+    raise UsageError(f"{args.output}: unknown output extension {out_ext or '(none)'!r}")
+
+
+COMMANDS = {"devices": _cmd_devices, "schema": _cmd_schema}
+
+
+def _on_sigterm(signum, frame):
+    raise Interrupted(signum)
+
+
+def run(argv: list[str]) -> int:
+    """Dispatch a command line; raises MarbleError for the caller to report."""
+    if argv and argv[0] in COMMANDS:
+        return COMMANDS[argv[0]](argv[1:])
+    return _cmd_render(argv)
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    try:
+        return run(argv)
+    except MarbleError as exc:
+        print(f"marblevideo: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("marblevideo: interrupted", file=sys.stderr)
+        return 130
+    finally:
+        signal.signal(signal.SIGTERM, previous)

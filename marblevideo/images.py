@@ -1,0 +1,83 @@
+"""Still images in and out (PNG, JPEG, TIFF, WebP), through OpenCV.
+
+Arrays are RGBA uint8 (H, W, 4), rows top to bottom. Alpha is kept where the
+input has it and the output format can hold it (PNG, TIFF, WebP); JPEG drops
+it. 16-bit inputs are reduced to 8 bits. Inputs larger than
+:data:`MAX_PIXELS` are refused from their header, before any pixel is decoded.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import numpy as np
+
+from marblevideo.errors import MediaError, UsageError
+
+IMAGE_EXTENSIONS = frozenset({".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp"})
+ALPHA_EXTENSIONS = frozenset({".png", ".tif", ".tiff", ".webp"})
+#: Largest input image accepted, in pixels (about 16k x 16k).
+MAX_PIXELS = 1 << 28
+
+os.environ.setdefault("OPENCV_IO_MAX_IMAGE_PIXELS", str(MAX_PIXELS))
+import cv2  # noqa: E402  (reads the limit above when first imported)
+
+
+def is_image_path(path: str | os.PathLike) -> bool:
+    return Path(path).suffix.lower() in IMAGE_EXTENSIONS
+
+
+def read_image(path: str | os.PathLike) -> tuple[np.ndarray, bool]:
+    """(RGBA uint8 array, whether the file had alpha)."""
+    path = Path(path)
+    if not path.exists():
+        raise UsageError(f"{path}: no such file")
+    if path.is_dir():
+        raise UsageError(f"{path}: is a folder, not an image")
+    if path.stat().st_size == 0:
+        raise MediaError(f"{path}: empty file")
+    try:
+        data = np.fromfile(path, dtype=np.uint8)
+        image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
+    except cv2.error as exc:
+        msg = str(exc).strip().splitlines()[-1] if str(exc).strip() else "cannot decode"
+        raise MediaError(f"{path}: cannot decode image ({msg})") from None
+    except OSError as exc:
+        raise MediaError(f"{path}: cannot read: {exc.strerror}") from None
+    if image is None:
+        raise MediaError(f"{path}: not a readable image (or over {MAX_PIXELS} pixels)")
+    if image.dtype == np.uint16:
+        image = (image >> 8).astype(np.uint8)
+    elif image.dtype != np.uint8:
+        raise MediaError(f"{path}: unsupported sample type {image.dtype}; use 8 or 16 bits")
+    if image.ndim == 2:
+        return cv2.cvtColor(image, cv2.COLOR_GRAY2RGBA), False
+    if image.shape[2] == 4:
+        return cv2.cvtColor(image, cv2.COLOR_BGRA2RGBA), True
+    return cv2.cvtColor(image, cv2.COLOR_BGR2RGBA), False
+
+
+def write_image(
+    path: str | os.PathLike, rgba: np.ndarray, alpha: bool = True, fmt: str | None = None
+) -> None:
+    """Write ``rgba``; alpha only when asked and the format holds it.
+    ``fmt`` is the extension deciding the format (default: the path's)."""
+    path = Path(path)
+    ext = (fmt or path.suffix).lower()
+    if ext not in IMAGE_EXTENSIONS:
+        raise UsageError(f"{path}: unknown image extension {ext!r}")
+    if alpha and ext in ALPHA_EXTENSIONS:
+        pixels = cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGRA)
+    else:
+        pixels = cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGR)
+    params = [cv2.IMWRITE_JPEG_QUALITY, 95] if ext in (".jpg", ".jpeg") else []
+    if ext == ".webp":
+        params = [cv2.IMWRITE_WEBP_QUALITY, 101 if alpha else 95]
+    ok, encoded = cv2.imencode(ext, pixels, params)
+    if not ok:
+        raise MediaError(f"{path}: cannot encode as {ext}")
+    try:
+        encoded.tofile(path)
+    except OSError as exc:
+        raise MediaError(f"{path}: cannot write: {exc.strerror}") from None

@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# Set up marblevideo in ./.venv on Debian/Ubuntu: an OpenCL driver (Debian's PoCL,
+# only when no OpenCL driver is registered), then the package and its dependencies.
+# Usage: bash scripts/setup.sh [--test]   (--test also installs the test tools)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+
+as_root() { if [ "$(id -u)" = 0 ]; then "$@"; else sudo "$@"; fi; }
+apt_install() {
+  if command -v apt-get >/dev/null; then
+    as_root apt-get update -qq
+    DEBIAN_FRONTEND=noninteractive as_root apt-get install -y -qq "$@" >/dev/null
+  else
+    echo "setup: please install $* with your package manager" >&2
+    exit 1
+  fi
+}
+
+if ! ls /etc/OpenCL/vendors/*.icd >/dev/null 2>&1; then
+  echo "setup: no OpenCL driver registered; installing Debian's PoCL (CPU OpenCL)" >&2
+  apt_install pocl-opencl-icd ocl-icd-libopencl1
+fi
+
+PY=${PYTHON:-python3}
+if [ ! -x .venv/bin/python ]; then
+  "$PY" -m venv .venv 2>/dev/null || { apt_install python3-venv; rm -rf .venv; "$PY" -m venv .venv; }
+fi
+extra=""
+[ "${1:-}" = "--test" ] && extra="[test]"
+.venv/bin/python -m pip install -q --disable-pip-version-check --upgrade pip >/dev/null
+.venv/bin/python -m pip install -q --disable-pip-version-check -e ".${extra}"

@@ -1,0 +1,40 @@
+"""Shared fixtures: one OpenCL renderer per session on the real device.
+
+The device comes from MARBLEVIDEO_TEST_DEVICE (a --device choice) or the
+default choice (PoCL on a machine without a GPU). Nothing is mocked.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+
+
+@pytest.fixture(scope="session")
+def renderer():
+    from marblevideo.renderer import Renderer
+
+    return Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+
+
+@pytest.fixture
+def cli(tmp_path):
+    """Run the real command line in a subprocess; returns CompletedProcess."""
+
+    def run(*args, cwd=None, timeout=300):
+        return subprocess.run(
+            [sys.executable, "-m", "marblevideo", *map(str, args)],
+            cwd=cwd or tmp_path,
+            capture_output=True,
+            text=True,
+            timeout=timeout,
+            env={**os.environ, "PYTHONPATH": str(ROOT)},
+        )
+
+    return run
