@@ -187,10 +187,11 @@ def inverse(op: OpState, x: ArrayLike, y: ArrayLike) -> Points:
     return _lookup(_INVERSE, op)(op, x, y)
 
 
-def jacobian(op: OpState, x: ArrayLike, y: ArrayLike, h: float = 1e-6) -> np.ndarray:
+def jacobian(op: OpState, x: ArrayLike, y: ArrayLike, h: ArrayLike = 1e-6) -> np.ndarray:
     """Numerical Jacobian of :func:`forward` by central differences, shape (..., 2, 2).
 
-    ``h`` is relative: the step is h * max(1, |P|). J[..., i, j] = d out_i / d in_j.
+    ``h`` (a scalar or one per point) is relative: the step is h * max(1, |P|).
+    J[..., i, j] = d out_i / d in_j.
     """
     x, y = _points(x, y)
     step = h * np.maximum(1.0, np.hypot(x, y))
