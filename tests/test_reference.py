@@ -312,3 +312,14 @@ def test_bad_images_and_modes_are_refused() -> None:
         render(spec(edges="wrap", canvas=(4.0, 4.0)), geom)
     with pytest.raises(ValueError, match="antialias"):
         render(spec(antialias="msaa", canvas=(4.0, 4.0)), geom)
+
+
+@pytest.mark.parametrize("aa", sorted(PATTERNS))
+def test_each_subsample_sits_at_its_offset_with_its_weight(aa: str) -> None:
+    """A tiny spray on one subsample point (5.5 + dx, 5.5 + dy) of pixel (5, 5) colors
+    that pixel by exactly that subsample's weight."""
+    geom = geometry((10.0, 10.0), (10, 10))
+    for dx, dy, weight in PATTERNS[aa]:
+        s = spec(spray(5.5 + dx, 5.5 + dy, 1e-3, RED), antialias=aa, bg=(0.0, 0.0, 0.0))
+        out = render(s, geom)
+        assert out[5, 5, 0] == math.floor(255 * weight + 0.5), (dx, dy)
