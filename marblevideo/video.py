@@ -15,15 +15,21 @@ Conventions
   pts are copied unchanged; with a range the output starts at 0 at the first
   kept frame (``start``/``end`` are seconds on the same clock as ``t``; frames
   with ``start <= t < end`` are kept) and audio is shifted by the same amount.
+  Matroska/WebM cannot start below 0: when copied AAC audio starts at a
+  negative time (encoder priming), the muxer shifts all streams alike, as
+  ffmpeg does, so A/V sync is kept.
 - Audio: ``"copy"`` muxes the input packets unchanged (bit-exact), trimmed to the
   range at packet granularity; where the container cannot hold the codec it is
   re-encoded (AAC; Opus for WebM) with a one-line notice. ``"aac"`` always
-  re-encodes, ``"none"`` drops audio.
+  re-encodes to AAC (refused for WebM), ``"none"`` drops audio.
 - The output is written upright without rotation metadata; colour range,
   matrix, primaries and transfer of the input are tagged on the output and used
   for the RGBA <-> YUV conversions. With a chroma-subsampled ``pix_fmt``
   (yuv420p) an odd width or height is padded by one replicated edge pixel, and
   a one-line notice says so.
+- Packets the decoder rejects as invalid data are skipped and counted, with a
+  one-line notice at the end (decoders that conceal damage, like H.264, report
+  nothing, as in ffmpeg).
 - Notices (one line each) go to ``options.notify``, else to stderr prefixed by
   ``marblevideo:``; they are also listed in :attr:`Stats.notes`.
 - Decode, transform and encode run in three threads joined by bounded queues
@@ -375,8 +381,9 @@ class _Writer:
         self.stream = None
         self.shape: tuple[int, int] | None = None
         self.pad = (0, 0)
+        self.colors: dict[str, int] = {}
         self.audio_out: dict[int, av.stream.Stream] = {}
-        self.held: list[_Audio] = []
+        self.held: list[_Audio] = []  # audio that arrived before the first frame
 
     def open_video(self, width: int, height: int, time_base: Fraction, rate, colors: dict) -> None:
         """Add the video stream (then the audio ones, so video is stream 0)."""
@@ -412,7 +419,7 @@ class _Writer:
             if codec.audio_rates and rate not in codec.audio_rates:
                 rate = 48000 if 48000 in codec.audio_rates else codec.audio_rates[0]
             stream = self.out.add_stream(how, rate=rate)
-            stream.layout = template.layout.name if template.layout.nb_channels <= 2 else "stereo"
+            stream.layout = template.layout.name
             stream.format = codec.audio_formats[0].name
             self.audio_out[index] = stream
 
@@ -510,7 +517,7 @@ class _Pipeline:
             thread.join(timeout)
 
 
-def _check_frame(rgba, like: tuple[int, int] | None = None) -> np.ndarray:
+def _check_frame(rgba) -> np.ndarray:
     if not isinstance(rgba, np.ndarray) or rgba.dtype != np.uint8 or rgba.ndim != 3:
         raise TypeError("transform must return an (h, w, 4) uint8 numpy array")
     if rgba.shape[2] != 4:
@@ -616,7 +623,8 @@ def transcode(
     with _open_input(src) as container:
         say = _sayer(options, stats)
         audio = _audio_plan(container, plan, options, Path(dst).suffix, say)
-        stats.audio = next(iter(sorted(set(audio.values()))), "none")
+        encoders = set(audio.values()) - {"copy"}
+        stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
         reader = _Reader(container, options.start, options.end, audio)
         vin = reader.video
         colors = {k: getattr(vin.codec_context, k) for k in _COLOR_FIELDS}
