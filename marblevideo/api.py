@@ -145,3 +145,59 @@ def parse_size(text: str) -> tuple[int, int]:
     if not (0 < w <= 32768 and 0 < h <= 32768):
         raise UsageError(f"--size: each side must be 1..32768, got {text!r}")
     return w, h
+
+
+def _video_options(options: dict):
+    from marblevideo.video import VideoOptions
+
+    try:
+        return VideoOptions(**options)
+    except TypeError as exc:
+        raise UsageError(f"render_video: {exc}") from None
+
+
+def render_video(
+    src: str | os.PathLike | None,
+    recipe: RecipeLike,
+    dst: str | os.PathLike,
+    *,
+    device: str | None = None,
+    duration: float | None = None,
+    fps: float = 30.0,
+    **options,
+):
+    """Marble every frame of the video ``src`` into ``dst`` at its own time, keeping
+    audio and timing; with ``src=None`` render the recipe's process on a blank sheet
+    for ``duration`` seconds (default: the whole animation plus one second) at ``fps``.
+    ``options`` are the fields of :class:`marblevideo.video.VideoOptions`
+    (codec, crf, preset, pix_fmt, encoder_opts, audio, start, end, size, overwrite,
+    quiet, progress). Returns the job's :class:`marblevideo.video.Stats`."""
+    from marblevideo.video import render_blank, transcode
+
+    recipe = as_recipe(recipe)
+    opts = _video_options(options)
+    if src is None:
+        blank_canvas(recipe)
+        duration = recipe.end_time() + 1.0 if duration is None else duration
+        marbler = Marbler(recipe, device=device)
+        size = opts.size or blank_size(recipe)
+        return render_blank(dst, lambda t: marbler.render(None, t, size), duration, fps, opts)
+    marbler = Marbler(recipe, device=device)
+    return transcode(src, dst, marbler.transform(opts.size), opts)
+
+
+def marbled_frames(
+    src: str | os.PathLike,
+    recipe: RecipeLike,
+    *,
+    device: str | None = None,
+    size: tuple[int, int] | None = None,
+    start: float | None = None,
+    end: float | None = None,
+):
+    """Iterate ``(t, rgba)``: the frames of video ``src`` marbled at their own times."""
+    from marblevideo.video import iter_frames
+
+    marbler = Marbler(recipe, device=device)
+    opts = _video_options({"start": start, "end": end})
+    yield from iter_frames(src, marbler.transform(size), opts)

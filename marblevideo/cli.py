@@ -65,6 +65,39 @@ def _render_parser() -> argparse.ArgumentParser:
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or notes")
     p.add_argument("--version", action="version", version=f"marblevideo {__version__}")
+    v = p.add_argument_group("video")
+    v.add_argument("--start", type=float, metavar="S", help="render from S seconds of the input")
+    v.add_argument("--end", type=float, metavar="S", help="render up to S seconds of the input")
+    v.add_argument(
+        "--duration",
+        type=float,
+        metavar="S",
+        help="blank sheet to video: length (default: the animation plus 1 s)",
+    )
+    v.add_argument("--fps", type=float, default=30.0, help="blank sheet to video: frame rate (30)")
+    v.add_argument(
+        "--audio",
+        choices=("copy", "aac", "none"),
+        default="copy",
+        help="copy audio bit-exact (default), re-encode to AAC, or drop it",
+    )
+    v.add_argument("--codec", help="video encoder (default: libx264; libvpx-vp9 for .webm)")
+    v.add_argument("--crf", type=int, help="constant quality (default as ffmpeg: 23 for x264)")
+    v.add_argument("--preset", help="x264/x265 preset (default medium)")
+    v.add_argument("--pix-fmt", default="yuv420p", help="encoded pixel format (yuv420p)")
+    v.add_argument(
+        "--encoder-opt",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="extra encoder option, repeatable (e.g. tune=film)",
+    )
+    v.add_argument(
+        "--progress",
+        choices=("auto", "bar", "json", "off"),
+        default="auto",
+        help="progress on stderr: a bar on terminals (auto), JSON lines, or off",
+    )
     return p
 
 
@@ -108,8 +141,46 @@ def _cmd_render(argv: list[str]) -> int:
             print(f"wrote {args.output}", file=sys.stderr)
         return 0
     if out_ext in VIDEO_EXTENSIONS:
-        raise UsageError(f"{args.output}: video output is not available yet")
+        from marblevideo.api import render_video
+
+        render_video(
+            args.input,
+            recipe,
+            args.output,
+            device=args.device,
+            duration=args.duration,
+            fps=args.fps,
+            **_video_options(args, size),
+        )
+        return 0
     raise UsageError(f"{args.output}: unknown output extension {out_ext or '(none)'!r}")
+
+
+def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> dict:
+    opts = {}
+    for item in args.encoder_opt:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise UsageError(f"--encoder-opt: expected KEY=VALUE, got {item!r}")
+        opts[key] = value
+    if args.fps <= 0:
+        raise UsageError(f"--fps: must be > 0, got {args.fps}")
+    if args.duration is not None and args.duration <= 0:
+        raise UsageError(f"--duration: must be > 0, got {args.duration}")
+    return dict(
+        codec=args.codec,
+        crf=args.crf,
+        preset=args.preset,
+        pix_fmt=args.pix_fmt,
+        encoder_opts=opts,
+        audio=args.audio,
+        start=args.start,
+        end=args.end,
+        size=size,
+        overwrite=args.overwrite,
+        quiet=args.quiet,
+        progress=args.progress,
+    )
 
 
 COMMANDS = {"devices": _cmd_devices, "schema": _cmd_schema}
