@@ -47,8 +47,8 @@ def cubic_bezier(
     """CSS ``cubic-bezier(x1, y1, x2, y2)`` at progress ``u`` (clipped to [0, 1]).
 
     Solves x(s) = u for the curve parameter s (Newton from s = u, then
-    bisection for whatever has not converged to 1e-12; x is monotonic since
-    x1, x2 lie in [0, 1]) and returns y(s). Accepts scalars or arrays.
+    bisection for whatever is not pinned to within 1e-12 in s; x is monotonic
+    since x1, x2 lie in [0, 1]) and returns y(s). Accepts scalars or arrays.
     """
     ax, bx, cx = _bezier_coefficients(x1, x2)
     ay, by, cy = _bezier_coefficients(y1, y2)
@@ -62,7 +62,9 @@ def cubic_bezier(
         slope = (3.0 * ax * s + 2.0 * bx) * s + cx
         steep = np.abs(slope) > 1e-9
         s = np.clip(s - np.where(steep, (x_of(s) - uu) / np.where(steep, slope, 1.0), 0.0), 0, 1)
-    stuck = np.abs(x_of(s) - uu) > _TOL
+    # Converged when u is bracketed within _TOL in s (a tolerance on x alone fails where
+    # x is flat and y steep, e.g. x1 = x2 = 0 near u = 0).
+    stuck = (x_of(s - _TOL) > uu) | (x_of(s + _TOL) < uu)
     if np.any(stuck):
         lo, hi, target = np.zeros_like(uu[stuck]), np.ones_like(uu[stuck]), uu[stuck]
         for _ in range(_BISECT_STEPS):
