@@ -1,0 +1,438 @@
+"""The recipe model and its validation (shared/recipe-format.md).
+
+:func:`load_recipe` and :func:`parse_recipe` turn a JSON file or a Python dict
+into a :class:`Recipe`, validating it fully first: structure against the
+published JSON Schema (:mod:`marblevideo.schema`), then what a schema cannot
+say (key times strictly increasing, ``end`` > ``start``). The first fault in
+document order (structural faults before those) raises
+:class:`~marblevideo.errors.RecipeError`, whose text is
+``FILE: json.path: what was expected, got what``, the path written like
+``ops[3].center.keys[1].t`` (empty for the whole document).
+
+Decisions beyond the contract: ``end`` without ``start`` is an error (its
+progress would be undefined); an empty ``ops`` list is valid (identity);
+non-finite numbers (NaN, Infinity, 1e400) and magnitudes over 1e30 (float32
+range) are refused.
+
+:meth:`Recipe.at` resolves every track and applies each op's progress,
+giving the :class:`~marblevideo.frame.FrameSpec` the renderers read.
+"""
+
+from __future__ import annotations
+
+import difflib
+import json
+import math
+import numbers
+import os
+from dataclasses import dataclass, field
+from functools import lru_cache
+from typing import Any
+
+from jsonschema import Draft202012Validator, ValidationError
+
+from marblevideo.errors import RecipeError, UsageError
+from marblevideo.frame import INK_OPS, OP_PARAMS, FrameSpec, OpState
+from marblevideo.keyframes import Key, Track
+from marblevideo.schema import LIMIT, PARAM_KINDS, schema
+
+DEFAULT_BACKGROUND = "#ffffff"
+DEFAULT_ANTIALIAS = "rgss"
+DEFAULT_EDGES = "clamp"
+
+
+# --------------------------------------------------------------------------- model
+
+
+@dataclass(frozen=True)
+class Op:
+    """One op of a recipe: its parameters as tracks, ``start``/``end`` in seconds
+    (None when absent) and its ``index`` in ``ops``."""
+
+    type: str
+    params: dict[str, Track] = field(hash=False)
+    start: float | None
+    end: float | None
+    index: int
+
+    def progress(self, t: float) -> float:
+        """The contract's p(t): 0 before ``start``, linear up to ``end``, then 1;
+        a jump at ``start`` without ``end``; 1 always without either."""
+        if self.start is None:
+            return 1.0
+        if t < self.start:
+            return 0.0
+        if self.end is None or t >= self.end:
+            return 1.0
+        return (t - self.start) / (self.end - self.start)
+
+    def at(self, t: float) -> OpState:
+        """The op at time ``t``: tracks resolved, progress applied (ink radius * sqrt(p),
+        alpha * p, wave amplitude * p)."""
+        values = {name: track.at(t) for name, track in self.params.items()}
+        p = self.progress(t)
+        if self.type in INK_OPS:
+            values["radius"] *= math.sqrt(p)
+        elif self.type == "wave":
+            values["amplitude"] *= p
+        else:
+            values["alpha"] *= p
+        return OpState(self.type, values)
+
+    @property
+    def times(self) -> tuple[float, ...]:
+        """Every key time of its tracks and its ``start``/``end``."""
+        own = tuple(x for x in (self.start, self.end) if x is not None)
+        return own + tuple(t for track in self.params.values() for t in track.key_times)
+
+
+@dataclass(frozen=True)
+class Recipe:
+    """A validated recipe. ``canvas`` is None when the recipe leaves it to the input.
+
+    ``source`` is the name used in messages (the file as given, or ``<dict>``).
+    """
+
+    ops: tuple[Op, ...]
+    canvas: tuple[float, float] | None
+    background: Track
+    antialias: str = DEFAULT_ANTIALIAS
+    edges: str = DEFAULT_EDGES
+    source: str = "<dict>"
+
+    @classmethod
+    def from_dict(cls, data: object, source: str = "<dict>") -> Recipe:
+        """Validate and build a recipe given as Python data (as :func:`parse_recipe`)."""
+        return parse_recipe(data, source)
+
+    @property
+    def is_animated(self) -> bool:
+        """Whether any value depends on time."""
+        return bool(self.background.key_times) or any(op.times for op in self.ops)
+
+    def end_time(self) -> float:
+        """When the animation is finished: the largest key time and op start/end, else 0.
+        A still is rendered at this time by default."""
+        times = [*self.background.key_times, *(t for op in self.ops for t in op.times)]
+        return max(times, default=0.0)
+
+    def at(self, t: float, canvas: tuple[float, float] | None = None) -> FrameSpec:
+        """The frame at time ``t`` (seconds). ``canvas`` (the input's size) is used
+        only when the recipe gives none; one of the two is required."""
+        size = self.canvas or canvas
+        if size is None:
+            raise UsageError(f"{self.source}: the recipe has no canvas and there is no input size")
+        r, g, b = self.background.at(t)
+        return FrameSpec(
+            ops=tuple(op.at(t) for op in self.ops),
+            background=(r, g, b),
+            antialias=self.antialias,
+            edges=self.edges,
+            canvas=(float(size[0]), float(size[1])),
+        )
+
+
+# --------------------------------------------------------------------------- loading
+
+
+class _NonFinite:
+    """Stands in for a non-finite number so validation reports it where it is."""
+
+    def __init__(self, text: str):
+        self.text = text
+
+    def __repr__(self) -> str:
+        return self.text
+
+
+def _parse_float(text: str) -> float | _NonFinite:
+    value = float(text)
+    return value if math.isfinite(value) else _NonFinite(text)
+
+
+def load_recipe(path: str | os.PathLike[str]) -> Recipe:
+    """Read, validate and build the recipe file at ``path`` (named as given in messages).
+
+    Raises UsageError if the file cannot be read, RecipeError if it is not a valid recipe.
+    """
+    source = os.fspath(path)
+    try:
+        with open(path, encoding="utf-8-sig") as f:
+            text = f.read()
+    except (OSError, UnicodeDecodeError) as exc:
+        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        raise UsageError(f"cannot read recipe {source}: {reason}") from None
+    try:
+        data = json.loads(text, parse_constant=_NonFinite, parse_float=_parse_float)
+    except json.JSONDecodeError as exc:
+        raise RecipeError(
+            source, "", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}"
+        ) from None
+    return parse_recipe(data, source)
+
+
+def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
+    """Validate ``data`` (parsed JSON, or Python dicts/lists/tuples) and build the recipe.
+
+    ``source`` names it in messages. Raises RecipeError for the first fault.
+    """
+    doc = _normalize(data)
+    faults = [_fault(error, doc) for error in _validator().iter_errors(doc)]
+    if not faults:
+        faults = _semantic_faults(doc)
+    if faults:
+        first = min(faults, key=lambda f: f.position)
+        raise RecipeError(source, first.path, first.message)
+    return _build(doc, source)
+
+
+def _normalize(data: Any) -> Any:
+    """JSON-shaped copy: tuples become lists, NumPy-style numbers int or float,
+    non-finite floats _NonFinite."""
+    if isinstance(data, dict):
+        return {k: _normalize(v) for k, v in data.items()}
+    if isinstance(data, (list, tuple)):
+        return [_normalize(v) for v in data]
+    if isinstance(data, numbers.Real) and not isinstance(data, (bool, int, float)):
+        data = int(data) if isinstance(data, numbers.Integral) else float(data)
+    if isinstance(data, float) and not math.isfinite(data):
+        return _NonFinite("NaN" if math.isnan(data) else "Infinity" if data > 0 else "-Infinity")
+    return data
+
+
+def _build(doc: dict, source: str) -> Recipe:
+    ops = []
+    for index, op in enumerate(doc["ops"]):
+        kinds = PARAM_KINDS[op["type"]]
+        params = {name: _track(op[name], kind) for name, kind in kinds.items()}
+        start, end = op.get("start"), op.get("end")
+        ops.append(
+            Op(
+                type=op["type"],
+                params=params,
+                start=None if start is None else float(start),
+                end=None if end is None else float(end),
+                index=index,
+            )
+        )
+    canvas = doc.get("canvas")
+    return Recipe(
+        ops=tuple(ops),
+        canvas=None if canvas is None else (float(canvas[0]), float(canvas[1])),
+        background=_track(doc.get("background", DEFAULT_BACKGROUND), "color"),
+        antialias=doc.get("antialias", DEFAULT_ANTIALIAS),
+        edges=doc.get("edges", DEFAULT_EDGES),
+        source=source,
+    )
+
+
+def _components(value: Any) -> tuple[float, ...]:
+    """A valid number, point or color as a tuple of floats ("#rrggbb" -> 0..255)."""
+    if isinstance(value, str):
+        return tuple(float(int(value[i : i + 2], 16)) for i in (1, 3, 5))
+    if isinstance(value, list):
+        return tuple(float(c) for c in value)
+    return (float(value),)
+
+
+def _track(value: Any, kind: str) -> Track:
+    """A valid parameter value (constant or ``{"keys": [...]}``) as a Track."""
+    scalar = kind not in ("point", "color")
+    if not isinstance(value, dict):
+        return Track((Key(0.0, _components(value)),), scalar=scalar, keyed=False)
+    return Track(tuple(_key(key) for key in value["keys"]), scalar=scalar)
+
+
+def _key(key: dict) -> Key:
+    ease = key.get("ease", "linear")
+    return Key(
+        float(key["t"]),
+        _components(key["v"]),
+        ease if isinstance(ease, str) else tuple(float(c) for c in ease),
+    )
+
+
+# --------------------------------------------------------------------------- faults
+
+
+@dataclass(frozen=True)
+class _Fault:
+    position: tuple[int, ...]  # document order: index of each step, then where in the node
+    path: str
+    message: str
+
+
+@lru_cache(maxsize=1)
+def _validator() -> Draft202012Validator:
+    return Draft202012Validator(schema())
+
+
+def _semantic_faults(doc: dict) -> list[_Fault]:
+    """What the schema cannot check, on a structurally valid document."""
+    faults = []
+    tracks: list[tuple[list, Any]] = [(["background"], doc.get("background"))]
+    for i, op in enumerate(doc["ops"]):
+        tracks += [(["ops", i, name], op[name]) for name in OP_PARAMS[op["type"]]]
+        if "end" in op and op["end"] <= op["start"]:
+            message = f"must be > start ({_describe(op['start'])}), got {_describe(op['end'])}"
+            faults.append(_make_fault(doc, ["ops", i, "end"], message))
+    for path, track in tracks:
+        if not isinstance(track, dict):
+            continue
+        keys = track["keys"]
+        for k in range(1, len(keys)):
+            if keys[k]["t"] <= keys[k - 1]["t"]:
+                message = (
+                    f"key times must increase strictly: got {_describe(keys[k]['t'])} "
+                    f"after {_describe(keys[k - 1]['t'])}"
+                )
+                faults.append(_make_fault(doc, [*path, "keys", k, "t"], message))
+    return faults
+
+
+def _make_fault(doc: Any, path: list, message: str, tail: int | None = None) -> _Fault:
+    position = []
+    node = doc
+    for step in path:
+        position.append(list(node).index(step) if isinstance(node, dict) else step)
+        node = node[step]
+    if tail is not None:
+        position.append(tail)
+    return _Fault(tuple(position), _format_path(path), message)
+
+
+def _format_path(path: list) -> str:
+    out = ""
+    for step in path:
+        if isinstance(step, int):
+            out += f"[{step}]"
+        elif step.replace("_", "a").replace("$", "a").isalnum():
+            out += f".{step}" if out else step
+        else:
+            out += f"[{json.dumps(step)}]"
+    return out
+
+
+def _fault(error: ValidationError, doc: Any) -> _Fault:
+    """One schema error as a fault, descending into the anyOf branch the value meant."""
+    path = list(error.absolute_path)
+    kind, instance, bound = error.validator, error.instance, error.validator_value
+    if kind == "anyOf":
+        branches = _branches(error)
+        meant = [errors for errors in branches if not any(_mismatch(e) for e in errors)]
+        if meant:
+            return min((_fault(e, doc) for e in meant[0]), key=lambda f: f.position)
+        message = f"expected {' or '.join(_expected(error.schema))}, got {_describe(instance)}"
+        return _make_fault(doc, path, message)
+    if kind == "additionalProperties":
+        allowed = error.schema.get("properties", {})
+        extra = next(k for k in instance if k not in allowed)
+        message = f"unknown field {extra!r}" + _did_you_mean(extra, set(allowed) - set(instance))
+        return _make_fault(doc, path, message, list(instance).index(extra))
+    if kind == "required":
+        missing = next(k for k in bound if k not in instance)
+        return _make_fault(doc, path, f"missing required field {missing!r}", len(instance))
+    if kind == "dependentRequired":
+        field_, needs = next((k, v) for k, v in bound.items() if k in instance)
+        message = f"{field_!r} requires {needs[0]!r} (progress runs from start to end)"
+        return _make_fault(doc, path, message, list(instance).index(field_))
+    return _make_fault(doc, path, _message(kind, instance, bound, error.schema))
+
+
+def _message(kind: str, instance: Any, bound: Any, schema_: dict) -> str:
+    """The text for a leaf schema error: what was expected, got what."""
+    got = _describe(instance)
+    title = schema_.get("title")
+    if kind == "type":
+        return f"expected {_expected(schema_)[0]}, got {got}"
+    if kind in ("minimum", "maximum") and abs(bound) == LIMIT:
+        return f"too large: must be within -1e30..1e30 (float32 range), got {got}"
+    comparisons = {
+        "minimum": ">=",
+        "maximum": "<=",
+        "exclusiveMinimum": ">",
+        "exclusiveMaximum": "<",
+    }
+    if kind in comparisons:
+        return f"must be {comparisons[kind]} {_describe(bound)}, got {got}"
+    if kind in ("minItems", "maxItems"):
+        if title:
+            return f"expected {_article(title)}, got {got}"
+        return f"expected at least {bound} item{'s' * (bound != 1)}, got {got}"
+    if kind == "enum":
+        names = ", ".join(map(str, bound))
+        if isinstance(instance, str):
+            hint = _did_you_mean(instance, bound)
+            return f"unknown {title or 'value'} {instance!r}{hint}; expected one of {names}"
+        return f"expected one of {names}, got {got}"
+    if kind == "const":
+        return f"unsupported {title or 'value'}: expected {_describe(bound)}, got {got}"
+    if kind == "pattern":
+        return f"expected {_article(title) if title else 'a match of ' + bound}, got {got}"
+    return f"{kind}: {got} is not valid"  # unreachable for the published schema
+
+
+def _branches(error: ValidationError) -> list[list[ValidationError]]:
+    grouped: dict[int, list[ValidationError]] = {}
+    for sub in error.context or ():
+        grouped.setdefault(sub.relative_schema_path[0], []).append(sub)
+    return [grouped[i] for i in sorted(grouped)]
+
+
+def _mismatch(error: ValidationError) -> bool:
+    """Whether the error says the value is of another JSON type than this branch takes."""
+    if error.relative_path:
+        return False
+    if error.validator == "type":
+        return True
+    if error.validator == "anyOf":
+        return all(any(_mismatch(e) for e in errors) for errors in _branches(error))
+    return False
+
+
+_TYPE_NOUNS = {
+    "number": "a number",
+    "integer": "an integer",
+    "string": "a string",
+    "array": "a list",
+    "object": "an object",
+    "boolean": "true or false",
+}
+
+
+def _expected(schema_: dict) -> list[str]:
+    """What a (sub)schema takes, as noun phrases."""
+    if "$ref" in schema_:
+        return _expected(_validator().schema["$defs"][schema_["$ref"].rsplit("/", 1)[1]])
+    if "title" in schema_:
+        return [_article(schema_["title"])]
+    if "anyOf" in schema_:
+        return [phrase for branch in schema_["anyOf"] for phrase in _expected(branch)]
+    return [_TYPE_NOUNS[schema_["type"]]]
+
+
+def _article(noun: str) -> str:
+    return ("an " if noun[0] in "aeiou" else "a ") + noun
+
+
+def _did_you_mean(word: str, choices: Any) -> str:
+    close = difflib.get_close_matches(word, [str(c) for c in choices], n=1)
+    return f" (did you mean {close[0]!r}?)" if close else ""
+
+
+def _describe(value: Any) -> str:
+    """A JSON value as it appears in messages: 2.5, string 'abc', a list of 3, true."""
+    if isinstance(value, bool):
+        return "true" if value else "false"
+    if value is None:
+        return "null"
+    if isinstance(value, _NonFinite):
+        return f"{value.text} (not a finite number)"
+    if isinstance(value, (int, float)):
+        text = repr(value)
+        return text[:-2] if text.endswith(".0") else text
+    if isinstance(value, str):
+        return f"string {value!r}"
+    if isinstance(value, list):
+        return f"a list of {len(value)}" if value else "an empty list"
+    return "an object"

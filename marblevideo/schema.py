@@ -1,0 +1,255 @@
+"""The recipe's JSON Schema (Draft 2020-12), as printed by ``marblevideo schema``.
+
+It is the one structural description of shared/recipe-format.md: the loader
+(:mod:`marblevideo.recipe`) validates every recipe against exactly this schema,
+so an editor that uses it agrees with the loader. What a schema cannot say
+(key times strictly increasing, ``end`` > ``start``) the loader checks after it.
+
+Each op is dispatched on its ``type`` with ``if``/``then``, so editors complete
+the fields of the op being written and errors name that op's own fields. Every
+numeric parameter, point and color may be a keyframe track; ``PARAM_KINDS``
+names the value kind of each op parameter (``$defs`` entries).
+"""
+
+from __future__ import annotations
+
+import copy
+from functools import lru_cache
+
+from marblevideo.antialias import PATTERNS
+from marblevideo.frame import EDGE_MODES, OP_PARAMS
+from marblevideo.keyframes import EASE_NAMES
+
+SCHEMA_ID = "urn:marblevideo:recipe:1"
+DRAFT = "https://json-schema.org/draft/2020-12/schema"
+
+#: Largest magnitude of any number: values must stay well inside float32.
+LIMIT = 1e30
+
+#: Value kind of every op parameter, in ``OP_PARAMS`` order.
+PARAM_KINDS: dict[str, dict[str, str]] = {
+    "drop": {"center": "point", "radius": "positive", "color": "color"},
+    "spray": {"center": "point", "radius": "positive", "color": "color"},
+    "tine": {"point": "point", "angle": "number", "alpha": "number", "lambda": "positive"},
+    "comb": {
+        "point": "point",
+        "angle": "number",
+        "spacing": "positive",
+        "alpha": "number",
+        "lambda": "positive",
+    },
+    "wave": {"amplitude": "number", "wavelength": "positive", "phase": "number", "angle": "number"},
+    "circle": {"center": "point", "radius": "nonnegative", "alpha": "number", "lambda": "positive"},
+    "vortex": {"center": "point", "alpha": "number", "lambda": "positive"},
+}
+assert {op: tuple(kinds) for op, kinds in PARAM_KINDS.items()} == OP_PARAMS
+
+OP_HELP = {
+    "drop": "Ink drop: paint outside is pushed away, its area preserved.",
+    "spray": "A droplet of ink that does not deform the pattern.",
+    "tine": "One tine drawn along a straight line.",
+    "comb": "A rigid comb of parallel tines, `spacing` apart.",
+    "wave": "Sinusoidal displacement along `angle`.",
+    "circle": "A tine moved along a circle around `center`.",
+    "vortex": "A swirl that winds tighter towards its centre.",
+}
+
+PARAM_HELP = {
+    "center": "Centre [x, y] in canvas units (origin top-left, y down).",
+    "point": "A point [x, y] on the line, in canvas units (origin top-left, y down).",
+    "radius": "Radius in canvas units.",
+    "color": 'Ink color, "#rrggbb" or [r, g, b] with 0..255 integers.',
+    "angle": "Direction in degrees: 0 points to +x, 90 to +y (down).",
+    "alpha": "Maximum shift in canvas units; negative reverses the motion.",
+    "lambda": "Sharpness, > 0: the shift falls to half at distance lambda.",
+    "spacing": "Distance between tines in canvas units, > 0.",
+    "amplitude": "Amplitude of the displacement in canvas units.",
+    "wavelength": "Wavelength in canvas units, > 0.",
+    "phase": "Phase in degrees.",
+}
+_PARAM_HELP_BY_OP = {
+    ("circle", "alpha"): "Arc length of the motion; positive turns clockwise on screen.",
+    ("vortex", "alpha"): "Arc length of the motion; positive turns clockwise on screen.",
+    ("circle", "radius"): "Radius of the circle in canvas units, >= 0.",
+    ("wave", "angle"): "Direction of the displacement in degrees: 0 is +x, 90 is +y (down).",
+}
+
+_TIME_HELP = {
+    "start": "Seconds: the op appears (progress p goes 0 -> 1) from here.",
+    "end": "Seconds: progress p reaches 1 here (needs `start`, must be > `start`).",
+}
+
+
+def _ref(name: str) -> dict:
+    return {"$ref": f"#/$defs/{name}"}
+
+
+def _number(**bounds: float) -> dict:
+    return {"type": "number", "minimum": -LIMIT, "maximum": LIMIT, **bounds}
+
+
+def _track(kind: str) -> dict:
+    key = {
+        "type": "object",
+        "properties": {
+            "t": {**_ref("time"), "description": "Seconds; strictly increasing."},
+            "v": {**_ref(kind), "description": "The value at t."},
+            "ease": _ref("ease"),
+        },
+        "required": ["t", "v"],
+        "additionalProperties": False,
+    }
+    return {
+        "title": "keyframe track",
+        "description": 'Keyframes {"keys": [{"t": 0, "v": ...}, ...]}; before the first key the '
+        "first value, after the last the last.",
+        "type": "object",
+        "properties": {"keys": {"type": "array", "minItems": 1, "items": key}},
+        "required": ["keys"],
+        "additionalProperties": False,
+    }
+
+
+def _op(op: str) -> dict:
+    props: dict = {"type": {"const": op}}
+    for name, kind in PARAM_KINDS[op].items():
+        help_ = _PARAM_HELP_BY_OP.get((op, name), PARAM_HELP[name])
+        props[name] = {**_ref(f"{kind}Param"), "description": help_}
+    for name, help_ in _TIME_HELP.items():
+        props[name] = {**_ref("time"), "description": help_}
+    return {
+        "title": f"{op} op",
+        "description": OP_HELP[op],
+        "type": "object",
+        "properties": props,
+        "required": ["type", *PARAM_KINDS[op]],
+        "additionalProperties": False,
+        "dependentRequired": {"end": ["start"]},
+    }
+
+
+def _build() -> dict:
+    kinds = {
+        "number": _number(),
+        "positive": _number(exclusiveMinimum=0),
+        "nonnegative": _number(minimum=0),
+        "point": {
+            "title": "point [x, y]",
+            "type": "array",
+            "items": _ref("number"),
+            "minItems": 2,
+            "maxItems": 2,
+        },
+        "color": {
+            "title": 'color ("#rrggbb" or [r, g, b])',
+            "anyOf": [
+                {"title": 'color "#rrggbb"', "type": "string", "pattern": "^#[0-9a-fA-F]{6}$"},
+                {
+                    "title": "color [r, g, b]",
+                    "type": "array",
+                    "items": {"type": "integer", "minimum": 0, "maximum": 255},
+                    "minItems": 3,
+                    "maxItems": 3,
+                },
+            ],
+        },
+    }
+    unit = {"type": "number", "minimum": 0, "maximum": 1}
+    defs: dict = {
+        **kinds,
+        **{f"{kind}Track": _track(kind) for kind in kinds},
+        **{f"{kind}Param": {"anyOf": [_ref(kind), _ref(f"{kind}Track")]} for kind in kinds},
+        "time": _number(),
+        "ease": {
+            "description": "Shapes the segment leaving this key (default linear).",
+            "anyOf": [
+                {"title": "ease name", "type": "string", "enum": list(EASE_NAMES)},
+                {
+                    "title": "cubic-bezier [x1, y1, x2, y2]",
+                    "type": "array",
+                    "prefixItems": [unit, _number(), unit, _number()],
+                    "minItems": 4,
+                    "maxItems": 4,
+                },
+            ],
+        },
+        **{op: _op(op) for op in OP_PARAMS},
+        "op": {
+            "type": "object",
+            "required": ["type"],
+            "properties": {
+                "type": {"title": "op type", "type": "string", "enum": list(OP_PARAMS)},
+            },
+            "allOf": [
+                {
+                    "if": {"properties": {"type": {"const": op}}, "required": ["type"]},
+                    "then": _ref(op),
+                }
+                for op in OP_PARAMS
+            ],
+        },
+    }
+    return {
+        "$schema": DRAFT,
+        "$id": SCHEMA_ID,
+        "title": "marblevideo recipe",
+        "description": "A marbling design: ops applied in order (ops[0] first). "
+        "Canvas units, origin top-left, y down; angles in degrees; times in seconds.",
+        "type": "object",
+        "properties": {
+            "$schema": {"type": "string", "description": "Ignored; lets editors find this schema."},
+            "marblevideo": {
+                "title": "recipe format version",
+                "type": "integer",
+                "const": 1,
+                "default": 1,
+                "description": "Format version; only 1 exists.",
+            },
+            "canvas": {
+                "title": "size [W, H]",
+                "type": "array",
+                "items": _ref("positive"),
+                "minItems": 2,
+                "maxItems": 2,
+                "description": "Size of the design in canvas units (default: the input's size).",
+            },
+            "background": {
+                **_ref("colorParam"),
+                "default": "#ffffff",
+                "description": "The empty sheet, and the outside of the input for edges "
+                '"background".',
+            },
+            "antialias": {
+                "title": "antialias pattern",
+                "type": "string",
+                "enum": list(PATTERNS),
+                "default": "rgss",
+                "description": "Subsample pattern per output pixel.",
+            },
+            "edges": {
+                "title": "edge mode",
+                "type": "string",
+                "enum": list(EDGE_MODES),
+                "default": "clamp",
+                "description": "What the input shows outside itself.",
+            },
+            "ops": {
+                "type": "array",
+                "items": _ref("op"),
+                "description": "Applied in order: ops[0] first, the last op is the most visible.",
+            },
+        },
+        "required": ["ops"],
+        "additionalProperties": False,
+        "$defs": defs,
+    }
+
+
+@lru_cache(maxsize=1)
+def _cached() -> dict:
+    return _build()
+
+
+def schema() -> dict:
+    """The recipe JSON Schema (a fresh copy: callers may modify it)."""
+    return copy.deepcopy(_cached())
