@@ -14,11 +14,30 @@ from marblevideo.errors import (
     RecipeError,
     UsageError,
 )
+from marblevideo.recipe import Recipe, load_recipe, parse_recipe
 
 __version__ = "0.1.0"
 
+
+def __getattr__(name: str):
+    """Lazy access to the parts that need OpenCL or PyAV (imported on first use)."""
+    from marblevideo import api
+
+    if name in ("Marbler", "render_image", "render_still", "render_video", "marbled_frames"):
+        return getattr(api, name)
+    raise AttributeError(f"module 'marblevideo' has no attribute {name!r}")
+
+
 __all__ = [
     "DeviceError",
+    "Marbler",
+    "Recipe",
+    "load_recipe",
+    "marbled_frames",
+    "parse_recipe",
+    "render_image",
+    "render_still",
+    "render_video",
     "MarbleError",
     "MediaError",
     "OutputExistsError",

@@ -35,29 +35,43 @@ def random_op(rng, kind, w, h):
     pt = [float(rng.uniform(0, w)), float(rng.uniform(0, h))]
     size = min(w, h)
     if kind in ("drop", "spray"):
-        op = {"center": _keyed(rng, pt, size / 10), "radius": _keyed(rng, size * rng.uniform(0.05, 0.25), 3),
-              "color": _color(rng) if rng.random() < 0.7 else _keyed(rng, _color(rng), 0)}
+        op = {
+            "center": _keyed(rng, pt, size / 10),
+            "radius": _keyed(rng, size * rng.uniform(0.05, 0.25), 3),
+            "color": _color(rng) if rng.random() < 0.7 else _keyed(rng, _color(rng), 0),
+        }
         if isinstance(op["color"], dict):  # colour keys must stay in 0..255
             for key in op["color"]["keys"]:
                 key["v"] = [int(np.clip(c, 0, 255)) for c in key["v"]]
     elif kind in ("tine", "comb"):
-        op = {"point": pt, "angle": _keyed(rng, float(rng.uniform(-180, 360)), 30),
-              "alpha": _keyed(rng, float(rng.uniform(-0.2, 0.2) * size), 5),
-              "lambda": float(rng.uniform(0.03, 0.2) * size)}
+        op = {
+            "point": pt,
+            "angle": _keyed(rng, float(rng.uniform(-180, 360)), 30),
+            "alpha": _keyed(rng, float(rng.uniform(-0.2, 0.2) * size), 5),
+            "lambda": float(rng.uniform(0.03, 0.2) * size),
+        }
         if kind == "comb":
             op["spacing"] = float(rng.uniform(0.15, 0.5) * size)
     elif kind == "wave":
-        op = {"amplitude": _keyed(rng, float(rng.uniform(-0.06, 0.06) * size), 2),
-              "wavelength": float(rng.uniform(0.3, 1.5) * size),
-              "phase": _keyed(rng, float(rng.uniform(0, 360)), 90),
-              "angle": float(rng.uniform(0, 360))}
+        op = {
+            "amplitude": _keyed(rng, float(rng.uniform(-0.06, 0.06) * size), 2),
+            "wavelength": float(rng.uniform(0.3, 1.5) * size),
+            "phase": _keyed(rng, float(rng.uniform(0, 360)), 90),
+            "angle": float(rng.uniform(0, 360)),
+        }
     elif kind == "circle":
-        op = {"center": pt, "radius": float(rng.uniform(0, 0.4) * size),
-              "alpha": _keyed(rng, float(rng.uniform(-0.4, 0.4) * size), 5),
-              "lambda": float(rng.uniform(0.05, 0.3) * size)}
+        op = {
+            "center": pt,
+            "radius": float(rng.uniform(0, 0.4) * size),
+            "alpha": _keyed(rng, float(rng.uniform(-0.4, 0.4) * size), 5),
+            "lambda": float(rng.uniform(0.05, 0.3) * size),
+        }
     else:
-        op = {"center": pt, "alpha": _keyed(rng, float(rng.uniform(-0.5, 0.5) * size), 5),
-              "lambda": float(rng.uniform(0.1, 0.4) * size)}
+        op = {
+            "center": pt,
+            "alpha": _keyed(rng, float(rng.uniform(-0.5, 0.5) * size), 5),
+            "lambda": float(rng.uniform(0.1, 0.4) * size),
+        }
     op = {"type": kind, **op}
     r = rng.random()
     if r < 0.3:
@@ -68,8 +82,9 @@ def random_op(rng, kind, w, h):
     return op
 
 
-def random_recipe(seed: int, w: float = 160.0, h: float = 120.0, n_ops: int | None = None,
-                  blank: bool = False) -> dict:
+def random_recipe(
+    seed: int, w: float = 160.0, h: float = 120.0, n_ops: int | None = None, blank: bool = False
+) -> dict:
     """A valid recipe dict; every op type appears at least once when n_ops >= 7."""
     rng = np.random.default_rng(seed)
     n = n_ops if n_ops is not None else int(rng.integers(7, 12))
@@ -84,12 +99,19 @@ def random_recipe(seed: int, w: float = 160.0, h: float = 120.0, n_ops: int | No
         "ops": [random_op(rng, k, w, h) for k in kinds[:n]],
     }
     if blank:
-        recipe["ops"].insert(0, {"type": "drop", "center": [w / 2, h / 2], "radius": min(w, h) / 3,
-                                 "color": _color(rng)})
+        recipe["ops"].insert(
+            0,
+            {
+                "type": "drop",
+                "center": [w / 2, h / 2],
+                "radius": min(w, h) / 3,
+                "color": _color(rng),
+            },
+        )
     return recipe
 
 
-def test_image(w: int, h: int, seed: int = 0, alpha: bool = False):
+def make_image(w: int, h: int, seed: int = 0, alpha: bool = False):
     """A smooth, structured RGBA test picture (gradients, rings, stripes)."""
     yy, xx = np.mgrid[0:h, 0:w].astype(np.float64)
     rng = np.random.default_rng(seed)

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
-from recipes import EDGES, PATTERNS, random_recipe, test_image
+from recipes import EDGES, PATTERNS, make_image, random_recipe
 
 from marblevideo.frame import geometry
 from marblevideo.recipe import parse_recipe
@@ -38,7 +38,7 @@ def check(renderer, recipe_dict, size, image=None, t=None):
 def test_kernel_matches_reference_on_input(renderer, seed):
     recipe = random_recipe(seed)
     assert recipe["antialias"] == PATTERNS[seed % 6] and recipe["edges"] == EDGES[seed // 6 % 4]
-    image = test_image(96 + seed % 5, 72 + seed % 3, seed, alpha=seed % 2 == 0)
+    image = make_image(96 + seed % 5, 72 + seed % 3, seed, alpha=seed % 2 == 0)
     for t in (0.0, 0.7, 1.9, 10.0):  # before, during and after the keys and progress
         check(renderer, recipe, (113, 89), image, t)
 
@@ -58,11 +58,11 @@ def test_long_recipe_uses_loop_walk_and_matches(renderer):
         for key in ("alpha", "amplitude"):
             if isinstance(op.get(key), float):
                 op[key] *= 0.2
-    check(renderer, recipe, (90, 70), test_image(80, 60, 3))
+    check(renderer, recipe, (90, 70), make_image(80, 60, 3))
 
 
 def test_identity_recipe_returns_the_input_exactly(renderer):
-    image = test_image(67, 41, 5, alpha=True)
+    image = make_image(67, 41, 5, alpha=True)
     recipe = {"marblevideo": 1, "antialias": "none", "ops": []}
     ours, _ = check(renderer, recipe | {"canvas": [67, 41]}, (67, 41), image)
     assert np.array_equal(ours, image)
@@ -73,14 +73,14 @@ def test_every_lane_width_agrees(lanes):
     from marblevideo.renderer import Renderer
 
     narrow = Renderer(lanes=lanes, chains=1 if lanes == 1 else 2)
-    check(narrow, random_recipe(3), (61, 47), test_image(50, 40, 1))
+    check(narrow, random_recipe(3), (61, 47), make_image(50, 40, 1))
     check(narrow, random_recipe(4, blank=True), (61, 47))
 
 
 def test_parameter_change_does_not_rebuild(renderer):
     recipe = parse_recipe(random_recipe(11), "r.json")
     geom = geometry(recipe.canvas, (64, 48), (64, 48))
-    image = test_image(64, 48)
+    image = make_image(64, 48)
     renderer.render(recipe.at(0.0), geom, image)
     built = len(renderer._kernels)
     frames = [renderer.render(recipe.at(t), geom, image) for t in np.linspace(0, 3, 7)]
