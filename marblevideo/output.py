@@ -56,6 +56,9 @@ def atomic_output(
         raise MediaError(f"{target}: cannot write in {folder}: {exc.strerror}") from None
     os.close(fd)
     tmp = Path(tmp_name)
+    umask = os.umask(0)
+    os.umask(umask)
+    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; outputs get the usual mode
     try:
         yield tmp
         if target.exists() and not overwrite:  # appeared while we worked
