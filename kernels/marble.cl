@@ -220,55 +220,46 @@ inline void bilinear(__global const uint *src, int sw, int sh, uint bg, vf ix, v
 #undef LERP2
 }
 
-/* geo: output -> canvas (sx, sy, ox, oy), canvas -> input pixels (sx, sy, ox, oy).
- * bgc: background red, green, blue (0..255) and bg, the same packed RGBA8. */
-__kernel void marble(__global uint *dst, int w, int h,
-                     __global const uint *src, int sw, int sh,
-                     __constant const float *params,
-                     __constant const float *samples,
-                     float8 geo, float4 bgc, uint bg) {
-    const int nbx = (w + LANES - 1) / LANES;
-    const int gid = get_global_id(0);
-    const int bx = gid % nbx, by = gid / nbx;
-    const int x0 = bx * LANES, y0 = by * ROWS;
-    if (y0 >= h)
-        return;
+#define KPARAMS __global const uint *src, int sw, int sh, __constant const float *params, \
+                __constant const float *samples, float8 geo, float4 bgc, uint bg
+#define KARGS src, sw, sh, params, samples, geo, bgc, bg
 
-    vf acc[ROWS][4];
+/* The colour of chain c after its walk: ink, else the input (bilinear) or background. */
+#if HAS_INPUT
+#define SHADE(c, cr, cg, cb, ca)                                                          \
+    cr = cg = cb = (vf)0.0f; ca = (vf)255.0f;                                              \
+    if (ANY(ink[c] < 0))                                                                   \
+        bilinear(src, sw, sh, bg, px[c] * geo.s4 + geo.s6, py[c] * geo.s5 + geo.s7,        \
+                 &cr, &cg, &cb, &ca);                                                      \
+    ca = select(ca, (vf)255.0f, ink[c] >= 0);                                              \
+    if (ANY(ink[c] >= 0)) { INK }
+#else
+#define SHADE(c, cr, cg, cb, ca)                                                          \
+    cr = (vf)bgc.x; cg = (vf)bgc.y; cb = (vf)bgc.z; ca = (vf)255.0f;                       \
+    if (ANY(ink[c] >= 0)) { INK }
+#endif
+
+/* Every subsample of ROWS x LANES pixels whose first-row centres are (ox, oy):
+ * the full pattern, walked in CHAINS independent chains; weighted sums in acc. */
+inline void shade_block(vf ox, vf oy, vf acc[ROWS][4], KPARAMS) {
     for (int r = 0; r < ROWS; r++)
         for (int k = 0; k < 4; k++)
             acc[r][k] = (vf)0.0f;
-    const vf ox = (vf)(float)x0 + IOTA + 0.5f;
-
     for (int g = 0; g < ROWS * NSAMPLES; g += CHAINS) {
         vf px[CHAINS], py[CHAINS];
         vi ink[CHAINS];
         FOR_CHAINS {
             int s = (g + c) % NSAMPLES;
-            int row = ROW_OF(g + c);
             px[c] = (ox + samples[3 * s]) * geo.s0 + geo.s2;
-            py[c] = ((float)(y0 + row) + 0.5f + samples[3 * s + 1]) * geo.s1 + geo.s3;
+            py[c] = (oy + (float)ROW_OF(g + c) + samples[3 * s + 1]) * geo.s1 + geo.s3;
             ink[c] = (vi)-1;
         }
 
         WALK
 
         FOR_CHAINS {
-            vf cr, cg, cb, ca = (vf)255.0f;
-#if HAS_INPUT
-            cr = cg = cb = 0.0f;
-            if (ANY(ink[c] < 0))
-                bilinear(src, sw, sh, bg, px[c] * geo.s4 + geo.s6, py[c] * geo.s5 + geo.s7,
-                         &cr, &cg, &cb, &ca);
-            ca = select(ca, (vf)255.0f, ink[c] >= 0);
-#else
-            cr = bgc.x;
-            cg = bgc.y;
-            cb = bgc.z;
-#endif
-            if (ANY(ink[c] >= 0)) {
-                INK
-            }
+            vf cr, cg, cb, ca;
+            SHADE(c, cr, cg, cb, ca)
             float wgt = samples[3 * ((g + c) % NSAMPLES) + 2];
             int row = ROW_OF(g + c);
             acc[row][0] += wgt * cr;
@@ -277,26 +268,191 @@ __kernel void marble(__global uint *dst, int w, int h,
             acc[row][3] += wgt * ca;
         }
     }
+}
 
-    for (int r = 0; r < ROWS; r++) {
-        int y = y0 + r;
-        if (y >= h)
-            break;
-#define Q(k) CVT_U(clamp(floor(acc[r][k] + 0.5f), 0.0f, 255.0f))
-        vu packed = Q(0) | (Q(1) << 8) | (Q(2) << 16) | (Q(3) << 24);
+inline vu pack_rgba(vf r, vf g, vf b, vf a) {
+#define Q(v) CVT_U(clamp(floor((v) + 0.5f), 0.0f, 255.0f))
+    return Q(r) | (Q(g) << 8) | (Q(b) << 16) | (Q(a) << 24);
 #undef Q
-        __global uint *out = dst + (size_t)y * w + x0;
-        if (x0 + LANES <= w) {
+}
+
+/* Store LANES pixels at out[0..], or only the first n of them. */
+inline void store_row(__global uint *out, vu packed, int n) {
+    if (n >= LANES) {
 #if LANES == 1
-            out[0] = packed;
+        out[0] = packed;
 #else
-            CAT(vstore, LANES)(packed, 0, out);
+        CAT(vstore, LANES)(packed, 0, out);
 #endif
-        } else {
-            uint tmp[LANES];
-            VSTORE(packed, tmp);
-            for (int l = 0; l < w - x0; l++)
-                out[l] = tmp[l];
+    } else {
+        uint tmp[LANES];
+        VSTORE(packed, tmp);
+        for (int l = 0; l < n; l++)
+            out[l] = tmp[l];
+    }
+}
+
+/* geo: output -> canvas (sx, sy, ox, oy), canvas -> input pixels (sx, sy, ox, oy).
+ * bgc: background red, green, blue (0..255) and bg, the same packed RGBA8.
+ * Work-item: LANES pixels of ROWS rows; every subsample of the pattern. */
+__kernel void marble(__global uint *dst, int w, int h, KPARAMS) {
+    const int nbx = (w + LANES - 1) / LANES;
+    const int gid = get_global_id(0);
+    const int x0 = (gid % nbx) * LANES, y0 = (gid / nbx) * ROWS;
+    if (y0 >= h)
+        return;
+    vf acc[ROWS][4];
+    shade_block((vf)(float)x0 + IOTA + 0.5f, (vf)((float)y0 + 0.5f), acc, KARGS);
+    for (int r = 0; r < ROWS && y0 + r < h; r++)
+        store_row(dst + (size_t)(y0 + r) * w + x0,
+                  pack_rgba(acc[r][0], acc[r][1], acc[r][2], acc[r][3]), w - x0);
+}
+
+/* ---- Adaptive antialiasing: three passes --------------------------------
+ * 1. marble_centres walks one sample at every pixel centre of a grid one pixel
+ *    larger than the output on each side: ink index, and where the walk ended
+ *    in input pixels. Grid point (gx, gy) is output pixel (gx - 1, gy - 1).
+ * 2. marble_classify looks at each pixel's 3x3 neighbourhood. One ink all
+ *    round: that ink. No ink all round: the background, or, over an input whose
+ *    map is smooth there (second differences below SMOOTH input pixels), the
+ *    full pattern's bilinear samples at positions interpolated quadratically
+ *    from the nine walks. Anything else goes on a list.
+ * 3. marble_list renders the listed pixels with the full pattern, LANES at a time.
+ */
+#ifndef SMOOTH
+#define SMOOTH 0.25f
+#endif
+
+__kernel void marble_centres(__global int *inkmap, __global float *sxmap, __global float *symap,
+                             int gstride, int gh, __constant const float *params, float8 geo) {
+    const int nbx = gstride / LANES;
+    const int gid = get_global_id(0);
+    const int x0 = (gid % nbx) * LANES, y0 = (gid / nbx) * CHAINS;
+    if (y0 >= gh)
+        return;
+    vf px[CHAINS], py[CHAINS];
+    vi ink[CHAINS];
+    const vf ox = (vf)(float)x0 + IOTA - 0.5f;
+    FOR_CHAINS {
+        px[c] = ox * geo.s0 + geo.s2;
+        py[c] = ((float)(y0 + c) - 0.5f) * geo.s1 + geo.s3;
+        ink[c] = (vi)-1;
+    }
+
+    WALK
+
+    FOR_CHAINS {
+        if (y0 + c < gh) {
+            size_t at = (size_t)(y0 + c) * gstride + x0;
+#if LANES == 1
+            inkmap[at] = ink[c];
+            sxmap[at] = px[c] * geo.s4 + geo.s6;
+            symap[at] = py[c] * geo.s5 + geo.s7;
+#else
+            CAT(vstore, LANES)(ink[c], 0, inkmap + at);
+            CAT(vstore, LANES)(px[c] * geo.s4 + geo.s6, 0, sxmap + at);
+            CAT(vstore, LANES)(py[c] * geo.s5 + geo.s7, 0, symap + at);
+#endif
         }
     }
+}
+
+#if LANES == 1
+#define GLOAD(buf, at) ((buf)[at])
+#else
+#define GLOAD(buf, at) CAT(vload, LANES)(0, (buf) + (at))
+#endif
+
+__kernel void marble_classify(__global uint *dst, int w, int h,
+                              __global const int *inkmap, __global const float *sxmap,
+                              __global const float *symap, int gstride,
+                              __global int *list, __global int *count, KPARAMS) {
+    const int nbx = (w + LANES - 1) / LANES;
+    const int gid = get_global_id(0);
+    const int x0 = (gid % nbx) * LANES, y = gid / nbx;
+    if (y >= h)
+        return;
+    /* grid rows y .. y+2 and columns x0 .. x0+2 (+ lane) surround output (x0 + lane, y) */
+    const size_t up = (size_t)y * gstride + x0, mid = up + gstride, dn = mid + gstride;
+    vi k = GLOAD(inkmap, mid + 1);
+    vi same = (GLOAD(inkmap, up) == k) & (GLOAD(inkmap, up + 1) == k) & (GLOAD(inkmap, up + 2) == k)
+            & (GLOAD(inkmap, mid) == k) & (GLOAD(inkmap, mid + 2) == k)
+            & (GLOAD(inkmap, dn) == k) & (GLOAD(inkmap, dn + 1) == k) & (GLOAD(inkmap, dn + 2) == k);
+    vf cr = (vf)bgc.x, cg = (vf)bgc.y, cb = (vf)bgc.z, ca = (vf)255.0f;
+    vi ink[1] = {k};
+    { const int c = 0; INK }
+#if HAS_INPUT
+    vi blank = same & (k < 0);
+    if (ANY(blank)) {
+        /* quadratic model of the walk's end point around the pixel, per coordinate */
+#define QUAD(m, a0, ax, ay, axx, ayy, axy)                                                 \
+        vf a0 = GLOAD(m, mid + 1);                                                         \
+        vf ax = 0.5f * (GLOAD(m, mid + 2) - GLOAD(m, mid));                                \
+        vf ay = 0.5f * (GLOAD(m, dn + 1) - GLOAD(m, up + 1));                              \
+        vf axx = GLOAD(m, mid + 2) + GLOAD(m, mid) - 2.0f * a0;                            \
+        vf ayy = GLOAD(m, dn + 1) + GLOAD(m, up + 1) - 2.0f * a0;                          \
+        vf axy = 0.25f * (GLOAD(m, dn + 2) - GLOAD(m, dn) - GLOAD(m, up + 2) + GLOAD(m, up));
+        QUAD(sxmap, x0_, xx_, xy_, xxx_, xyy_, xxy_)
+        QUAD(symap, y0_, yx_, yy_, yxx_, yyy_, yxy_)
+#undef QUAD
+        vf bend = fmax(fmax(fabs(xxx_), fabs(xyy_)), fmax(fabs(xxy_), fabs(yxx_)));
+        bend = fmax(bend, fmax(fabs(yyy_), fabs(yxy_)));
+        blank &= bend < SMOOTH;
+        vf sr = (vf)0.0f, sg = (vf)0.0f, sb = (vf)0.0f, sa = (vf)0.0f;
+        for (int s = 0; s < NSAMPLES; s++) {
+            float dx = samples[3 * s], dy = samples[3 * s + 1], wgt = samples[3 * s + 2];
+            float hx = 0.5f * dx * dx, hy = 0.5f * dy * dy, hxy = dx * dy;
+            vf ix = x0_ + dx * xx_ + dy * xy_ + hx * xxx_ + hy * xyy_ + hxy * xxy_;
+            vf iy = y0_ + dx * yx_ + dy * yy_ + hx * yxx_ + hy * yyy_ + hxy * yxy_;
+            vf r, g, b, a;
+            bilinear(src, sw, sh, bg, ix, iy, &r, &g, &b, &a);
+            sr += wgt * r;
+            sg += wgt * g;
+            sb += wgt * b;
+            sa += wgt * a;
+        }
+        cr = select(cr, sr, blank);
+        cg = select(cg, sg, blank);
+        cb = select(cb, sb, blank);
+        ca = select(ca, sa, blank);
+    }
+    vi done = (same & (k >= 0)) | blank;
+#else
+    vi done = same;
+#endif
+    const int n = min(LANES, w - x0);
+    __global uint *out = dst + (size_t)y * w + x0;
+    if (n == LANES && !ANY(done == 0)) {
+        store_row(out, pack_rgba(cr, cg, cb, ca), LANES);
+        return;
+    }
+    int flag[LANES];
+    uint tmp[LANES];
+    VSTORE(done, flag);
+    VSTORE(pack_rgba(cr, cg, cb, ca), tmp);
+    for (int l = 0; l < n; l++) {
+        if (flag[l])
+            out[l] = tmp[l];
+        else
+            list[atomic_inc(count)] = y * w + x0 + l;
+    }
+}
+
+__kernel void marble_list(__global uint *dst, int w, __global const int *list, int count,
+                          KPARAMS) {
+    const int first = get_global_id(0) * LANES;
+    if (first >= count)
+        return;
+    int at[LANES];
+    for (int l = 0; l < LANES; l++)
+        at[l] = list[min(first + l, count - 1)];
+    vi idx = VLOAD(at);
+    vi yi = idx / w;
+    vi xi = idx - yi * w;
+    vf acc[ROWS][4];
+    shade_block(CVT_F(xi) + 0.5f, CVT_F(yi) + 0.5f, acc, KARGS);
+    uint tmp[LANES];
+    VSTORE(pack_rgba(acc[0][0], acc[0][1], acc[0][2], acc[0][3]), tmp);
+    for (int l = 0; l < LANES && first + l < count; l++)
+        dst[at[l]] = tmp[l];
 }

@@ -51,10 +51,14 @@ class Marbler:
     """
 
     def __init__(
-        self, recipe: RecipeLike, renderer: Renderer | None = None, device: str | None = None
+        self,
+        recipe: RecipeLike,
+        renderer: Renderer | None = None,
+        device: str | None = None,
+        adaptive: bool = True,
     ):
         self.recipe = as_recipe(recipe)
-        self.renderer = renderer or Renderer(device)
+        self.renderer = renderer or Renderer(device, adaptive=adaptive)
         self._geometry: dict[tuple, Geometry] = {}
 
     def geometry(

@@ -99,6 +99,11 @@ def _walk_source(types: tuple[str, ...]) -> str:
     return f"#define WALK {walk}\n#define INK {ink}\n"
 
 
+def _pad(n: int, multiple: int = 64) -> int:
+    """Global sizes are padded to a multiple of 64 (PoCL picks a local size dividing it)."""
+    return max(multiple, -(-n // multiple) * multiple)
+
+
 def to_rgba(image: np.ndarray) -> np.ndarray:
     """An (H, W, 4) C-contiguous uint8 view or copy of an RGBA, RGB or grey image."""
     if image.dtype != np.uint8:
@@ -119,10 +124,18 @@ class Renderer:
     ``device``: a choice as in :func:`marblevideo.device.choose_device`.
     ``lanes`` and ``chains`` override the vector width and the independent
     chains per work-item (defaults: 16 and 4 on CPUs, 1 and 1 on GPUs).
+    ``adaptive`` (default) samples the full antialiasing pattern only where a
+    pixel's neighbourhood shows an ink edge or a strongly curved map, one
+    sample elsewhere (see marble.cl); False evaluates the full pattern everywhere.
     """
 
     def __init__(
-        self, device: str | None = None, *, lanes: int | None = None, chains: int | None = None
+        self,
+        device: str | None = None,
+        *,
+        lanes: int | None = None,
+        chains: int | None = None,
+        adaptive: bool = True,
     ):
         import pyopencl as cl
 
@@ -137,6 +150,9 @@ class Renderer:
         is_cpu = bool(dev.type & cl.device_type.CPU)
         self.lanes = lanes or (16 if is_cpu else 1)
         self.chains = chains or (4 if is_cpu else 1)
+        self.adaptive = adaptive
+        #: pixels rendered with the full pattern by the last adaptive render
+        self.last_full_pixels: int | None = None
         self._source = kernel_source()
         self._kernels: dict[tuple, object] = {}
         self._buffers: dict[str, tuple[int, object]] = {}
@@ -176,7 +192,8 @@ class Renderer:
         except cl.Error as exc:
             first = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
             raise DeviceError(f"OpenCL build failed on {self.info.name}: {first}") from None
-        kernel = (cl.Kernel(program, "marble"), rows)
+        names = ("marble", "marble_centres", "marble_classify", "marble_list")
+        kernel = ({n: cl.Kernel(program, n) for n in names}, rows)
         self._kernels[key] = kernel
         return kernel
 
@@ -217,7 +234,7 @@ class Renderer:
         w, h = geom.out_w, geom.out_h
         if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
             raise UsageError(f"output size {w}x{h} is outside 1..{MAX_SIDE} per side")
-        kernel, rows = self.kernel_for(Structure.of(spec, image is not None))
+        kernels, rows = self.kernel_for(Structure.of(spec, image is not None))
         queue = self.queue
         params = pack_params(spec)
         pbuf = self._buffer("params", params.nbytes)
@@ -233,15 +250,8 @@ class Renderer:
         dst = self._buffer("dst", w * h * 4)
         bg = [float(c) for c in spec.background]
         packed_bg = int(round(bg[0])) | int(round(bg[1])) << 8 | int(round(bg[2])) << 16
-        packed_bg |= 255 << 24
         geo = np.array([*geom.to_canvas, *geom.to_input], dtype=np.float32)
-        nbx = -(-w // self.lanes)
-        nby = -(-h // rows)
-        total = -(-(nbx * nby) // 64) * 64
-        kernel.set_args(
-            dst,
-            np.int32(w),
-            np.int32(h),
+        common = (
             src,
             np.int32(sw),
             np.int32(sh),
@@ -249,13 +259,69 @@ class Renderer:
             self._sample_buffer(spec.antialias),
             geo.view(cl.cltypes.float8)[0],
             np.array(bg + [255.0], dtype=np.float32).view(cl.cltypes.float4)[0],
-            np.uint32(packed_bg),
+            np.uint32(packed_bg | 255 << 24),
         )
         try:
-            cl.enqueue_nd_range_kernel(queue, kernel, (total,), None)
+            if self.adaptive and len(pattern(spec.antialias)) > 1:
+                self._render_adaptive(kernels, dst, w, h, common, pbuf, geo)
+            else:
+                k = kernels["marble"]
+                k.set_args(dst, np.int32(w), np.int32(h), *common)
+                cl.enqueue_nd_range_kernel(
+                    queue, k, (_pad(-(-w // self.lanes) * -(-h // rows)),), None
+                )
             if out is None:
                 out = np.empty((h, w, 4), dtype=np.uint8)
             cl.enqueue_copy(queue, out, dst, is_blocking=True)
         except cl.Error as exc:
             raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
         return out
+
+    def _render_adaptive(self, kernels, dst, w, h, common, pbuf, geo) -> None:
+        """The three passes of adaptive antialiasing (see marble.cl)."""
+        cl, queue, lanes = self._cl, self.queue, self.lanes
+        nbx = -(-w // lanes)
+        gstride, gh = nbx * lanes + 2 * lanes, h + 2
+        cells = gstride * gh
+        inkmap = self._buffer("inkmap", cells * 4)
+        sxmap, symap = self._buffer("sxmap", cells * 4), self._buffer("symap", cells * 4)
+        listing = self._buffer("list", w * h * 4)
+        counter = self._buffer("count", 4)
+        zero = np.zeros(1, np.int32)
+        cl.enqueue_copy(queue, counter, zero, is_blocking=False)
+        centres = kernels["marble_centres"]
+        centres.set_args(
+            inkmap,
+            sxmap,
+            symap,
+            np.int32(gstride),
+            np.int32(gh),
+            pbuf,
+            geo.view(cl.cltypes.float8)[0],
+        )
+        chains = self.chains if lanes > 1 else 1
+        cl.enqueue_nd_range_kernel(
+            queue, centres, (_pad(gstride // lanes * -(-gh // chains)),), None
+        )
+        classify = kernels["marble_classify"]
+        classify.set_args(
+            dst,
+            np.int32(w),
+            np.int32(h),
+            inkmap,
+            sxmap,
+            symap,
+            np.int32(gstride),
+            listing,
+            counter,
+            *common,
+        )
+        cl.enqueue_nd_range_kernel(queue, classify, (_pad(nbx * h),), None)
+        count = np.empty(1, np.int32)
+        cl.enqueue_copy(queue, count, counter, is_blocking=True)
+        n = int(count[0])
+        self.last_full_pixels = n
+        if n:
+            full = kernels["marble_list"]
+            full.set_args(dst, np.int32(w), listing, np.int32(n), *common)
+            cl.enqueue_nd_range_kernel(queue, full, (_pad(-(-n // lanes)),), None)

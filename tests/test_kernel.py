@@ -86,3 +86,44 @@ def test_parameter_change_does_not_rebuild(renderer):
     frames = [renderer.render(recipe.at(t), geom, image) for t in np.linspace(0, 3, 7)]
     assert len(renderer._kernels) == built
     assert any(not np.array_equal(frames[0], f) for f in frames[1:])
+
+
+@pytest.fixture(scope="module")
+def full_pattern():
+    from marblevideo.renderer import Renderer
+
+    return Renderer(adaptive=False)
+
+
+@pytest.mark.parametrize("seed", [1, 8, 13, 101])
+def test_full_pattern_path_matches_reference(full_pattern, seed):
+    image = None if seed > 100 else make_image(90, 70, seed)
+    check(full_pattern, random_recipe(seed, blank=image is None), (97, 75), image)
+
+
+@pytest.mark.parametrize("seed", [2, 9, 104])
+def test_adaptive_stays_within_tolerance_of_full_pattern_on_noise(renderer, full_pattern, seed):
+    """Noise is the hardest input for adaptive sampling: any position error shows."""
+    rng = np.random.default_rng(seed)
+    noise = rng.integers(0, 256, (80, 100, 4), dtype=np.uint8)
+    recipe = parse_recipe(random_recipe(seed) | {"antialias": "grid4"}, "noise.json")
+    spec = recipe.at(recipe.end_time())
+    geom = geometry(recipe.canvas, (120, 90), (100, 80))
+    adaptive = renderer.render(spec, geom, noise)
+    assert renderer.last_full_pixels < 120 * 90  # some pixels took the one-sample path
+    assert agreement(adaptive, full_pattern.render(spec, geom, noise)) >= SHARE
+
+
+def test_adaptive_samples_fully_only_near_edges(renderer):
+    recipe = parse_recipe(
+        {
+            "marblevideo": 1,
+            "canvas": [200, 200],
+            "ops": [{"type": "drop", "center": [100, 100], "radius": 50, "color": [200, 0, 0]}],
+        },
+        "one-drop.json",
+    )
+    out = renderer.render(recipe.at(0), geometry(recipe.canvas, (200, 200)))
+    assert out[100, 100, 0] == 200 and out[5, 5, 0] == 255
+    # a circle of radius 50 crosses about 2*pi*50 pixels; each listed with its neighbours
+    assert 300 < renderer.last_full_pixels < 1500
