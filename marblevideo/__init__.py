@@ -21,8 +21,9 @@ __version__ = "0.1.0"
 
 def __getattr__(name: str):
     """Lazy access to the parts that need OpenCL or PyAV (imported on first use)."""
-    from marblevideo import api
+    import importlib
 
+    api = importlib.import_module("marblevideo.api")
     if name in ("Marbler", "render_image", "render_still", "render_video", "marbled_frames"):
         return getattr(api, name)
     raise AttributeError(f"module 'marblevideo' has no attribute {name!r}")

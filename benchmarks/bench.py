@@ -1,0 +1,307 @@
+"""marblevideo benchmarks, each beside its baseline in the same run.
+
+    python benchmarks/bench.py                 # everything below (several minutes)
+    python benchmarks/bench.py table1 e2e numpy memory
+
+- table1: the paper's Table 1 (frames per second of a blank-sheet design) for a
+  12-op recipe in the spirit of its Figure 6 (6 drops, 4 combs, a wave, a
+  vortex) at its five sizes and four AA columns; kernel time only (render +
+  read back), adaptive and full-pattern sampling, beside the paper's GPU figures.
+- e2e: marbling a 1280x720 clip (that recipe, RGSS) with libx264 veryfast crf 23
+  against a plain PyAV decode + encode of the same clip with the same settings.
+- numpy: our renderer against the same recipe computed per frame with NumPy
+  float32 inverse maps and cv2.remap (one remap per RGSS subsample).
+- memory: peak RSS of the CLI marbling a 1080p clip of 10 s and of 60 s.
+
+Timings are medians; the machine is shared, so treat differences under 1.3x as noise.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import platform
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import av
+import cv2
+import numpy as np
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))
+
+from marblevideo.frame import geometry  # noqa: E402
+from marblevideo.recipe import parse_recipe  # noqa: E402
+from marblevideo.reference import inverse_walk  # noqa: E402
+from marblevideo.renderer import Renderer  # noqa: E402
+
+PAPER = {  # Table 1 of Lu et al. 2012: GeForce 8800GTS, frames per second
+    (512, 512): (1560, 732, 250, 239),
+    (1024, 512): (1265, 375, 125, 120),
+    (1024, 768): (850, 246, 83, 80),
+    (1024, 1024): (660, 189, 64, 61),
+    (1280, 1024): (548, 156, 55, 53),
+}
+COLUMNS = ("none", "rgss", "checker4", "grid4")
+
+
+def recipe12(antialias: str = "rgss") -> dict:
+    """6 concentric drops, 4 combs (there and back, both directions), a wave, a vortex."""
+    colors = ["#1d3557", "#e9c46a", "#b23a48", "#f4f1de", "#2a9d8f", "#e76f51"]
+    ops = [{"type": "drop", "center": [512, 512], "radius": 190, "color": c} for c in colors]
+    for angle, point in ((180, [0, 0]), (0, [0, 32]), (90, [0, 0]), (270, [32, 0])):
+        ops.append(
+            {
+                "type": "comb",
+                "point": point,
+                "angle": angle,
+                "spacing": 64,
+                "alpha": 44,
+                "lambda": 16,
+            }
+        )
+    ops.append({"type": "wave", "amplitude": 26, "wavelength": 220, "phase": 0, "angle": 90})
+    ops.append({"type": "vortex", "center": [512, 512], "alpha": 300, "lambda": 120})
+    return {
+        "marblevideo": 1,
+        "canvas": [1024, 1024],
+        "background": "#f3ead7",
+        "antialias": antialias,
+        "ops": ops,
+    }
+
+
+def median_time(fn, repeat: int = 7, warmup: int = 2) -> float:
+    for _ in range(warmup):
+        fn()
+    times = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        fn()
+        times.append(time.perf_counter() - t)
+    return statistics.median(times)
+
+
+def table1(device: str | None) -> None:
+    adaptive, full = Renderer(device), Renderer(device, adaptive=False)
+    print(f"\n## Table 1: blank-sheet design, 12 ops, kernel fps on {adaptive.info.name}")
+    print("| size | " + " | ".join(f"{c} ours (full) / paper" for c in COLUMNS) + " |")
+    print("|---|" + "---|" * len(COLUMNS))
+    for size, paper in PAPER.items():
+        cells = []
+        for col, ref in zip(COLUMNS, paper, strict=True):
+            recipe = parse_recipe(recipe12(col), "table1.json")
+            spec, geom = recipe.at(0), geometry(recipe.canvas, size)
+            ours = 1 / median_time(lambda r=adaptive, s=spec, g=geom: r.render(s, g))
+            if col == "none":
+                cells.append(f"{ours:.0f} / {ref}")
+            else:
+                base = 1 / median_time(lambda s=spec, g=geom: full.render(s, g))
+                cells.append(f"{ours:.0f} ({base:.0f}) / {ref}")
+        print(f"| {size[0]}x{size[1]} | " + " | ".join(cells) + " |", flush=True)
+
+
+def make_clip(path: Path, size=(1280, 720), seconds=4, fps=30, audio=True) -> Path:
+    """A moving picture with audio, encoded quickly (the input of the e2e runs)."""
+    w, h = size
+    yy, xx = np.mgrid[0:h, 0:w]
+    with av.open(str(path), "w") as out:
+        v = out.add_stream("libx264", rate=fps, options={"preset": "ultrafast", "crf": "18"})
+        v.width, v.height, v.pix_fmt = w, h, "yuv420p"
+        a = out.add_stream("aac", rate=48000, layout="stereo") if audio else None
+        for i in range(seconds * fps):
+            rgb = np.stack(
+                [
+                    (xx + 4 * i) % 256,
+                    (yy * 2 + i) % 256,
+                    ((xx // 40 + yy // 40 + i // 10) % 2) * 255,
+                ],
+                axis=2,
+            )
+            for p in v.encode(av.VideoFrame.from_ndarray(rgb.astype(np.uint8), "rgb24")):
+                out.mux(p)
+        out.mux(v.encode(None))
+        if a is not None:
+            tone = 0.2 * np.sin(np.arange(48000 * seconds) * 2 * np.pi * 440 / 48000)
+            tone = np.stack([tone, tone]).astype(np.float32)
+            for s0 in range(0, tone.shape[1], 1024):
+                f = av.AudioFrame.from_ndarray(
+                    np.ascontiguousarray(tone[:, s0 : s0 + 1024]), "fltp", "stereo"
+                )
+                f.sample_rate, f.pts = 48000, s0
+                out.mux(a.encode(f))
+            out.mux(a.encode(None))
+    return path
+
+
+def plain_transcode(src: Path, dst: Path) -> None:
+    """What ffmpeg -i src -c:v libx264 -preset veryfast -crf 23 -c:a copy dst does."""
+    with av.open(str(src)) as inp, av.open(str(dst), "w") as out:
+        vin = inp.streams.video[0]
+        vin.thread_type = "AUTO"
+        ain = inp.streams.audio[0]
+        v = out.add_stream(
+            "libx264", rate=vin.average_rate, options={"preset": "veryfast", "crf": "23"}
+        )
+        v.width, v.height, v.pix_fmt = vin.width, vin.height, "yuv420p"
+        v.thread_type = "AUTO"
+        a = out.add_stream_from_template(ain)
+        for packet in inp.demux(vin, ain):
+            if packet.stream is ain:
+                if packet.dts is not None:
+                    packet.stream = a
+                    out.mux(packet)
+                continue
+            for frame in packet.decode():
+                frame.pict_type = av.video.frame.PictureType.NONE
+                out.mux(v.encode(frame))
+        out.mux(v.encode(None))
+
+
+def e2e(device: str | None) -> None:
+    import json
+
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        clip = make_clip(tmp / "clip.mp4")
+        (tmp / "r.json").write_text(json.dumps(recipe12("rgss")))
+        cmd = [
+            sys.executable,
+            "-m",
+            "marblevideo",
+            str(clip),
+            "--ops",
+            str(tmp / "r.json"),
+            "-o",
+            str(tmp / "out.mp4"),
+            "-y",
+            "-q",
+            "--preset",
+            "veryfast",
+            "--crf",
+            "23",
+        ]
+        if device:
+            cmd += ["--device", device]
+        env = {**os.environ, "PYTHONPATH": str(ROOT)}
+        subprocess.run(cmd, check=True, env=env)  # warm the kernel cache
+        plain, ours = [], []
+        for _ in range(3):
+            t = time.perf_counter()
+            plain_transcode(clip, tmp / "plain.mp4")
+            plain.append(time.perf_counter() - t)
+            t = time.perf_counter()
+            subprocess.run(cmd, check=True, env=env)
+            ours.append(time.perf_counter() - t)
+        p, o = statistics.median(plain), statistics.median(ours)
+        n = 120
+        print("\n## End to end: 1280x720, 120 frames, 12 ops RGSS, x264 veryfast crf 23")
+        print(f"plain PyAV decode+encode: {p:.2f} s ({p / n * 1e3:.1f} ms/frame)")
+        print(
+            f"marblevideo CLI:          {o:.2f} s ({o / n * 1e3:.1f} ms/frame, "
+            "process start and kernel build included)"
+        )
+        print(f"ratio: {o / p:.2f}x (target <= 1.5x)")
+
+
+def numpy_frame(spec, geom, image: np.ndarray) -> np.ndarray:
+    """The recipe per frame as a NumPy user would: float32 maps, cv2.remap per subsample."""
+    h, w = image.shape[:2]
+    yy, xx = np.mgrid[0:h, 0:w].astype(np.float32)
+    acc = np.zeros((h, w, 4), np.float32)
+    for dx, dy, wgt in (
+        (-1 / 8, -3 / 8, 0.25),
+        (3 / 8, -1 / 8, 0.25),
+        (1 / 8, 3 / 8, 0.25),
+        (-3 / 8, 1 / 8, 0.25),
+    ):
+        cx = (xx + 0.5 + dx) * geom.to_canvas[0] + geom.to_canvas[2]
+        cy = (yy + 0.5 + dy) * geom.to_canvas[1] + geom.to_canvas[3]
+        x0, y0, ink = inverse_walk(spec, cx.astype(np.float32), cy.astype(np.float32))
+        mx = (x0 * geom.to_input[0] + geom.to_input[2] - 0.5).astype(np.float32)
+        my = (y0 * geom.to_input[1] + geom.to_input[3] - 0.5).astype(np.float32)
+        sample = cv2.remap(image, mx, my, cv2.INTER_LINEAR, borderMode=cv2.BORDER_REPLICATE)
+        sample = sample.astype(np.float32)
+        for i in np.unique(ink[ink >= 0]):
+            sample[ink == i] = (*spec.ops[i].values["color"], 255)
+        acc += wgt * sample
+    return np.floor(acc + 0.5).astype(np.uint8)
+
+
+def numpy_baseline(device: str | None) -> None:
+    recipe = parse_recipe(recipe12("rgss"), "r.json")
+    rng = np.random.default_rng(0)
+    image = rng.integers(0, 256, (720, 1280, 4), dtype=np.uint8)
+    spec, geom = recipe.at(0), geometry(recipe.canvas, (1280, 720), (1280, 720))
+    renderer = Renderer(device)
+    ours = median_time(lambda: renderer.render(spec, geom, image))
+    base = median_time(lambda: numpy_frame(spec, geom, image), repeat=3, warmup=0)
+    print("\n## Against NumPy float32 + cv2.remap, 1280x720, 12 ops RGSS, per frame")
+    print(
+        f"NumPy + cv2.remap: {base * 1e3:.0f} ms; marblevideo: {ours * 1e3:.1f} ms; "
+        f"speed-up {base / ours:.0f}x (target >= 20x)"
+    )
+
+
+def peak_rss_mb(cmd: list[str], env: dict) -> float:
+    proc = subprocess.Popen(cmd, env=env)
+    _, status, usage = os.wait4(proc.pid, 0)
+    if status != 0:
+        raise SystemExit(f"failed: {' '.join(cmd)}")
+    return usage.ru_maxrss / 1024
+
+
+def memory(device: str | None) -> None:
+    import json
+
+    print("\n## Peak RSS of the CLI, 1920x1080, 12 ops RGSS (MB)")
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        (tmp / "r.json").write_text(json.dumps(recipe12("rgss")))
+        env = {**os.environ, "PYTHONPATH": str(ROOT)}
+        for seconds in (10, 60):
+            clip = make_clip(tmp / f"c{seconds}.mp4", (1920, 1080), seconds, 30)
+            cmd = [
+                sys.executable,
+                "-m",
+                "marblevideo",
+                str(clip),
+                "--ops",
+                str(tmp / "r.json"),
+                "-o",
+                str(tmp / "o.mp4"),
+                "-y",
+                "-q",
+                "--preset",
+                "veryfast",
+            ]
+            t = time.perf_counter()
+            rss = peak_rss_mb(cmd, env)
+            print(
+                f"{seconds:>3} s clip: peak RSS {rss:.0f} MB "
+                f"({time.perf_counter() - t:.0f} s wall)",
+                flush=True,
+            )
+            clip.unlink()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("parts", nargs="*", default=["table1", "e2e", "numpy", "memory"])
+    parser.add_argument("--device", help="OpenCL device (see `marblevideo devices`)")
+    args = parser.parse_args()
+    print(
+        f"# {platform.node()} {platform.processor() or platform.machine()}, "
+        f"{os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M')}"
+    )
+    for part in args.parts:
+        {"table1": table1, "e2e": e2e, "numpy": numpy_baseline, "memory": memory}[part](args.device)
+
+
+if __name__ == "__main__":
+    main()
