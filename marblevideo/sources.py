@@ -119,6 +119,7 @@ class Source:
 class TestPattern(Source):
     """A moving colour pattern with a clock, so that every frame differs visibly."""
 
+    __test__ = False  # not a pytest class
     name = "test pattern"
 
     def __init__(self, size: tuple[int, int] = (1280, 720), fps: float = 30.0):
