@@ -176,6 +176,7 @@ class CameraSource(Source):
     def __init__(self, device: int | str, size: tuple[int, int] | None, fps: float | None):
         super().__init__()
         self.name = f"camera {device}"
+        cv2.utils.logging.setLogLevel(cv2.utils.logging.LOG_LEVEL_ERROR)  # our one line says it
         cap = cv2.VideoCapture(device)
         if not cap.isOpened():
             raise MediaError(f"camera {device}: cannot open it (is it connected and free?)")
