@@ -25,6 +25,7 @@ examples:
   marblevideo --ops samples/figure6.json -o design.png --size 2048x2048
   marblevideo devices            list OpenCL devices
   marblevideo schema             print the recipe's JSON Schema
+  marblevideo live test --ops samples/swirl.json --preview   live (see live --help)
 
 exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143 interrupted
 """
@@ -183,7 +184,13 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
     )
 
 
-COMMANDS = {"devices": _cmd_devices, "schema": _cmd_schema}
+def _cmd_live(argv: list[str]) -> int:
+    from marblevideo.live import run_live
+
+    return run_live(argv, _Parser)
+
+
+COMMANDS = {"devices": _cmd_devices, "schema": _cmd_schema, "live": _cmd_live}
 
 
 def _on_sigterm(signum, frame):

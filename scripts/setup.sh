@@ -27,5 +27,9 @@ if [ ! -x .venv/bin/python ]; then
 fi
 extra=""
 [ "${1:-}" = "--test" ] && extra="[test]"
+if [ "${1:-}" = "--test" ] && ! command -v chromium >/dev/null; then
+  echo "setup: installing Debian's chromium for the live preview's browser tests" >&2
+  apt_install chromium
+fi
 .venv/bin/python -m pip install -q --disable-pip-version-check --upgrade pip >/dev/null
 .venv/bin/python -m pip install -q --disable-pip-version-check -e ".${extra}"

@@ -1,0 +1,162 @@
+"""Benchmark of ``marblevideo live``: frames per second and capture-to-preview latency.
+
+Runs the real pipeline in process: the built-in test pattern (1280x720 at 30 fps
+by default) -> a 6-op animated recipe with RGSS antialiasing -> JPEG (quality 80)
+-> the preview server, with one HTTP client reading the MJPEG stream. Latency is
+the time from a frame's capture timestamp to its JPEG being ready to send.
+
+    python benchmarks/live_bench.py [--size 1280x720] [--seconds 10]
+        [--preview-width 640] [--record out.mp4] [--device P:D]
+
+Not a test: numbers depend on the machine (see BENCHMARKS.md).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import platform
+import sys
+import tempfile
+import threading
+import time
+import urllib.request
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run from a checkout
+
+RECIPE = {
+    "marblevideo": 1,
+    "canvas": [1280, 720],
+    "antialias": "rgss",
+    "edges": "mirror",
+    "ops": [
+        {"type": "drop", "center": [640, 360], "radius": 120, "color": "#1d4e89"},
+        {"type": "comb", "point": [0, 0], "angle": 0, "spacing": 90, "alpha": 60, "lambda": 20},
+        {
+            "type": "wave",
+            "amplitude": {"keys": [{"t": 0, "v": 0}, {"t": 2, "v": 25}]},
+            "wavelength": 280,
+            "phase": {"keys": [{"t": 0, "v": 0}, {"t": 10, "v": 1800}]},
+            "angle": 90,
+        },
+        {"type": "tine", "point": [640, 0], "angle": 90, "alpha": 80, "lambda": 30},
+        {
+            "type": "circle",
+            "center": [640, 360],
+            "radius": 260,
+            "lambda": 60,
+            "alpha": {"keys": [{"t": 0, "v": 0}, {"t": 5, "v": -300}, {"t": 10, "v": 0}]},
+        },
+        {
+            "type": "vortex",
+            "center": {"keys": [{"t": 0, "v": [560, 360]}, {"t": 10, "v": [720, 360]}]},
+            "lambda": 140,
+            "alpha": {"keys": [{"t": 0, "v": 0}, {"t": 5, "v": 900}, {"t": 10, "v": 0}]},
+        },
+    ],
+}
+
+
+def _reader(url: str, stop: threading.Event, counter: list[int]) -> None:
+    with urllib.request.urlopen(url, timeout=10) as stream:
+        while not stop.is_set():
+            chunk = stream.read(65536)
+            if not chunk:
+                return
+            counter[0] += chunk.count(b"--marblevideoframe")
+
+
+def bench(size, seconds, warmup, preview_width, record, device, fps):
+    from marblevideo.api import parse_size
+    from marblevideo.live import LiveSession
+    from marblevideo.preview import PreviewServer
+    from marblevideo.sources import TestPattern
+
+    w, h = parse_size(size)
+    with tempfile.TemporaryDirectory() as tmp:
+        recipe = Path(tmp) / "bench.json"
+        recipe.write_text(json.dumps(RECIPE))
+        source = TestPattern((w, h), fps)
+        session = LiveSession(
+            recipe, source, device=device, jpeg=True, preview_width=preview_width, quiet=True
+        )
+        recorder = None
+        if record:
+            from marblevideo.live import _recorder, build_parser
+
+            args = build_parser().parse_args(["--ops", str(recipe), "-o", record, "-y"])
+            recorder = _recorder(args)
+            recorder.start(w, h, fps)
+            session.recorder = recorder
+        server = PreviewServer(session, 0)
+        server.start()
+        stop = threading.Event()
+        received = [0]
+        client = threading.Thread(
+            target=_reader, args=(server.url + "stream.mjpg", stop, received), daemon=True
+        )
+        client.start()
+        marks = {}
+
+        def sample():
+            time.sleep(warmup)
+            marks["start"] = (time.monotonic(), session.frames, received[0])
+            session._latency.values.clear()
+            session._render_ms.values.clear()
+            time.sleep(seconds)
+            marks["end"] = (time.monotonic(), session.frames, received[0])
+            session.stats_at_end = session.stats()
+            session.stop_event.set()
+
+        threading.Thread(target=sample, daemon=True).start()
+        try:
+            session.run()
+        finally:
+            stop.set()
+            server.stop()
+            session.close()
+            if recorder is not None:
+                recorder.close()
+        (t0, f0, r0), (t1, f1, r1) = marks["start"], marks["end"]
+        stats = session.stats_at_end
+        return {
+            "size": f"{w}x{h}",
+            "source_fps": fps,
+            "preview_width": preview_width or w,
+            "record": bool(record),
+            "fps": round((f1 - f0) / (t1 - t0), 1),
+            "preview_fps_received": round((r1 - r0) / (t1 - t0), 1),
+            "latency_median_ms": stats["latency_ms"],
+            "latency_p95_ms": stats["latency_p95_ms"],
+            "render_median_ms": stats["render_ms"],
+            "source_dropped": stats["dropped"],
+            "device": session.renderer.info.name,
+        }
+
+
+def main() -> None:
+    p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    p.add_argument("--size", default="1280x720")
+    p.add_argument("--seconds", type=float, default=10.0)
+    p.add_argument("--warmup", type=float, default=2.0)
+    p.add_argument("--fps", type=float, default=30.0, help="test pattern rate")
+    p.add_argument("--preview-width", type=int)
+    p.add_argument("--record", help="also record to this file")
+    p.add_argument("--device")
+    args = p.parse_args()
+    result = bench(
+        args.size,
+        args.seconds,
+        args.warmup,
+        args.preview_width,
+        args.record,
+        args.device,
+        args.fps,
+    )
+    result["machine"] = f"{platform.machine()} {platform.processor() or ''}".strip()
+    print(json.dumps(result))
+
+
+if __name__ == "__main__":
+    main()

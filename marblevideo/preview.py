@@ -1,0 +1,169 @@
+"""The live preview: a small HTTP server on 127.0.0.1 only (standard library).
+
+Routes:
+
+- ``GET /``: the page (``live_page.html``): the stream, counters, controls.
+- ``GET /stream.mjpg``: the marbled frames as MJPEG (``multipart/x-mixed-replace``),
+  each JPEG sent once, newest first: a slow client skips frames, it never queues them.
+- ``GET /frame.jpg``: the newest JPEG.
+- ``GET /stats``: JSON counters (fps, latency, dropped frames, recipe version and
+  error, control state); the page polls it.
+- ``GET /params``: JSON, each op's numeric parameters with slider ranges.
+- ``POST /control``: a JSON object (see :meth:`LiveSession.control`), applied from
+  the next frame; answers the new state, or 400 with ``{"error": ...}``.
+
+Requests must name the server as their Host (127.0.0.1 or localhost), and
+``/control`` takes ``Content-Type: application/json`` only, so other web pages
+open in the same browser cannot drive it (no CORS headers are ever sent).
+"""
+
+from __future__ import annotations
+
+import json
+import threading
+from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
+from importlib import resources
+
+from marblevideo.errors import MediaError, UsageError
+
+BOUNDARY = "marblevideoframe"
+HOST = "127.0.0.1"
+
+
+def page_html() -> bytes:
+    return (resources.files("marblevideo") / "live_page.html").read_bytes()
+
+
+class _Handler(BaseHTTPRequestHandler):
+    server: _Server
+    protocol_version = "HTTP/1.1"
+
+    def log_message(self, format, *args):  # noqa: A002 - quiet: the terminal is for errors
+        pass
+
+    def _host_ok(self) -> bool:
+        port = self.server.server_address[1]
+        allowed = {f"{HOST}:{port}", f"localhost:{port}"}
+        if self.headers.get("Host", "") in allowed:
+            return True
+        self._send(403, b"forbidden host\n", "text/plain")
+        return False
+
+    def _send(self, code: int, body: bytes, ctype: str) -> None:
+        self.send_response(code)
+        self.send_header("Content-Type", ctype)
+        self.send_header("Content-Length", str(len(body)))
+        self.send_header("Cache-Control", "no-store")
+        self.end_headers()
+        self.wfile.write(body)
+
+    def _json(self, obj, code: int = 200) -> None:
+        self._send(code, json.dumps(obj).encode(), "application/json")
+
+    def do_GET(self):  # noqa: N802 - http.server's naming
+        if not self._host_ok():
+            return
+        session = self.server.session
+        path = self.path.split("?", 1)[0]
+        if path == "/":
+            self._send(200, page_html(), "text/html; charset=utf-8")
+        elif path == "/stats":
+            self._json(session.stats())
+        elif path == "/params":
+            self._json(session.params())
+        elif path == "/frame.jpg":
+            seq, data = session.latest_jpeg(0, timeout=2.0)
+            if data is None:
+                self._send(503, b"no frame yet\n", "text/plain")
+            else:
+                self._send(200, data, "image/jpeg")
+        elif path == "/stream.mjpg":
+            self._stream()
+        else:
+            self._send(404, b"not found\n", "text/plain")
+
+    def _stream(self) -> None:
+        session = self.server.session
+        self.send_response(200)
+        self.send_header("Content-Type", f"multipart/x-mixed-replace; boundary={BOUNDARY}")
+        self.send_header("Cache-Control", "no-store")
+        self.send_header("Connection", "close")
+        self.end_headers()
+        self.close_connection = True
+        seq = 0
+        try:
+            while not self.server.closing.is_set():
+                seq, data = session.latest_jpeg(seq, timeout=0.5)
+                if data is None:
+                    continue
+                head = (
+                    f"--{BOUNDARY}\r\nContent-Type: image/jpeg\r\n"
+                    f"Content-Length: {len(data)}\r\n\r\n"
+                ).encode()
+                self.wfile.write(head + data + b"\r\n")
+                self.wfile.flush()
+        except (BrokenPipeError, ConnectionResetError, TimeoutError):
+            pass
+
+    def do_POST(self):  # noqa: N802 - http.server's naming
+        if not self._host_ok():
+            return
+        if self.path != "/control":
+            self._send(404, b"not found\n", "text/plain")
+            return
+        ctype = self.headers.get("Content-Type", "").split(";")[0].strip()
+        if ctype != "application/json":
+            self._json({"error": "control: Content-Type must be application/json"}, 415)
+            return
+        length = int(self.headers.get("Content-Length") or 0)
+        if length > 65536:
+            self._json({"error": "control: request too large"}, 413)
+            return
+        try:
+            request = json.loads(self.rfile.read(length) or b"null")
+            self._json(self.server.session.control(request))
+        except (ValueError, UsageError) as exc:
+            self._json({"error": str(exc)}, 400)
+
+
+class _Server(ThreadingHTTPServer):
+    daemon_threads = True
+    allow_reuse_address = True
+
+    def __init__(self, address, session):
+        self.session = session
+        self.closing = threading.Event()
+        super().__init__(address, _Handler)
+
+
+class PreviewServer:
+    """Serves ``session`` on 127.0.0.1:``port`` (0: any free port) in a thread."""
+
+    def __init__(self, session, port: int = 8765):
+        try:
+            self.httpd = _Server((HOST, port), session)
+        except OSError as exc:
+            raise MediaError(f"preview: cannot listen on {HOST}:{port}: {exc.strerror}") from None
+        self._thread: threading.Thread | None = None
+
+    @property
+    def address(self) -> tuple[str, int]:
+        return self.httpd.socket.getsockname()[:2]
+
+    @property
+    def url(self) -> str:
+        host, port = self.address
+        return f"http://{host}:{port}/"
+
+    def start(self) -> None:
+        self._thread = threading.Thread(
+            target=self.httpd.serve_forever, kwargs={"poll_interval": 0.2}, daemon=True
+        )
+        self._thread.start()
+
+    def stop(self) -> None:
+        self.httpd.closing.set()
+        if self._thread is not None:
+            self.httpd.shutdown()
+            self._thread.join(5.0)
+        self.httpd.server_close()

@@ -1,0 +1,181 @@
+"""``marblevideo live`` end to end: the test pattern, recording, Ctrl-C, the preview server.
+
+Everything runs for real (OpenCL device, PyAV encoder, HTTP on loopback).
+"""
+
+from __future__ import annotations
+
+import http.client
+import json
+import signal
+import threading
+import time
+
+import av
+import numpy as np
+import pytest
+
+from marblevideo.errors import UsageError
+from marblevideo.live import Clock, LiveSession, sliders, with_overrides
+from marblevideo.preview import PreviewServer
+from marblevideo.recipe import parse_recipe
+from marblevideo.sources import Latest, TestPattern
+from tests.live_helpers import RECIPE, ROOT, LiveProcess
+
+SWIRL = ROOT / "samples" / "swirl.json"
+
+
+def _frames(path):
+    with av.open(str(path)) as c:
+        stream = c.streams.video[0]
+        frames = [(f.pts, f.to_ndarray(format="rgb24")) for f in c.decode(stream)]
+        return stream, frames
+
+
+def test_test_pattern_records_a_valid_file(cli, tmp_path):
+    out = tmp_path / "rec.mp4"
+    r = cli(
+        "live", "test", "--size", "320x180", "--fps", "15", "--ops", SWIRL,
+        "--duration", "3", "-o", out,
+    )  # fmt: skip
+    assert r.returncode == 0, r.stderr
+    assert "wrote" in r.stderr and "live:" in r.stderr
+    stream, frames = _frames(out)
+    assert stream.time_base == 1 / 1000 or stream.time_base.denominator % 1000 == 0
+    assert len(frames) >= 8
+    assert frames[0][1].shape == (180, 320, 3)
+    pts = [p for p, _ in frames]
+    assert pts == sorted(pts) and len(set(pts)) == len(pts)
+    span = float((pts[-1] - pts[0]) * stream.time_base)
+    assert 1.5 < span < 3.5  # wall-clock timestamps
+    diff = np.abs(frames[0][1].astype(int) - frames[-1][1].astype(int)).mean()
+    assert diff > 5  # the pattern moves and the clock runs
+    assert not list(tmp_path.glob(".rec.*"))  # no temporary left
+
+
+def test_sigint_stops_cleanly_and_keeps_the_recording(tmp_path):
+    out = tmp_path / "take.mkv"
+    live = LiveProcess(
+        "--source", "test", "--size", "256x144", "--ops", SWIRL, "-o", out, "--preview",
+        "--port", "0", cwd=tmp_path,
+    )  # fmt: skip
+    try:
+        live.wait_stats(lambda s: s["recorded"] >= 10)
+    finally:
+        rc = live.stop(signal.SIGINT)
+    assert rc == 0, live.stderr()
+    _, frames = _frames(out)
+    assert len(frames) >= 10
+
+
+def test_bad_recipe_is_refused_before_starting(cli, tmp_path):
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps({"ops": [{"type": "tine", "point": [0, 0], "angle": 0,
+                                        "alpha": 1, "lambda": -2}]}))  # fmt: skip
+    r = cli("live", "test", "--ops", bad, "--duration", "1", "-o", tmp_path / "x.mp4")
+    assert r.returncode == 2
+    assert "ops[0].lambda" in r.stderr and r.stderr.count("\n") == 1
+    assert not (tmp_path / "x.mp4").exists()
+
+
+def test_vcam_without_pyvirtualcam_says_how_to_get_one(cli, tmp_path):
+    try:
+        import pyvirtualcam  # noqa: F401
+
+        pytest.skip("pyvirtualcam is installed here")
+    except ImportError:
+        pass
+    r = cli("live", "test", "--ops", SWIRL, "--vcam", "--duration", "1")
+    assert r.returncode == 1
+    assert "pip install" in r.stderr and "v4l2loopback" in r.stderr
+    assert r.stderr.count("\n") == 1
+
+
+def test_latest_mailbox_keeps_only_the_newest():
+    box = Latest()
+    for i in range(5):
+        box.put(i)
+    assert box.get(0) == 4 and box.dropped == 4
+    assert box.get(0.01) is None
+    box.put(5)
+    assert box.get(0) == 5 and box.dropped == 4
+
+
+def test_clock_pauses_and_restarts():
+    clock = Clock()
+    clock.pause()
+    a = clock.now()
+    time.sleep(0.05)
+    assert clock.now() == a
+    clock.pause(False)
+    time.sleep(0.05)
+    assert clock.now() >= a + 0.04
+    clock.restart()
+    assert clock.now() < 0.02
+
+
+def test_sliders_cover_constant_numbers_only():
+    recipe = parse_recipe(RECIPE)
+    ops = sliders(recipe, (600, 400))
+    wave = {p["name"]: p for p in ops[0]["params"]}
+    assert wave["amplitude"]["animated"] and not wave["wavelength"]["animated"]
+    vortex = {p["name"]: p for p in ops[1]["params"]}
+    assert set(vortex) == {"alpha", "lambda"}  # the centre is a point
+    assert vortex["alpha"]["min"] < 200 < vortex["alpha"]["max"]
+    assert vortex["lambda"]["min"] > 0
+    changed = with_overrides(recipe, {(1, "alpha"): 50.0})
+    assert changed.ops[1].params["alpha"].at(0) == 50.0
+    assert recipe.ops[1].params["alpha"].at(0) == 200
+
+
+@pytest.fixture
+def session(tmp_path, renderer):
+    path = tmp_path / "r.json"
+    path.write_text(json.dumps(RECIPE))
+    s = LiveSession(path, TestPattern((96, 64), 30), renderer=renderer, jpeg=True, quiet=True)
+    yield s
+    s.close()
+
+
+def test_control_validates_requests(session):
+    assert session.control({"paused": True})["paused"]
+    for bad in (
+        {"param": {"op": 1, "name": "lambda", "value": 0}},  # must be > 0
+        {"param": {"op": 0, "name": "amplitude", "value": 3}},  # keyframed
+        {"param": {"op": 5, "name": "alpha", "value": 3}},
+        {"param": {"op": 1, "name": "center", "value": 3}},
+        {"bypass": "yes"},
+        {"jump": True},
+        [],
+    ):
+        with pytest.raises(UsageError):
+            session.control(bad)
+    state = session.control({"param": {"op": 1, "name": "alpha", "value": -40}})
+    assert state["overrides"] == [{"op": 1, "name": "alpha", "value": -40.0}]
+
+
+def test_preview_server_binds_loopback_only(session):
+    server = PreviewServer(session, 0)
+    server.start()
+    try:
+        host, port = server.address
+        assert host == "127.0.0.1"
+        assert server.httpd.socket.getsockname()[0] == "127.0.0.1"
+        conn = http.client.HTTPConnection(host, port, timeout=5)
+        conn.request("GET", "/stats", headers={"Host": "evil.example:80"})
+        assert conn.getresponse().status == 403  # DNS rebinding refused
+        conn.close()
+        conn = http.client.HTTPConnection(host, port, timeout=5)
+        conn.request("POST", "/control", body="{}", headers={"Content-Type": "text/plain"})
+        assert conn.getresponse().status == 415
+        conn.close()
+        runner = threading.Thread(target=session.run, kwargs={"duration": 1.5}, daemon=True)
+        runner.start()
+        conn = http.client.HTTPConnection(host, port, timeout=5)
+        conn.request("GET", "/frame.jpg")
+        r = conn.getresponse()
+        assert r.status == 200 and r.read()[:2] == b"\xff\xd8"
+        conn.close()
+        runner.join(10)
+    finally:
+        server.stop()
