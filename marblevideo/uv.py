@@ -42,20 +42,24 @@ UV_EXTENSIONS = frozenset({".png", ".exr", ".tif", ".tiff"})
 
 def read_uv(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(u, v, surface) float64/bool arrays (H, W) of a UV pass file."""
-    from marblevideo import images  # sets OpenCV's EXR switch before cv2 is imported
-
-    cv2 = images.cv2
+    from marblevideo.images import cv2  # sets OpenCV's EXR switch before cv2 is imported
     path = Path(path)
     if path.suffix.lower() not in UV_EXTENSIONS:
         raise UsageError(f"--uv: {path}: expected a .png, .tif or .exr UV pass")
     if not path.is_file():
         raise UsageError(f"--uv: {path}: no such file")
-    try:
-        data = cv2.imdecode(np.fromfile(path, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
-    except cv2.error as exc:
-        raise MediaError(f"--uv: {path}: cannot decode ({str(exc).strip()[-80:]})") from None
-    if data is None or data.ndim != 3 or data.shape[2] < 2:
-        raise MediaError(f"--uv: {path}: not a readable colour image (R = u, G = v)")
+    if path.suffix.lower() == ".exr" and not _opencv_exr(cv2):
+        data = _read_exr(path)
+    else:
+        try:
+            data = cv2.imdecode(np.fromfile(path, dtype=np.uint8), cv2.IMREAD_UNCHANGED)
+        except cv2.error as exc:
+            msg = str(exc).strip().splitlines()[-1] if str(exc).strip() else "cannot decode"
+            raise MediaError(f"--uv: {path}: cannot decode ({msg})") from None
+    if data is None:
+        raise MediaError(f"--uv: {path}: not a readable image")
+    if data.ndim != 3 or data.shape[2] < 3:
+        raise UsageError(f"--uv: {path}: a UV pass needs colour channels (R = u, G = v)")
     if data.dtype == np.uint16:
         scale = 65535.0
     elif data.dtype == np.uint8:
@@ -72,6 +76,41 @@ def read_uv(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray
     if px.shape[2] == 4:
         surface &= px[..., 3] > 0
     return u, v, surface
+
+
+def _opencv_exr(cv2) -> bool:
+    info = cv2.getBuildInformation()
+    return any("OpenEXR" in line and "NO" not in line for line in info.splitlines())
+
+
+def _read_exr(path: Path) -> np.ndarray:
+    """An EXR as float32 BGR(A) (OpenCV's channel order), through the OpenEXR package
+    (OpenCV wheels are often built without EXR)."""
+    try:
+        import OpenEXR
+    except ImportError:
+        raise UsageError(
+            f"--uv: {path}: reading EXR needs the OpenEXR package (pip install OpenEXR) "
+            "or an OpenCV built with OpenEXR; or export the pass as a 16-bit PNG"
+        ) from None
+    try:
+        with OpenEXR.File(str(path)) as f:
+            channels = {name: np.asarray(ch.pixels) for name, ch in f.channels().items()}
+    except Exception as exc:  # the bindings raise plain exceptions
+        raise MediaError(f"--uv: {path}: cannot decode EXR ({exc})") from None
+    planes = {}
+    for name, px in channels.items():
+        if px.ndim == 3:  # a group: "RGB", "RGBA"
+            planes.update({c: px[..., i] for i, c in enumerate(name)})
+        else:
+            planes[name.split(".")[-1]] = px
+    if "R" not in planes or "G" not in planes:
+        raise UsageError(f"--uv: {path}: the EXR has no R and G channels (u, v)")
+    zero = np.zeros_like(planes["R"])
+    order = [planes.get("B", zero), planes["G"], planes["R"]]
+    if "A" in planes:
+        order.append(planes["A"])
+    return np.stack(order, axis=-1).astype(np.float32)
 
 
 def _derivative(c: np.ndarray, ok: np.ndarray, axis: int, seam: float) -> np.ndarray:
