@@ -19,7 +19,7 @@ from marblevideo.output import atomic_output, check_output
 from marblevideo.progress import Progress
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
 from marblevideo.renderer import Renderer
-from marblevideo.tiled import STREAM_EXTENSIONS, TILED_ABOVE, write_bands
+from marblevideo.tiled import TILED_ABOVE, can_stream, write_bands
 from marblevideo.tiled import band_rows as tiled_rows
 from marblevideo.vector import DEFAULT_TOLERANCE, VectorStats, design_svg
 
@@ -167,7 +167,7 @@ def render_still(
     out_size = size or (
         (image.shape[1], image.shape[0]) if image is not None else blank_size(recipe)
     )
-    if fmt in STREAM_EXTENSIONS and (band_rows or out_size[0] * out_size[1] > TILED_ABOVE):
+    if can_stream(fmt) and (band_rows or out_size[0] * out_size[1] > TILED_ABOVE):
         rows = band_rows or tiled_rows(out_size[0])
         total = -(-out_size[1] // rows)
         with (

@@ -31,6 +31,20 @@ TILED_ABOVE = 64 << 20
 STREAM_EXTENSIONS = frozenset({".png", ".tif", ".tiff"})
 
 
+def can_stream(fmt: str) -> bool:
+    """Whether outputs of extension ``fmt`` can be written band by band here
+    (TIFF needs the optional tifffile package)."""
+    if fmt == ".png":
+        return True
+    if fmt not in STREAM_EXTENSIONS:
+        return False
+    try:
+        import tifffile  # noqa: F401
+    except ImportError:
+        return False
+    return True
+
+
 def band_rows(width: int, band_pixels: int = BAND_PIXELS) -> int:
     return max(1, band_pixels // max(1, width))
 

@@ -62,7 +62,7 @@ def test_bands_equal_the_single_shot_render(marbler, tmp_path):
 @pytest.mark.parametrize("fmt", [".png", ".tif"])
 @pytest.mark.parametrize("channels", [3, 4])
 def test_stream_writers_round_trip(tmp_path, fmt, channels):
-    import tifffile
+    tifffile = pytest.importorskip("tifffile")
 
     rng = np.random.default_rng(1)
     img = rng.integers(0, 256, (301, 97, 4)).astype(np.uint8)
@@ -78,7 +78,7 @@ def test_stream_writers_round_trip(tmp_path, fmt, channels):
 
 
 def test_tiff_in_bands(marbler, tmp_path):
-    import tifffile
+    tifffile = pytest.importorskip("tifffile")
 
     full = marbler.render(None, None, (640, 480))[..., :3]
     dst = tmp_path / "b.tif"
