@@ -16,8 +16,12 @@ from marblevideo.errors import RecipeError, UsageError
 from marblevideo.frame import Geometry, geometry
 from marblevideo.images import read_image, write_image
 from marblevideo.output import atomic_output, check_output
+from marblevideo.progress import Progress
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
 from marblevideo.renderer import Renderer
+from marblevideo.tiled import TILED_ABOVE, can_stream, write_bands
+from marblevideo.tiled import band_rows as tiled_rows
+from marblevideo.vector import DEFAULT_TOLERANCE, VectorStats, design_svg
 
 RecipeLike = Recipe | dict | str | os.PathLike
 
@@ -90,6 +94,28 @@ class Marbler:
         spec = self.recipe.at(t, canvas)
         return self.renderer.render(spec, self.geometry(size, input_size, view), image)
 
+    def render_bands(
+        self,
+        image: np.ndarray | None = None,
+        time: float | None = None,
+        size: tuple[int, int] | None = None,
+        view: tuple[float, float, float, float] | None = None,
+        rows: int | None = None,
+    ):
+        """Iterate the frame of :meth:`render` as bands of ``rows`` rows, top to bottom
+        (see :mod:`marblevideo.tiled`); each band is (n, w, 4) RGBA uint8."""
+        from marblevideo.tiled import bands
+
+        t = self.recipe.end_time() if time is None else float(time)
+        input_size = None if image is None else (image.shape[1], image.shape[0])
+        if size is None:
+            size = input_size or blank_size(self.recipe)
+        canvas = self.recipe.canvas or input_size or blank_canvas(self.recipe)
+        spec = self.recipe.at(t, canvas)
+        geom = self.geometry(size, input_size, view)
+        for _, band in bands(lambda g: self.renderer.render(spec, g, image), geom, rows):
+            yield band
+
     def transform(
         self, size: tuple[int, int] | None = None
     ) -> Callable[[np.ndarray, float], np.ndarray]:
@@ -124,8 +150,15 @@ def render_still(
     view: tuple[float, float, float, float] | None = None,
     overwrite: bool = False,
     device: str | None = None,
+    progress: str = "off",
+    band_rows: int | None = None,
 ) -> Path:
-    """Render an image file (or a blank sheet) to an image file, atomically."""
+    """Render an image file (or a blank sheet) to an image file, atomically.
+
+    PNG and TIFF outputs over :data:`marblevideo.tiled.TILED_ABOVE` pixels (or any,
+    given ``band_rows``) are rendered in bands and written progressively, so
+    their size is not bounded by memory; ``progress`` (a
+    :class:`~marblevideo.progress.Progress` mode) reports the bands."""
     recipe = as_recipe(recipe)
     dst = Path(dst)
     inputs = [src] if src is not None else []
@@ -134,10 +167,101 @@ def render_still(
     check_output(dst, overwrite, inputs)
     image, has_alpha = (None, False) if src is None else read_image(src)
     marbler = Marbler(recipe, device=device)
+    fmt = dst.suffix.lower()
+    out_size = size or (
+        (image.shape[1], image.shape[0]) if image is not None else blank_size(recipe)
+    )
+    if can_stream(fmt) and (band_rows or out_size[0] * out_size[1] > TILED_ABOVE):
+        rows = band_rows or tiled_rows(out_size[0])
+        total = -(-out_size[1] // rows)
+        with (
+            atomic_output(dst, overwrite, inputs) as tmp,
+            Progress(total, progress, unit="band") as bar,
+        ):
+
+            def counted():
+                for band in marbler.render_bands(image, time, out_size, view, rows):
+                    yield band
+                    bar.update()
+
+            write_bands(tmp, fmt, *out_size, 4 if has_alpha else 3, counted())
+        return dst
     out = marbler.render(image, time, size, view)
     with atomic_output(dst, overwrite, inputs) as tmp:
         write_image(tmp, out, alpha=has_alpha, fmt=dst.suffix)
     return dst
+
+
+def render_svg(
+    recipe: RecipeLike,
+    dst: str | os.PathLike,
+    *,
+    time: float | None = None,
+    size: tuple[int, int] | None = None,
+    tolerance: float = DEFAULT_TOLERANCE,
+    overwrite: bool = False,
+) -> VectorStats:
+    """Write a blank-sheet design as SVG (:mod:`marblevideo.vector`), atomically.
+    ``size`` is the SVG's width and height (default: the canvas); ``tolerance``
+    is in output pixels. Returns the :class:`~marblevideo.vector.VectorStats`."""
+    recipe = as_recipe(recipe)
+    dst = Path(dst)
+    canvas = blank_canvas(recipe)
+    check_output(dst, overwrite)
+    if not (tolerance > 0 and np.isfinite(tolerance)):
+        raise UsageError(f"--tolerance: must be a number > 0, got {tolerance}")
+    t = recipe.end_time() if time is None else float(time)
+    svg, stats = design_svg(recipe.at(t, canvas), size or blank_size(recipe), tolerance)
+    with atomic_output(dst, overwrite) as tmp:
+        tmp.write_text(svg)
+    return stats
+
+
+def render_uv_pass(
+    src: str | os.PathLike | None,
+    recipe: RecipeLike,
+    uv: str | os.PathLike,
+    dst: str | os.PathLike,
+    *,
+    time: float | None = None,
+    overwrite: bool = False,
+) -> Path:
+    """Render the design as seen through the UV pass file ``uv`` (see
+    :mod:`marblevideo.uv`) to an image of the pass's size, atomically; pixels
+    without surface are transparent where the format holds alpha."""
+    from marblevideo.uv import read_uv, render_uv
+
+    recipe = as_recipe(recipe)
+    dst = Path(dst)
+    inputs = [src, uv] if src is not None else [uv]
+    if src is None:
+        blank_canvas(recipe)
+    check_output(dst, overwrite, inputs)
+    u, v, surface = read_uv(uv)
+    image = None if src is None else read_image(src)[0]
+    input_size = None if image is None else (image.shape[1], image.shape[0])
+    canvas = recipe.canvas or input_size
+    t = recipe.end_time() if time is None else float(time)
+    out = render_uv(recipe.at(t, canvas), u, v, surface, image)
+    with atomic_output(dst, overwrite, inputs) as tmp:
+        write_image(tmp, out, alpha=True, fmt=dst.suffix)
+    return dst
+
+
+def parse_view(text: str) -> tuple[float, float, float, float]:
+    """'X,Y,W,H' (canvas units) -> a view window; W and H > 0, all finite."""
+    parts = text.split(",")
+    try:
+        values = tuple(float(p) for p in parts)
+    except ValueError:
+        values = ()
+    if len(values) != 4 or not all(np.isfinite(values)):
+        raise UsageError(
+            f"--view: expected X,Y,W,H in canvas units such as 0,0,256,256, got {text!r}"
+        )
+    if values[2] <= 0 or values[3] <= 0:
+        raise UsageError(f"--view: width and height must be > 0, got {text!r}")
+    return values
 
 
 def parse_size(text: str) -> tuple[int, int]:

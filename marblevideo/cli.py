@@ -63,6 +63,23 @@ def _render_parser() -> argparse.ArgumentParser:
         metavar="T",
         help="stills: render at T seconds (default: the end of the animation)",
     )
+    z = p.add_argument_group("vectors, zoom, textures")
+    z.add_argument(
+        "--view",
+        metavar="X,Y,W,H",
+        help="stills: render this canvas window (deep zoom; exact at any size)",
+    )
+    z.add_argument(
+        "--tolerance",
+        type=float,
+        metavar="PX",
+        help="SVG output: outline tolerance in output pixels (default 0.5)",
+    )
+    z.add_argument(
+        "--uv",
+        metavar="PASS",
+        help="render the design through a UV pass (.png 16-bit / .exr; R = u, G = v)",
+    )
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or notes")
     p.add_argument("--version", action="version", version=f"marblevideo {__version__}")
@@ -126,6 +143,10 @@ def _cmd_render(argv: list[str]) -> int:
     recipe = as_recipe(args.ops)  # validated before any input is opened
     size = parse_size(args.size) if args.size else None
     out_ext = Path(args.output).suffix.lower()
+    if out_ext == ".svg" or args.uv or args.view or args.tolerance is not None:
+        from marblevideo.zoomcli import render_extra
+
+        return render_extra(args, recipe, size, out_ext)
     if is_image_path(args.output):
         if args.input is not None and not is_image_path(args.input):
             raise UsageError(f"{args.input}: stills take an image input (.png .jpg .tif .webp)")
@@ -137,6 +158,7 @@ def _cmd_render(argv: list[str]) -> int:
             size=size,
             overwrite=args.overwrite,
             device=args.device,
+            progress="off" if args.quiet else args.progress,
         )
         if not args.quiet:
             print(f"wrote {args.output}", file=sys.stderr)

@@ -21,6 +21,7 @@ ALPHA_EXTENSIONS = frozenset({".png", ".tif", ".tiff", ".webp"})
 MAX_PIXELS = 1 << 28
 
 os.environ.setdefault("OPENCV_IO_MAX_IMAGE_PIXELS", str(MAX_PIXELS))
+os.environ.setdefault("OPENCV_IO_ENABLE_OPENEXR", "1")  # UV passes (marblevideo.uv)
 import cv2  # noqa: E402  (reads the limit above when first imported)
 
 

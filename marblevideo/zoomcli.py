@@ -1,0 +1,69 @@
+"""The CLI branch for SVG output, ``--view``, ``--tolerance`` and ``--uv``
+(kept apart from :mod:`marblevideo.cli` so that module stays small)."""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+
+from marblevideo.errors import UsageError
+from marblevideo.images import is_image_path
+from marblevideo.recipe import Recipe
+
+
+def render_extra(
+    args: argparse.Namespace, recipe: Recipe, size: tuple[int, int] | None, out_ext: str
+) -> int:
+    from marblevideo.api import parse_view, render_still, render_svg, render_uv_pass
+
+    view = parse_view(args.view) if args.view else None
+    if args.tolerance is not None:
+        if not (math.isfinite(args.tolerance) and args.tolerance > 0):
+            raise UsageError(f"--tolerance: must be a number > 0 (pixels), got {args.tolerance}")
+        if out_ext != ".svg":
+            raise UsageError("--tolerance: applies to .svg outputs only")
+    if out_ext == ".svg":
+        if args.input is not None:
+            raise UsageError(
+                f"{args.output}: a recipe rendered over an input cannot be vectorized; "
+                "SVG output takes a blank-sheet recipe (no input)"
+            )
+        if args.uv or view:
+            raise UsageError(f"{args.output}: --uv and --view do not apply to SVG output")
+        stats = render_svg(
+            recipe,
+            args.output,
+            time=args.time,
+            size=size,
+            tolerance=0.5 if args.tolerance is None else args.tolerance,
+            overwrite=args.overwrite,
+        )
+        if not args.quiet:
+            print(f"wrote {args.output}: {stats.summary()}", file=sys.stderr)
+        return 0
+    if not is_image_path(args.output):
+        raise UsageError(f"{args.output}: --view and --uv make stills; give an image output")
+    if args.input is not None and not is_image_path(args.input):
+        raise UsageError(f"{args.input}: stills take an image input (.png .jpg .tif .webp)")
+    if args.uv:
+        if view or size:
+            raise UsageError("--uv: the UV pass sets the output; drop --view and --size")
+        render_uv_pass(
+            args.input, recipe, args.uv, args.output, time=args.time, overwrite=args.overwrite
+        )
+    else:
+        render_still(
+            args.input,
+            recipe,
+            args.output,
+            time=args.time,
+            size=size,
+            view=view,
+            overwrite=args.overwrite,
+            device=args.device,
+            progress="off" if args.quiet else args.progress,
+        )
+    if not args.quiet:
+        print(f"wrote {args.output}", file=sys.stderr)
+    return 0
