@@ -59,7 +59,7 @@ class Marbler:
         recipe: RecipeLike,
         renderer: Renderer | None = None,
         device: str | None = None,
-        adaptive: bool = True,
+        adaptive: bool | None = None,
     ):
         self.recipe = as_recipe(recipe)
         self.renderer = renderer or Renderer(device, adaptive=adaptive)

@@ -124,9 +124,12 @@ class Renderer:
     ``device``: a choice as in :func:`marblevideo.device.choose_device`.
     ``lanes`` and ``chains`` override the vector width and the independent
     chains per work-item (defaults: 16 and 4 on CPUs, 1 and 1 on GPUs).
-    ``adaptive`` (default) samples the full antialiasing pattern only where a
-    pixel's neighbourhood shows an ink edge or a strongly curved map, one
-    sample elsewhere (see marble.cl); False evaluates the full pattern everywhere.
+    ``adaptive`` samples the full antialiasing pattern only where a pixel's
+    neighbourhood shows an ink edge or a strongly curved map, one walk
+    elsewhere (see marble.cl); False evaluates the full pattern everywhere;
+    None (default) is adaptive on blank sheets only, where it halves the time,
+    while over an input its four bilinear fetches per pixel stay and the
+    centre pass measured slower than the full pattern (BENCHMARKS.md).
     """
 
     def __init__(
@@ -135,7 +138,7 @@ class Renderer:
         *,
         lanes: int | None = None,
         chains: int | None = None,
-        adaptive: bool = True,
+        adaptive: bool | None = None,
     ):
         import pyopencl as cl
 
@@ -262,7 +265,8 @@ class Renderer:
             np.uint32(packed_bg | 255 << 24),
         )
         try:
-            if self.adaptive and len(pattern(spec.antialias)) > 1:
+            adaptive = self.adaptive if self.adaptive is not None else image is None
+            if adaptive and len(pattern(spec.antialias)) > 1:
                 self._render_adaptive(kernels, dst, w, h, common, pbuf, geo)
             else:
                 k = kernels["marble"]
