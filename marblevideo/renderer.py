@@ -73,7 +73,10 @@ def pack_params(spec: FrameSpec) -> np.ndarray:
         else:  # circle, vortex
             radius = v["radius"] if op.type == "circle" else 0.0
             row[:5] = (*v["center"], radius, v["alpha"] * v["lambda"] / (2 * math.pi), v["lambda"])
-    return out.astype(np.float32).ravel()
+    # Products of valid values (radius**2, alpha * lambda) can pass float32's range:
+    # saturate them rather than hand the kernel inf (and inf * 0 = NaN).
+    f32 = float(np.finfo(np.float32).max)
+    return np.clip(out, -f32, f32).astype(np.float32).ravel()
 
 
 @dataclass(frozen=True)
