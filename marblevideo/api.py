@@ -132,7 +132,7 @@ def render_still(
     marbler = Marbler(recipe, device=device)
     out = marbler.render(image, time, size, view)
     with atomic_output(dst, overwrite, inputs) as tmp:
-        write_image(tmp, out, alpha=has_alpha, fmt=dst.suffix)
+        write_image(tmp, out, alpha=has_alpha, fmt=dst.suffix, name=dst)
     return dst
 
 

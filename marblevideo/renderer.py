@@ -189,7 +189,13 @@ class Renderer:
         have = self._buffers.get(name)
         if have is None or have[0] < nbytes:
             flags = self._cl.mem_flags.READ_WRITE
-            buf = self._cl.Buffer(self.context, flags, nbytes)
+            try:
+                buf = self._cl.Buffer(self.context, flags, nbytes)
+            except self._cl.Error as exc:
+                raise DeviceError(
+                    f"cannot allocate {nbytes} bytes on {self.info.name} ({exc}); "
+                    "try a smaller --size"
+                ) from None
             self._buffers[name] = (nbytes, buf)
             return buf
         return have[1]
