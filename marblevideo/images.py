@@ -21,7 +21,10 @@ ALPHA_EXTENSIONS = frozenset({".png", ".tif", ".tiff", ".webp"})
 MAX_PIXELS = 1 << 28
 
 os.environ.setdefault("OPENCV_IO_MAX_IMAGE_PIXELS", str(MAX_PIXELS))
-import cv2  # noqa: E402  (reads the limit above when first imported)
+# OpenCV's own warnings (e.g. libtiff's about extra samples) are not ours to print:
+# errors reach the user as one line each, through MediaError.
+os.environ.setdefault("OPENCV_LOG_LEVEL", "ERROR")
+import cv2  # noqa: E402  (reads the settings above when first imported)
 
 
 def is_image_path(path: str | os.PathLike) -> bool:
