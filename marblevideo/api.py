@@ -188,7 +188,7 @@ def render_still(
         return dst
     out = marbler.render(image, time, size, view)
     with atomic_output(dst, overwrite, inputs) as tmp:
-        write_image(tmp, out, alpha=has_alpha, fmt=dst.suffix)
+        write_image(tmp, out, alpha=has_alpha, fmt=dst.suffix, name=dst)
     return dst
 
 

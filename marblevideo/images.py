@@ -22,7 +22,10 @@ MAX_PIXELS = 1 << 28
 
 os.environ.setdefault("OPENCV_IO_MAX_IMAGE_PIXELS", str(MAX_PIXELS))
 os.environ.setdefault("OPENCV_IO_ENABLE_OPENEXR", "1")  # UV passes (marblevideo.uv)
-import cv2  # noqa: E402  (reads the limit above when first imported)
+# OpenCV's own warnings (e.g. libtiff's about extra samples) are not ours to print:
+# errors reach the user as one line each, through MediaError.
+os.environ.setdefault("OPENCV_LOG_LEVEL", "ERROR")
+import cv2  # noqa: E402  (reads the settings above when first imported)
 
 
 def is_image_path(path: str | os.PathLike) -> bool:
@@ -42,6 +45,8 @@ def read_image(path: str | os.PathLike) -> tuple[np.ndarray, bool]:
         data = np.fromfile(path, dtype=np.uint8)
         image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
     except cv2.error as exc:
+        if "MAX_IMAGE_PIXELS" in str(exc):  # refused from the header, nothing allocated
+            raise MediaError(f"{path}: image is over the limit of {MAX_PIXELS} pixels") from None
         msg = str(exc).strip().splitlines()[-1] if str(exc).strip() else "cannot decode"
         raise MediaError(f"{path}: cannot decode image ({msg})") from None
     except OSError as exc:
@@ -60,10 +65,15 @@ def read_image(path: str | os.PathLike) -> tuple[np.ndarray, bool]:
 
 
 def write_image(
-    path: str | os.PathLike, rgba: np.ndarray, alpha: bool = True, fmt: str | None = None
+    path: str | os.PathLike,
+    rgba: np.ndarray,
+    alpha: bool = True,
+    fmt: str | None = None,
+    name: str | os.PathLike | None = None,
 ) -> None:
     """Write ``rgba``; alpha only when asked and the format holds it.
-    ``fmt`` is the extension deciding the format (default: the path's)."""
+    ``fmt`` is the extension deciding the format (default: the path's); ``name``
+    the file named in messages (default: ``path``; the target of a temporary file)."""
     path = Path(path)
     ext = (fmt or path.suffix).lower()
     if ext not in IMAGE_EXTENSIONS:
@@ -77,8 +87,9 @@ def write_image(
         params = [cv2.IMWRITE_WEBP_QUALITY, 101 if alpha else 95]
     ok, encoded = cv2.imencode(ext, pixels, params)
     if not ok:
-        raise MediaError(f"{path}: cannot encode as {ext}")
+        raise MediaError(f"{name or path}: cannot encode as {ext}")
     try:
-        encoded.tofile(path)
+        with open(path, "wb") as f:  # not ndarray.tofile: its errors carry no errno
+            f.write(encoded.tobytes())
     except OSError as exc:
-        raise MediaError(f"{path}: cannot write: {exc.strerror}") from None
+        raise MediaError(f"{name or path}: cannot write: {exc.strerror or exc}") from None

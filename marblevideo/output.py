@@ -41,6 +41,19 @@ def check_output(
     return target
 
 
+def _set_mode(tmp: Path, target: Path) -> None:
+    """Give the temporary file (mkstemp makes it 0600) the mode the target would get
+    from a plain open(): the existing target's, else 0666 less the umask."""
+    try:
+        mode = target.stat().st_mode & 0o7777
+    except OSError:
+        umask = os.umask(0)
+        os.umask(umask)
+        mode = 0o666 & ~umask
+    with contextlib.suppress(OSError):
+        os.chmod(tmp, mode)
+
+
 @contextlib.contextmanager
 def atomic_output(
     dst: str | os.PathLike, overwrite: bool = False, inputs: Iterable[str | os.PathLike] = ()
@@ -56,9 +69,7 @@ def atomic_output(
         raise MediaError(f"{target}: cannot write in {folder}: {exc.strerror}") from None
     os.close(fd)
     tmp = Path(tmp_name)
-    umask = os.umask(0)
-    os.umask(umask)
-    os.chmod(tmp, 0o666 & ~umask)  # mkstemp makes 0600; outputs get the usual mode
+    _set_mode(tmp, target)
     try:
         yield tmp
         if target.exists() and not overwrite:  # appeared while we worked

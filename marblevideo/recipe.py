@@ -12,7 +12,8 @@ document order (structural faults before those) raises
 Decisions beyond the contract: ``end`` without ``start`` is an error (its
 progress would be undefined); an empty ``ops`` list is valid (identity);
 non-finite numbers (NaN, Infinity, 1e400) and magnitudes over 1e30 (float32
-range) are refused.
+range) are refused; so is nesting deeper than :data:`MAX_DEPTH` (a valid recipe
+needs 7 levels), before anything recurses into it.
 
 :meth:`Recipe.at` resolves every track and applies each op's progress,
 giving the :class:`~marblevideo.frame.FrameSpec` the renderers read.
@@ -39,6 +40,8 @@ from marblevideo.schema import LIMIT, PARAM_KINDS, schema
 DEFAULT_BACKGROUND = "#ffffff"
 DEFAULT_ANTIALIAS = "rgss"
 DEFAULT_EDGES = "clamp"
+#: Deepest nesting of lists and objects accepted (a valid recipe needs 7 levels).
+MAX_DEPTH = 32
 
 
 # --------------------------------------------------------------------------- model
@@ -168,6 +171,8 @@ def load_recipe(path: str | os.PathLike[str]) -> Recipe:
         raise RecipeError(
             source, "", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}"
         ) from None
+    except RecursionError:
+        raise RecipeError(source, "", f"nested too deeply (over {MAX_DEPTH} levels)") from None
     return parse_recipe(data, source)
 
 
@@ -176,6 +181,7 @@ def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
 
     ``source`` names it in messages. Raises RecipeError for the first fault.
     """
+    _check_depth(data, source)
     doc = _normalize(data)
     faults = [_fault(error, doc) for error in _validator().iter_errors(doc)]
     if not faults:
@@ -184,6 +190,24 @@ def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
         first = min(faults, key=lambda f: f.position)
         raise RecipeError(source, first.path, first.message)
     return _build(doc, source)
+
+
+def _check_depth(data: Any, source: str) -> None:
+    """Refuse nesting deeper than MAX_DEPTH, naming the first node too deep, without
+    recursion (the validator and the builder recurse)."""
+    stack: list[tuple[Any, list, int]] = [(data, [], 0)]
+    while stack:
+        node, path, depth = stack.pop()
+        if isinstance(node, dict):
+            children = list(node.items())
+        elif isinstance(node, (list, tuple)):
+            children = list(enumerate(node))
+        else:
+            continue
+        if depth == MAX_DEPTH:
+            message = f"nested too deeply: more than {MAX_DEPTH} levels of lists and objects"
+            raise RecipeError(source, _format_path(path), message)
+        stack.extend((child, [*path, key], depth + 1) for key, child in reversed(children))
 
 
 def _normalize(data: Any) -> Any:

@@ -73,7 +73,10 @@ def pack_params(spec: FrameSpec) -> np.ndarray:
         else:  # circle, vortex
             radius = v["radius"] if op.type == "circle" else 0.0
             row[:5] = (*v["center"], radius, v["alpha"] * v["lambda"] / (2 * math.pi), v["lambda"])
-    return out.astype(np.float32).ravel()
+    # Products of valid values (radius**2, alpha * lambda) can pass float32's range:
+    # saturate them rather than hand the kernel inf (and inf * 0 = NaN).
+    f32 = float(np.finfo(np.float32).max)
+    return np.clip(out, -f32, f32).astype(np.float32).ravel()
 
 
 @dataclass(frozen=True)
@@ -206,7 +209,13 @@ class Renderer:
         have = self._buffers.get(name)
         if have is None or have[0] < nbytes:
             flags = self._cl.mem_flags.READ_WRITE
-            buf = self._cl.Buffer(self.context, flags, nbytes)
+            try:
+                buf = self._cl.Buffer(self.context, flags, nbytes)
+            except self._cl.Error as exc:
+                raise DeviceError(
+                    f"cannot allocate {nbytes} bytes on {self.info.name} ({exc}); "
+                    "try a smaller --size"
+                ) from None
             self._buffers[name] = (nbytes, buf)
             return buf
         return have[1]

@@ -225,8 +225,10 @@ def _check_range(start: float | None, end: float | None) -> None:
 def _open_input(src: str | os.PathLike) -> av.container.InputContainer:
     """Open a file with a video stream, or raise MediaError with one line."""
     path = Path(src)
-    if not path.is_file():
-        raise MediaError(f"{src}: no such file")
+    if not path.exists():
+        raise UsageError(f"{src}: no such file")
+    if path.is_dir():
+        raise UsageError(f"{src}: is a folder, not a video")
     if path.stat().st_size == 0:
         raise MediaError(f"{src}: empty file")
     try:

@@ -293,11 +293,18 @@ def test_render_blank(tmp_path):
 def test_missing_empty_and_text_inputs(tmp_path):
     (tmp_path / "empty.mp4").write_bytes(b"")
     (tmp_path / "text.mp4").write_text("not a video at all\n" * 20)
-    for name, what in [("missing.mp4", "no such"), ("empty.mp4", "empty"), ("text.mp4", "not a")]:
-        with pytest.raises(MediaError, match=what) as err:
+    (tmp_path / "folder.mp4").mkdir()
+    cases = [
+        ("missing.mp4", "no such", 2),  # a path the user mistyped: a usage error, as for stills
+        ("folder.mp4", "is a folder", 2),
+        ("empty.mp4", "empty", 1),
+        ("text.mp4", "not a", 1),
+    ]
+    for name, what, code in cases:
+        with pytest.raises((MediaError, UsageError), match=what) as err:
             transcode(tmp_path / name, tmp_path / "out.mp4", invert, quiet())
         assert name in str(err.value) and "\n" not in str(err.value)
-        assert err.value.exit_code == 1
+        assert err.value.exit_code == code
     assert not (tmp_path / "out.mp4").exists() and leftovers(tmp_path) == []
 
 
