@@ -126,6 +126,7 @@ inline void inv_circle(vf *x, vf *y, __constant const float *p) {
     vf qx = *x - p[0], qy = *y - p[1];
     vf R = sqrt(qx * qx + qy * qy);
     vf turns = -p[3] / ((fabs(R - p[2]) + p[4]) * fmax(R, 1e-30f));
+    turns = select(turns, (vf)0.0f, (R <= 0.0f) | isinf(turns)); /* theta = 0 at R = 0 */
     turns -= floor(turns + 0.5f); /* reduce first: at 2^22+ turns, + 0.25 is lost (cos = 0) */
     vf sn = sin_turns(turns), cs = sin_turns(turns + 0.25f);
     *x = p[0] + qx * cs - qy * sn;

@@ -137,3 +137,21 @@ def test_adaptive_samples_fully_only_near_edges(renderer):
     assert out[100, 100, 0] == 200 and out[5, 5, 0] == 255
     # a circle of radius 50 crosses about 2*pi*50 pixels; each listed with its neighbours
     assert 300 < renderer.last_full_pixels < 1500
+
+
+def test_vortex_centre_sample_is_not_nan(renderer):
+    """A subsample exactly at a vortex centre (R = 0) has theta = 0, not NaN."""
+    recipe = parse_recipe(
+        {
+            "marblevideo": 1,
+            "canvas": [4, 4],
+            "antialias": "none",
+            "ops": [{"type": "vortex", "center": [2.5, 2.5], "alpha": 1e20, "lambda": 1}],
+        },
+        "centre.json",
+    )
+    image = make_image(4, 4, 2)
+    spec = recipe.at(0)
+    geom = geometry(recipe.canvas, (4, 4), (4, 4))
+    ours = renderer.render(spec, geom, image)
+    assert np.array_equal(ours[2, 2], reference_render(spec, geom, image)[2, 2])
