@@ -76,7 +76,7 @@ def recipe12(antialias: str = "rgss") -> dict:
     }
 
 
-def median_time(fn, repeat: int = 7, warmup: int = 2) -> float:
+def median_time(fn, repeat: int = 21, warmup: int = 3) -> float:
     for _ in range(warmup):
         fn()
     times = []

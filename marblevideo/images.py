@@ -36,9 +36,9 @@ def read_image(path: str | os.PathLike) -> tuple[np.ndarray, bool]:
     """(RGBA uint8 array, whether the file had alpha)."""
     path = Path(path)
     if not path.exists():
-        raise UsageError(f"{path}: no such file")
+        raise MediaError(f"{path}: no such file")
     if path.is_dir():
-        raise UsageError(f"{path}: is a folder, not an image")
+        raise MediaError(f"{path}: is a folder, not an image")
     if path.stat().st_size == 0:
         raise MediaError(f"{path}: empty file")
     try:

@@ -226,9 +226,9 @@ def _open_input(src: str | os.PathLike) -> av.container.InputContainer:
     """Open a file with a video stream, or raise MediaError with one line."""
     path = Path(src)
     if not path.exists():
-        raise UsageError(f"{src}: no such file")
+        raise MediaError(f"{src}: no such file")
     if path.is_dir():
-        raise UsageError(f"{src}: is a folder, not a video")
+        raise MediaError(f"{src}: is a folder, not a video")
     if path.stat().st_size == 0:
         raise MediaError(f"{src}: empty file")
     try:
