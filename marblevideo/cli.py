@@ -99,17 +99,7 @@ def _render_parser() -> argparse.ArgumentParser:
         default="copy",
         help="copy audio bit-exact (default), re-encode to AAC, or drop it",
     )
-    v.add_argument("--codec", help="video encoder (default: libx264; libvpx-vp9 for .webm)")
-    v.add_argument("--crf", type=int, help="constant quality (default as ffmpeg: 23 for x264)")
-    v.add_argument("--preset", help="x264/x265 preset (default medium)")
-    v.add_argument("--pix-fmt", default="yuv420p", help="encoded pixel format (yuv420p)")
-    v.add_argument(
-        "--encoder-opt",
-        action="append",
-        default=[],
-        metavar="KEY=VALUE",
-        help="extra encoder option, repeatable (e.g. tune=film)",
-    )
+    add_encoder_arguments(v, preset_default="medium")
     v.add_argument(
         "--progress",
         choices=("auto", "bar", "json", "off"),
@@ -117,6 +107,32 @@ def _render_parser() -> argparse.ArgumentParser:
         help="progress on stderr: a bar on terminals (auto), JSON lines, or off",
     )
     return p
+
+
+def add_encoder_arguments(group, preset_default: str) -> None:
+    """The encoder flags shared by the file and live modes."""
+    group.add_argument("--codec", help="video encoder (default: libx264; libvpx-vp9 for .webm)")
+    group.add_argument("--crf", type=int, help="constant quality (default as ffmpeg: 23 for x264)")
+    group.add_argument("--preset", help=f"x264/x265 preset (default {preset_default})")
+    group.add_argument("--pix-fmt", default="yuv420p", help="encoded pixel format (yuv420p)")
+    group.add_argument(
+        "--encoder-opt",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="extra encoder option, repeatable (e.g. tune=film)",
+    )
+
+
+def parse_encoder_opts(items: list[str]) -> dict[str, str]:
+    """--encoder-opt KEY=VALUE items as a dict."""
+    opts = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        if not sep or not key:
+            raise UsageError(f"--encoder-opt: expected KEY=VALUE, got {item!r}")
+        opts[key] = value
+    return opts
 
 
 def _cmd_devices(argv: list[str]) -> int:
@@ -136,17 +152,19 @@ def _cmd_schema(argv: list[str]) -> int:
 
 
 def _cmd_render(argv: list[str]) -> int:
-    from marblevideo.api import as_recipe, parse_size, render_still
+    from marblevideo.api import as_recipe, parse_size, parse_view, render_still
     from marblevideo.images import is_image_path
 
     args = _render_parser().parse_args(argv)
     recipe = as_recipe(args.ops)  # validated before any input is opened
     size = parse_size(args.size) if args.size else None
     out_ext = Path(args.output).suffix.lower()
-    if out_ext == ".svg" or args.uv or args.view or args.tolerance is not None:
+    if out_ext == ".svg" or args.uv or args.tolerance is not None:
         from marblevideo.zoomcli import render_extra
 
         return render_extra(args, recipe, size, out_ext)
+    if args.view and not is_image_path(args.output):
+        raise UsageError(f"{args.output}: --view makes stills; give an image output")
     if is_image_path(args.output):
         if args.input is not None and not is_image_path(args.input):
             raise UsageError(f"{args.input}: stills take an image input (.png .jpg .tif .webp)")
@@ -156,6 +174,7 @@ def _cmd_render(argv: list[str]) -> int:
             args.output,
             time=args.time,
             size=size,
+            view=parse_view(args.view) if args.view else None,
             overwrite=args.overwrite,
             device=args.device,
             progress="off" if args.quiet else args.progress,
@@ -180,12 +199,7 @@ def _cmd_render(argv: list[str]) -> int:
 
 
 def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> dict:
-    opts = {}
-    for item in args.encoder_opt:
-        key, sep, value = item.partition("=")
-        if not sep or not key:
-            raise UsageError(f"--encoder-opt: expected KEY=VALUE, got {item!r}")
-        opts[key] = value
+    opts = parse_encoder_opts(args.encoder_opt)
     if args.fps <= 0:
         raise UsageError(f"--fps: must be > 0, got {args.fps}")
     if args.duration is not None and args.duration <= 0:

@@ -39,6 +39,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from marblevideo.cli import add_encoder_arguments, parse_encoder_opts
 from marblevideo.errors import MarbleError, RecipeError, UsageError
 from marblevideo.keyframes import Track
 from marblevideo.schema import PARAM_KINDS
@@ -555,17 +556,7 @@ def build_parser(parser_class=argparse.ArgumentParser) -> argparse.ArgumentParse
     p.add_argument("--jpeg-quality", type=int, default=80, help="preview JPEG quality (80)")
     p.add_argument("-q", "--quiet", action="store_true", help="no notes on stderr")
     v = p.add_argument_group("recording (as the file mode)")
-    v.add_argument("--codec", help="video encoder (default: libx264; libvpx-vp9 for .webm)")
-    v.add_argument("--crf", type=int, help="constant quality (default as ffmpeg: 23 for x264)")
-    v.add_argument("--preset", help="x264/x265 preset (default here: veryfast, for real time)")
-    v.add_argument("--pix-fmt", default="yuv420p", help="encoded pixel format (yuv420p)")
-    v.add_argument(
-        "--encoder-opt",
-        action="append",
-        default=[],
-        metavar="KEY=VALUE",
-        help="extra encoder option, repeatable (e.g. tune=zerolatency)",
-    )
+    add_encoder_arguments(v, preset_default="here: veryfast, for real time")
     return p
 
 
@@ -573,12 +564,7 @@ def _recorder(args):
     from marblevideo.recording import Recorder
     from marblevideo.video import PRESET_CODECS, VideoOptions
 
-    opts = {}
-    for item in args.encoder_opt:
-        key, sep, value = item.partition("=")
-        if not sep or not key:
-            raise UsageError(f"--encoder-opt: expected KEY=VALUE, got {item!r}")
-        opts[key] = value
+    opts = parse_encoder_opts(args.encoder_opt)
     suffix = Path(args.output).suffix.lower()
     codec = args.codec or ("libvpx-vp9" if suffix == ".webm" else "libx264")
     preset = args.preset

@@ -1,4 +1,4 @@
-"""The CLI branch for SVG output, ``--view``, ``--tolerance`` and ``--uv``
+"""The CLI branch for SVG output, ``--tolerance`` and ``--uv``
 (kept apart from :mod:`marblevideo.cli` so that module stays small)."""
 
 from __future__ import annotations
@@ -15,7 +15,7 @@ from marblevideo.recipe import Recipe
 def render_extra(
     args: argparse.Namespace, recipe: Recipe, size: tuple[int, int] | None, out_ext: str
 ) -> int:
-    from marblevideo.api import parse_view, render_still, render_svg, render_uv_pass
+    from marblevideo.api import parse_view, render_svg, render_uv_pass
 
     view = parse_view(args.view) if args.view else None
     if args.tolerance is not None:
@@ -42,28 +42,16 @@ def render_extra(
         if not args.quiet:
             print(f"wrote {args.output}: {stats.summary()}", file=sys.stderr)
         return 0
+    # --uv: a still seen through a UV pass
     if not is_image_path(args.output):
-        raise UsageError(f"{args.output}: --view and --uv make stills; give an image output")
+        raise UsageError(f"{args.output}: --uv makes stills; give an image output")
     if args.input is not None and not is_image_path(args.input):
         raise UsageError(f"{args.input}: stills take an image input (.png .jpg .tif .webp)")
-    if args.uv:
-        if view or size:
-            raise UsageError("--uv: the UV pass sets the output; drop --view and --size")
-        render_uv_pass(
-            args.input, recipe, args.uv, args.output, time=args.time, overwrite=args.overwrite
-        )
-    else:
-        render_still(
-            args.input,
-            recipe,
-            args.output,
-            time=args.time,
-            size=size,
-            view=view,
-            overwrite=args.overwrite,
-            device=args.device,
-            progress="off" if args.quiet else args.progress,
-        )
+    if view or size:
+        raise UsageError("--uv: the UV pass sets the output; drop --view and --size")
+    render_uv_pass(
+        args.input, recipe, args.uv, args.output, time=args.time, overwrite=args.overwrite
+    )
     if not args.quiet:
         print(f"wrote {args.output}", file=sys.stderr)
     return 0
