@@ -86,13 +86,17 @@ class Marbler:
         view: tuple[float, float, float, float] | None = None,
     ) -> np.ndarray:
         """One marbled frame of ``image`` (or of the blank sheet) at ``time``."""
+        spec, geom = self._frame(image, time, size, view)
+        return self.renderer.render(spec, geom, image)
+
+    def _frame(self, image, time, size, view):
+        """The recipe's values at ``time`` (default: its end) and the render's geometry."""
         t = self.recipe.end_time() if time is None else float(time)
         input_size = None if image is None else (image.shape[1], image.shape[0])
         if size is None:
             size = input_size or blank_size(self.recipe)
         canvas = self.recipe.canvas or input_size or blank_canvas(self.recipe)
-        spec = self.recipe.at(t, canvas)
-        return self.renderer.render(spec, self.geometry(size, input_size, view), image)
+        return self.recipe.at(t, canvas), self.geometry(size, input_size, view)
 
     def render_bands(
         self,
@@ -106,13 +110,7 @@ class Marbler:
         (see :mod:`marblevideo.tiled`); each band is (n, w, 4) RGBA uint8."""
         from marblevideo.tiled import bands
 
-        t = self.recipe.end_time() if time is None else float(time)
-        input_size = None if image is None else (image.shape[1], image.shape[0])
-        if size is None:
-            size = input_size or blank_size(self.recipe)
-        canvas = self.recipe.canvas or input_size or blank_canvas(self.recipe)
-        spec = self.recipe.at(t, canvas)
-        geom = self.geometry(size, input_size, view)
+        spec, geom = self._frame(image, time, size, view)
         for _, band in bands(lambda g: self.renderer.render(spec, g, image), geom, rows):
             yield band
 
