@@ -26,6 +26,7 @@ import json
 import math
 import numbers
 import os
+import re
 from dataclasses import dataclass, field
 from functools import lru_cache
 from typing import Any
@@ -325,15 +326,18 @@ def _make_fault(doc: Any, path: list, message: str, tail: int | None = None) -> 
     return _Fault(tuple(position), _format_path(path), message)
 
 
+_PLAIN_KEY = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")  # ASCII only: "²".isalnum() is True
+
+
 def _format_path(path: list) -> str:
     out = ""
     for step in path:
         if isinstance(step, int):
             out += f"[{step}]"
-        elif step.replace("_", "a").replace("$", "a").isalnum():
+        elif _PLAIN_KEY.fullmatch(step):
             out += f".{step}" if out else step
         else:
-            out += f"[{json.dumps(step)}]"
+            out += f"[{json.dumps(step, ensure_ascii=False)}]"
     return out
 
 

@@ -501,3 +501,13 @@ def test_invalid_samples_fail_plain_jsonschema_and_the_loader(sample):
     assert not jsonschema.Draft202012Validator(schema()).is_valid(sample)
     with pytest.raises(RecipeError):
         parse_recipe(sample, "x.json")
+
+
+def test_non_identifier_keys_use_bracket_paths():
+    """A key like '²' (isalnum() is True for it) or '1x' is quoted in the JSON path."""
+    deep: list = []
+    for _ in range(40):
+        deep = [deep]
+    with pytest.raises(RecipeError) as err:
+        parse_recipe({"marblevideo": 1, "ops": [], "²": deep}, "odd.json")
+    assert err.value.path.startswith('["²"][0][0]')
