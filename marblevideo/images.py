@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import MediaError, UsageError
+from marblevideo.inputs import check_input
 
 IMAGE_EXTENSIONS = frozenset({".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp"})
 ALPHA_EXTENSIONS = frozenset({".png", ".tif", ".tiff", ".webp"})
@@ -34,13 +35,7 @@ def is_image_path(path: str | os.PathLike) -> bool:
 
 def read_image(path: str | os.PathLike) -> tuple[np.ndarray, bool]:
     """(RGBA uint8 array, whether the file had alpha)."""
-    path = Path(path)
-    if not path.exists():
-        raise MediaError(f"{path}: no such file")
-    if path.is_dir():
-        raise MediaError(f"{path}: is a folder, not an image")
-    if path.stat().st_size == 0:
-        raise MediaError(f"{path}: empty file")
+    path = check_input(path, "an image")
     try:
         data = np.fromfile(path, dtype=np.uint8)
         image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED)

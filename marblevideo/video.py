@@ -56,6 +56,7 @@ import av
 import numpy as np
 
 from marblevideo.errors import MediaError, UsageError
+from marblevideo.inputs import check_input
 from marblevideo.output import atomic_output, check_output
 from marblevideo.progress import MODES, Progress, progress_mode
 
@@ -224,13 +225,7 @@ def _check_range(start: float | None, end: float | None) -> None:
 
 def _open_input(src: str | os.PathLike) -> av.container.InputContainer:
     """Open a file with a video stream, or raise MediaError with one line."""
-    path = Path(src)
-    if not path.exists():
-        raise MediaError(f"{src}: no such file")
-    if path.is_dir():
-        raise MediaError(f"{src}: is a folder, not a video")
-    if path.stat().st_size == 0:
-        raise MediaError(f"{src}: empty file")
+    path = check_input(src, "a video")
     try:
         container = av.open(str(path))
     except av.error.FFmpegError as exc:
