@@ -147,6 +147,16 @@ def make_clip(path: Path, size=(1280, 720), seconds=4, fps=30, audio=True) -> Pa
     return path
 
 
+ENV = {**os.environ, "PYTHONPATH": str(ROOT)}
+
+
+def marble_command(clip: Path, recipe: Path, out: Path, device: str | None) -> list[str]:
+    """The CLI marbling ``clip`` as the end-to-end and memory runs time it."""
+    cmd = [sys.executable, "-m", "marblevideo", str(clip), "--ops", str(recipe), "-o", str(out)]
+    cmd += ["-y", "-q", "--preset", "veryfast", "--crf", "23"]
+    return cmd + (["--device", device] if device else [])
+
+
 def plain_transcode(src: Path, dst: Path) -> None:
     """What ffmpeg -i src -c:v libx264 -preset veryfast -crf 23 -c:a copy dst does."""
     with av.open(str(src)) as inp, av.open(str(dst), "w") as out:
@@ -178,33 +188,15 @@ def e2e(device: str | None) -> None:
         tmp = Path(tmp)
         clip = make_clip(tmp / "clip.mp4")
         (tmp / "r.json").write_text(json.dumps(recipe12("rgss")))
-        cmd = [
-            sys.executable,
-            "-m",
-            "marblevideo",
-            str(clip),
-            "--ops",
-            str(tmp / "r.json"),
-            "-o",
-            str(tmp / "out.mp4"),
-            "-y",
-            "-q",
-            "--preset",
-            "veryfast",
-            "--crf",
-            "23",
-        ]
-        if device:
-            cmd += ["--device", device]
-        env = {**os.environ, "PYTHONPATH": str(ROOT)}
-        subprocess.run(cmd, check=True, env=env)  # warm the kernel cache
+        cmd = marble_command(clip, tmp / "r.json", tmp / "out.mp4", device)
+        subprocess.run(cmd, check=True, env=ENV)  # warm the kernel cache
         plain, ours = [], []
         for _ in range(3):
             t = time.perf_counter()
             plain_transcode(clip, tmp / "plain.mp4")
             plain.append(time.perf_counter() - t)
             t = time.perf_counter()
-            subprocess.run(cmd, check=True, env=env)
+            subprocess.run(cmd, check=True, env=ENV)
             ours.append(time.perf_counter() - t)
         p, o = statistics.median(plain), statistics.median(ours)
         n = 120
@@ -271,25 +263,11 @@ def memory(device: str | None) -> None:
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
         (tmp / "r.json").write_text(json.dumps(recipe12("rgss")))
-        env = {**os.environ, "PYTHONPATH": str(ROOT)}
         for seconds in (10, 60):
             clip = make_clip(tmp / f"c{seconds}.mp4", (1920, 1080), seconds, 30)
-            cmd = [
-                sys.executable,
-                "-m",
-                "marblevideo",
-                str(clip),
-                "--ops",
-                str(tmp / "r.json"),
-                "-o",
-                str(tmp / "o.mp4"),
-                "-y",
-                "-q",
-                "--preset",
-                "veryfast",
-            ]
+            cmd = marble_command(clip, tmp / "r.json", tmp / "o.mp4", device)
             t = time.perf_counter()
-            rss = peak_rss_mb(cmd, env)
+            rss = peak_rss_mb(cmd, ENV)
             print(
                 f"{seconds:>3} s clip: peak RSS {rss:.0f} MB "
                 f"({time.perf_counter() - t:.0f} s wall)",
