@@ -72,6 +72,21 @@ inline vf sin_turns(vf t) {
                + x2 * (2.7557319e-6f + x2 * -2.5052108e-8f)))));
 }
 
+/* sin and cos of 2*pi*t from one range reduction: the half angle h = pi*u,
+ * u in [-1/2, 1/2), has Taylor polynomials good to 6e-8 on [-pi/2, pi/2];
+ * then sin = 2 sin(h) cos(h), cos = 1 - 2 sin(h)^2. Fewer live values than two
+ * sin_turns calls, which spilled registers with 4 chains of 16 lanes. */
+inline void sincos_turns(vf t, vf *sn, vf *cs) {
+    vf h = (t - floor(t + 0.5f)) * 3.14159265359f;
+    vf h2 = h * h;
+    vf s = h * (1.0f + h2 * (-1.6666667e-1f + h2 * (8.3333333e-3f + h2 * (-1.9841270e-4f
+               + h2 * (2.7557319e-6f + h2 * -2.5052108e-8f)))));
+    vf c = 1.0f + h2 * (-0.5f + h2 * (4.1666667e-2f + h2 * (-1.3888889e-3f + h2 * (2.4801587e-5f
+               + h2 * (-2.7557319e-7f + h2 * 2.0876757e-9f)))));
+    *sn = 2.0f * s * c;
+    *cs = 1.0f - 2.0f * s * s;
+}
+
 /* Ink: a point strictly inside the (progress-scaled) circle is ink of op i.
  * Only the first hit of the walk counts, so later ops stay on top. */
 inline void hit_ink(vf x, vf y, vi *ink, __constant const float *p, int i) {
@@ -126,9 +141,10 @@ inline void inv_circle(vf *x, vf *y, __constant const float *p) {
     vf qx = *x - p[0], qy = *y - p[1];
     vf R = sqrt(qx * qx + qy * qy);
     vf turns = -p[3] / ((fabs(R - p[2]) + p[4]) * fmax(R, 1e-30f));
-    turns = select(turns, (vf)0.0f, (R <= 0.0f) | isinf(turns)); /* theta = 0 at R = 0 */
-    turns -= floor(turns + 0.5f); /* reduce first: at 2^22+ turns, + 0.25 is lost (cos = 0) */
-    vf sn = sin_turns(turns), cs = sin_turns(turns + 0.25f);
+    /* From 2^23 turns up (R -> 0 included: inf) float32 holds whole turns only:
+     * no rotation (theta = 0 at R = 0 as the contract says). */
+    vf sn, cs;
+    sincos_turns(clamp(turns, -8388608.0f, 8388608.0f), &sn, &cs);
     *x = p[0] + qx * cs - qy * sn;
     *y = p[1] + qx * sn + qy * cs;
 }
@@ -348,12 +364,16 @@ __kernel void marble_centres(__global int *inkmap, __global float *sxmap, __glob
             size_t at = (size_t)(y0 + c) * gstride + x0;
 #if LANES == 1
             inkmap[at] = ink[c];
+#if HAS_INPUT
             sxmap[at] = px[c] * geo.s4 + geo.s6;
             symap[at] = py[c] * geo.s5 + geo.s7;
+#endif
 #else
             CAT(vstore, LANES)(ink[c], 0, inkmap + at);
+#if HAS_INPUT
             CAT(vstore, LANES)(px[c] * geo.s4 + geo.s6, 0, sxmap + at);
             CAT(vstore, LANES)(py[c] * geo.s5 + geo.s7, 0, symap + at);
+#endif
 #endif
         }
     }
@@ -432,12 +452,19 @@ __kernel void marble_classify(__global uint *dst, int w, int h,
     uint tmp[LANES];
     VSTORE(done, flag);
     VSTORE(pack_rgba(cr, cg, cb, ca), tmp);
+    int mine = 0;
     for (int l = 0; l < n; l++) {
         if (flag[l])
             out[l] = tmp[l];
         else
-            list[atomic_inc(count)] = y * w + x0 + l;
+            mine++;
     }
+    if (!mine)
+        return;
+    int at = atomic_add(count, mine); /* one atomic per work-item, not per pixel */
+    for (int l = 0; l < n; l++)
+        if (!flag[l])
+            list[at++] = y * w + x0 + l;
 }
 
 __kernel void marble_list(__global uint *dst, int w, __global const int *list, int count,

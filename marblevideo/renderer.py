@@ -276,7 +276,7 @@ class Renderer:
         try:
             adaptive = self.adaptive if self.adaptive is not None else image is None
             if adaptive and len(pattern(spec.antialias)) > 1:
-                self._render_adaptive(kernels, dst, w, h, common, pbuf, geo)
+                self._render_adaptive(kernels, dst, w, h, common, pbuf, geo, image is not None)
             else:
                 k = kernels["marble"]
                 k.set_args(dst, np.int32(w), np.int32(h), *common)
@@ -290,14 +290,15 @@ class Renderer:
             raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
         return out
 
-    def _render_adaptive(self, kernels, dst, w, h, common, pbuf, geo) -> None:
+    def _render_adaptive(self, kernels, dst, w, h, common, pbuf, geo, has_input) -> None:
         """The three passes of adaptive antialiasing (see marble.cl)."""
         cl, queue, lanes = self._cl, self.queue, self.lanes
         nbx = -(-w // lanes)
         gstride, gh = nbx * lanes + 2 * lanes, h + 2
         cells = gstride * gh
         inkmap = self._buffer("inkmap", cells * 4)
-        sxmap, symap = self._buffer("sxmap", cells * 4), self._buffer("symap", cells * 4)
+        maps = cells * 4 if has_input else 4  # end points: only over an input
+        sxmap, symap = self._buffer("sxmap", maps), self._buffer("symap", maps)
         listing = self._buffer("list", w * h * 4)
         counter = self._buffer("count", 4)
         zero = np.zeros(1, np.int32)
