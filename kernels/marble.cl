@@ -400,9 +400,9 @@ __kernel void marble_classify(__global uint *dst, int w, int h,
                               __global int *list, __global int *count, KPARAMS) {
     const int nbx = (w + LANES - 1) / LANES;
     const int gid = get_global_id(0);
-    const int x0 = (gid % nbx) * LANES, y = gid / nbx;
-    if (y >= h)
-        return;
+    /* Padding work-items past the last row read that row and store nothing:
+     * every work-item must reach the barriers below. */
+    const int x0 = (gid % nbx) * LANES, y = min(gid / nbx, h - 1);
     /* grid rows y .. y+2 and columns x0 .. x0+2 (+ lane) surround output (x0 + lane, y) */
     const size_t up = (size_t)y * gstride + x0, mid = up + gstride, dn = mid + gstride;
     vi k = GLOAD(inkmap, mid + 1);
@@ -451,27 +451,37 @@ __kernel void marble_classify(__global uint *dst, int w, int h,
 #else
     vi done = same;
 #endif
-    const int n = min(LANES, w - x0);
+    const int n = gid / nbx < h ? min(LANES, w - x0) : 0;
     __global uint *out = dst + (size_t)y * w + x0;
+    int flag[LANES];
+    int mine = 0;
     if (n == LANES && !ANY(done == 0)) {
         store_row(out, pack_rgba(cr, cg, cb, ca), LANES);
-        return;
+    } else {
+        uint tmp[LANES];
+        VSTORE(done, flag);
+        VSTORE(pack_rgba(cr, cg, cb, ca), tmp);
+        for (int l = 0; l < n; l++) {
+            if (flag[l])
+                out[l] = tmp[l];
+            else
+                mine++;
+        }
     }
-    int flag[LANES];
-    uint tmp[LANES];
-    VSTORE(done, flag);
-    VSTORE(pack_rgba(cr, cg, cb, ca), tmp);
-    int mine = 0;
-    for (int l = 0; l < n; l++) {
-        if (flag[l])
-            out[l] = tmp[l];
-        else
-            mine++;
-    }
-    if (!mine)
-        return;
-    int at = atomic_add(count, mine); /* one atomic per work-item, not per pixel */
-    for (int l = 0; l < n; l++)
+    /* The list: local atomics inside the work-group and one global atomic for
+     * it; a global atomic per work-item bounced its cache line between the
+     * cores (3x slower in some of this VM's phases). */
+    __local int group_count, group_base;
+    if (get_local_id(0) == 0)
+        group_count = 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    int at = mine ? atomic_add(&group_count, mine) : 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    if (get_local_id(0) == 0)
+        group_base = group_count ? atomic_add(count, group_count) : 0;
+    barrier(CLK_LOCAL_MEM_FENCE);
+    at += group_base;
+    for (int l = 0; mine && l < n; l++)
         if (!flag[l])
             list[at++] = y * w + x0 + l;
 }

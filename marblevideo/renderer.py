@@ -30,6 +30,8 @@ PSTRIDE = 12  # floats per op in the parameter buffer; the last holds the type c
 TYPE_CODES = {"drop": 0, "spray": 1, "tine": 2, "comb": 3, "wave": 4, "circle": 5, "vortex": 6}
 #: Recipes longer than this walk their ops in a loop instead of unrolled code.
 UNROLL_LIMIT = 48
+#: Work-group size of marble_classify (its list takes one global atomic per group).
+CLASSIFY_GROUP = 64
 #: Largest output or input side accepted (OpenCL buffers and int indices).
 MAX_SIDE = 1 << 15
 
@@ -330,7 +332,8 @@ class Renderer:
             counter,
             *common,
         )
-        cl.enqueue_nd_range_kernel(queue, classify, (_pad(nbx * h),), None)
+        group = min(CLASSIFY_GROUP, self.info.device.max_work_group_size)
+        cl.enqueue_nd_range_kernel(queue, classify, (_pad(nbx * h, group),), (group,))
         count = np.empty(1, np.int32)
         cl.enqueue_copy(queue, count, counter, is_blocking=True)
         n = int(count[0])
