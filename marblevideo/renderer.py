@@ -159,6 +159,7 @@ class Renderer:
         self.lanes = lanes or (16 if is_cpu else 1)
         self.chains = chains or (4 if is_cpu else 1)
         self.adaptive = adaptive
+        self._classify_group = min(CLASSIFY_GROUP, dev.max_work_group_size)
         #: pixels rendered with the full pattern by the last adaptive render
         self.last_full_pixels: int | None = None
         self._source = kernel_source()
@@ -332,7 +333,7 @@ class Renderer:
             counter,
             *common,
         )
-        group = min(CLASSIFY_GROUP, self.info.device.max_work_group_size)
+        group = self._classify_group
         cl.enqueue_nd_range_kernel(queue, classify, (_pad(nbx * h, group),), (group,))
         count = np.empty(1, np.int32)
         cl.enqueue_copy(queue, count, counter, is_blocking=True)
