@@ -74,9 +74,13 @@ class Marbler:
         key = (out_size, input_size, view)
         geom = self._geometry.get(key)
         if geom is None:
-            canvas = self.recipe.canvas or input_size or blank_canvas(self.recipe)
+            canvas = self.canvas(input_size)
             geom = self._geometry[key] = geometry(canvas, out_size, input_size, view)
         return geom
+
+    def canvas(self, input_size: tuple[int, int] | None) -> tuple[float, float]:
+        """The recipe's canvas, else the input's size, else the blank sheet's default."""
+        return self.recipe.canvas or input_size or blank_canvas(self.recipe)
 
     def render(
         self,
@@ -95,8 +99,7 @@ class Marbler:
         input_size = None if image is None else (image.shape[1], image.shape[0])
         if size is None:
             size = input_size or blank_size(self.recipe)
-        canvas = self.recipe.canvas or input_size or blank_canvas(self.recipe)
-        return self.recipe.at(t, canvas), self.geometry(size, input_size, view)
+        return self.recipe.at(t, self.canvas(input_size)), self.geometry(size, input_size, view)
 
     def render_bands(
         self,
