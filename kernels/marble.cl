@@ -209,22 +209,32 @@ inline vi edge_index(vf i, int n) {
     return CVT_I(m);
 }
 
-/* Gather one tap per lane from the packed RGBA input. */
+/* Gather one tap per lane from the packed RGBA input. The vector is built from
+ * its components, which LLVM turns into a hardware gather; going through a
+ * private array (store the indices, load lane by lane) ran 1.3-1.6x slower. */
+#if LANES == 1
+#define GATHER_LANES(b, i) ((b)[i])
+#elif LANES == 4
+#define GATHER_LANES(b, i) ((vu)((b)[(i).s0], (b)[(i).s1], (b)[(i).s2], (b)[(i).s3]))
+#elif LANES == 8
+#define GATHER_LANES(b, i) ((vu)((b)[(i).s0], (b)[(i).s1], (b)[(i).s2], (b)[(i).s3], \
+                                 (b)[(i).s4], (b)[(i).s5], (b)[(i).s6], (b)[(i).s7]))
+#else
+#define GATHER_LANES(b, i) ((vu)((b)[(i).s0], (b)[(i).s1], (b)[(i).s2], (b)[(i).s3], \
+                                 (b)[(i).s4], (b)[(i).s5], (b)[(i).s6], (b)[(i).s7], \
+                                 (b)[(i).s8], (b)[(i).s9], (b)[(i).sa], (b)[(i).sb], \
+                                 (b)[(i).sc], (b)[(i).sd], (b)[(i).se], (b)[(i).sf]))
+#endif
+
 inline vu gather(__global const uint *src, vi xi, vi yi, int sw, uint bg) {
     vi idx = yi * sw + xi;
 #if EDGES == 3
-    idx = select(idx, (vi)-1, (xi < 0) | (yi < 0));
-#endif
-    int at[LANES];
-    uint tap[LANES];
-    VSTORE(idx, at);
-    for (int l = 0; l < LANES; l++)
-#if EDGES == 3
-        tap[l] = at[l] < 0 ? bg : src[at[l]];
+    vi outside = (xi < 0) | (yi < 0);
+    vu tap = GATHER_LANES(src, select(idx, (vi)0, outside));
+    return select(tap, (vu)bg, outside);
 #else
-        tap[l] = src[at[l]];
+    return GATHER_LANES(src, idx);
 #endif
-    return VLOAD(tap);
 }
 
 #define CH(t, k) CVT_F(((t) >> (8 * (k))) & 0xffu)
