@@ -276,6 +276,19 @@ inline void bilinear(__global const uint *src, int sw, int sh, uint bg, vf ix, v
     if (ANY(ink[c] >= 0)) { INK }
 #endif
 
+/* Jobs g .. g + CHAINS - 1 of a block whose first-row centres are (ox, oy):
+ * chain c walks subsample (g + c) % NSAMPLES of row ROW_OF(g + c), from canvas
+ * point (px[c], py[c]), no ink hit yet. */
+#define START_JOBS(g, ox, oy)                                                  \
+    vf px[CHAINS], py[CHAINS];                                                 \
+    vi ink[CHAINS];                                                            \
+    FOR_CHAINS {                                                               \
+        int s_ = ((g) + c) % NSAMPLES;                                         \
+        px[c] = ((ox) + samples[3 * s_]) * geo.s0 + geo.s2;                    \
+        py[c] = ((oy) + (float)ROW_OF((g) + c) + samples[3 * s_ + 1]) * geo.s1 + geo.s3; \
+        ink[c] = (vi)-1;                                                       \
+    }
+
 /* Every subsample of ROWS x LANES pixels whose first-row centres are (ox, oy):
  * the full pattern, walked in CHAINS independent chains; weighted sums in acc. */
 inline void shade_block(vf ox, vf oy, vf acc[ROWS][4], KPARAMS) {
@@ -283,14 +296,7 @@ inline void shade_block(vf ox, vf oy, vf acc[ROWS][4], KPARAMS) {
         for (int k = 0; k < 4; k++)
             acc[r][k] = (vf)0.0f;
     for (int g = 0; g < ROWS * NSAMPLES; g += CHAINS) {
-        vf px[CHAINS], py[CHAINS];
-        vi ink[CHAINS];
-        FOR_CHAINS {
-            int s = (g + c) % NSAMPLES;
-            px[c] = (ox + samples[3 * s]) * geo.s0 + geo.s2;
-            py[c] = (oy + (float)ROW_OF(g + c) + samples[3 * s + 1]) * geo.s1 + geo.s3;
-            ink[c] = (vi)-1;
-        }
+        START_JOBS(g, ox, oy)
 
         WALK
 
@@ -513,4 +519,148 @@ __kernel void marble_list(__global uint *dst, int w, __global const int *list, i
     VSTORE(pack_rgba(acc[0][0], acc[0][1], acc[0][2], acc[0][3]), tmp);
     for (int l = 0; l < LANES && first + l < count; l++)
         dst[at[l]] = tmp[l];
+}
+
+/* ---- Reused maps: a table of where every subsample lands ------------------
+ * Over an input, a frame whose values, geometry and sizes equal the last
+ * frame's lands every subsample where it landed before (a static recipe over a
+ * video). marble_table walks each subsample once and records the first tap of
+ * its bilinear footprint in the *padded* input (one border pixel all round,
+ * written each frame by marble_pad for the edges mode, so the other three taps
+ * are always the next column and row) with its weights; marble_apply then only
+ * gathers and blends. Table planes, one per subsample, of h rows of tstride:
+ *   taps: index into the padded input (row stride sw + 2), or for ink its
+ *         packed RGBA colour
+ *   wts:  wx | wy << 15 in 1/32768ths of a pixel; bit 31 set for ink
+ * Weights in 1/32768ths move a sample by at most 1/65536 pixel, so a blend
+ * differs from marble's by at most one level (in a few pixels per million). */
+#define WSCALE 32768.0f
+
+/* Left (top) tap of a footprint starting at f along an axis of n input pixels,
+ * in padded coordinates, and its weight, for the edges mode. */
+inline void padded_axis(vf f, int n, vi *tap, vf *weight) {
+    vf i0 = floor(f);
+    vf wt = f - i0;
+    float fn = (float)n;
+#if EDGES == 0
+    vf m = clamp(i0, -1.0f, fn - 1.0f);  /* the border repeats the edge pixel */
+#elif EDGES == 1
+    vf m = clamp(i0 - fn * floor(i0 / fn), 0.0f, fn - 1.0f);  /* right border = column 0 */
+#elif EDGES == 2
+    /* Mirrored stretches run backwards: take the lower tap and swap the weights;
+     * a footprint folded onto one pixel weighs only that pixel. */
+    vf ma = CVT_F(edge_index(i0, n)), mb = CVT_F(edge_index(i0 + 1.0f, n));
+    vf m = select(ma, mb, mb < ma);
+    wt = select(select(wt, 1.0f - wt, mb < ma), (vf)0.0f, mb == ma);
+#else
+    vi outside = (i0 < -1.0f) | (i0 > fn - 1.0f);  /* both taps on background */
+    vf m = select(i0, (vf)-1.0f, outside);
+    wt = select(wt, (vf)0.0f, outside);
+#endif
+    *tap = CVT_I(m) + 1;
+    *weight = wt;
+}
+
+__kernel void marble_table(__global uint *taps, __global uint *wts, int w, int h, int tstride,
+                           KPARAMS) {
+    const int nbx = (w + LANES - 1) / LANES;
+    const int gid = get_global_id(0);
+    const int x0 = (gid % nbx) * LANES, y0 = (gid / nbx) * ROWS;
+    if (y0 >= h)
+        return;
+    const vf ox = (vf)(float)x0 + IOTA + 0.5f, oy = (vf)((float)y0 + 0.5f);
+    const int psw = sw + 2;
+    for (int g = 0; g < ROWS * NSAMPLES; g += CHAINS) {
+        START_JOBS(g, ox, oy)
+
+        WALK
+
+        FOR_CHAINS {
+            const int y = y0 + ROW_OF(g + c);
+            if (g + c < ROWS * NSAMPLES && y < h) {
+                vf fx = clamp(px[c] * geo.s4 + geo.s6 - 0.5f, -4.0e6f, 4.0e6f);
+                vf fy = clamp(py[c] * geo.s5 + geo.s7 - 0.5f, -4.0e6f, 4.0e6f);
+                vi tx, ty;
+                vf wx, wy;
+                padded_axis(fx, sw, &tx, &wx);
+                padded_axis(fy, sh, &ty, &wy);
+                vu tap = CVT_U(ty * psw + tx);
+                vu q = min(CVT_U(wx * WSCALE + 0.5f), 32767u)
+                     | (min(CVT_U(wy * WSCALE + 0.5f), 32767u) << 15);
+                vf cr = 0.0f, cg = 0.0f, cb = 0.0f;
+                if (ANY(ink[c] >= 0)) { INK }
+                vi hit = ink[c] >= 0;
+                tap = select(tap, pack_rgba(cr, cg, cb, (vf)255.0f), hit);
+                q = select(q, (vu)0x80000000u, hit);
+                size_t at = ((size_t)((g + c) % NSAMPLES) * h + y) * tstride + x0;
+                VSTORE(tap, taps + at);
+                VSTORE(q, wts + at);
+            }
+        }
+    }
+}
+
+/* Work-item: LANES pixels of one row; every subsample from the table. */
+__kernel void marble_apply(__global uint *dst, int w, int h, __global const uint *taps,
+                           __global const uint *wts, int tstride, __global const uint *src,
+                           int sw, __constant const float *samples) {
+    const int nbx = (w + LANES - 1) / LANES;
+    const int gid = get_global_id(0);
+    const int x0 = (gid % nbx) * LANES, y = gid / nbx;
+    if (y >= h)
+        return;
+    const int psw = sw + 2;
+    vf ar = 0.0f, ag = 0.0f, ab = 0.0f, aa = 0.0f;
+    for (int s = 0; s < NSAMPLES; s++) {
+        size_t at = ((size_t)s * h + y) * tstride + x0;
+        vu tap = VLOAD(taps + at), q = VLOAD(wts + at);
+        vi hit = CVT_I(q >> 31) != 0;
+        vi i00 = select(CVT_I(tap), (vi)0, hit);
+        vu t00 = GATHER_LANES(src, i00), t10 = GATHER_LANES(src + 1, i00);
+        vu t01 = GATHER_LANES(src + psw, i00), t11 = GATHER_LANES(src + psw + 1, i00);
+        vf wx = CVT_F(q & 0x7fffu) * (1.0f / WSCALE);
+        vf wy = CVT_F((q >> 15) & 0x7fffu) * (1.0f / WSCALE);
+        float wgt = samples[3 * s + 2];
+#define LERP2(k) mix(mix(CH(t00, k), CH(t10, k), wx), mix(CH(t01, k), CH(t11, k), wx), wy)
+        ar += wgt * select(LERP2(0), CH(tap, 0), hit);
+        ag += wgt * select(LERP2(1), CH(tap, 1), hit);
+        ab += wgt * select(LERP2(2), CH(tap, 2), hit);
+        aa += wgt * select(LERP2(3), (vf)255.0f, hit);
+#undef LERP2
+    }
+    store_row(dst + (size_t)y * w + x0, pack_rgba(ar, ag, ab, aa), w - x0);
+}
+
+/* The border of the padded input (sw + 2) x (sh + 2), whose inside holds the
+ * frame: clamp and mirror repeat the edge pixel, repeat wraps round, background
+ * is bg. Work-item i: one border pixel, top row, bottom row, left, right. */
+__kernel void marble_pad(__global uint *src, int sw, int sh, uint bg) {
+    const int psw = sw + 2, psh = sh + 2;
+    const int i = get_global_id(0);
+    int px, py;
+    if (i < psw) {
+        px = i;
+        py = 0;
+    } else if (i < 2 * psw) {
+        px = i - psw;
+        py = psh - 1;
+    } else if (i < 2 * psw + sh) {
+        px = 0;
+        py = i - 2 * psw + 1;
+    } else if (i < 2 * psw + 2 * sh) {
+        px = psw - 1;
+        py = i - 2 * psw - sh + 1;
+    } else {
+        return;
+    }
+#if EDGES == 3
+    src[py * psw + px] = bg;
+#else
+#if EDGES == 1
+    const int x = (px - 1 + sw) % sw, y = (py - 1 + sh) % sh;
+#else
+    const int x = clamp(px - 1, 0, sw - 1), y = clamp(py - 1, 0, sh - 1);
+#endif
+    src[py * psw + px] = src[(y + 1) * psw + x + 1];
+#endif
 }

@@ -34,6 +34,9 @@ UNROLL_LIMIT = 48
 CLASSIFY_GROUP = 64
 #: Largest output or input side accepted (OpenCL buffers and int indices).
 MAX_SIDE = 1 << 15
+#: Largest table of reused maps (bytes: 8 per subsample per pixel; 1080p RGSS
+#: takes 66 MB). Frames needing more are walked afresh every time.
+TABLE_LIMIT = 512 << 20
 
 
 def kernel_source(name: str = "marble.cl") -> str:
@@ -109,6 +112,12 @@ def _pad(n: int, multiple: int = 64) -> int:
     return max(multiple, -(-n // multiple) * multiple)
 
 
+def _packed(rgb) -> int:
+    """An opaque colour (0..255 floats) as packed RGBA8, red in the low byte."""
+    r, g, b = (int(round(float(c))) for c in rgb[:3])
+    return r | g << 8 | b << 16 | 255 << 24
+
+
 def to_rgba(image: np.ndarray) -> np.ndarray:
     """An (H, W, 4) C-contiguous uint8 view or copy of an RGBA, RGB or grey image."""
     if image.dtype != np.uint8:
@@ -135,6 +144,10 @@ class Renderer:
     None (default) is adaptive on blank sheets only, where it halves the time,
     while over an input its four bilinear fetches per pixel stay and the
     centre pass measured slower than the full pattern (BENCHMARKS.md).
+    ``reuse_maps``: over an input, when a frame's values, geometry and sizes
+    equal the previous frame's (a static recipe over a video), where every
+    subsample lands is recorded once and later frames only fetch and blend
+    (within one level of a fresh walk; see marble.cl). False walks every frame.
     """
 
     def __init__(
@@ -144,6 +157,7 @@ class Renderer:
         lanes: int | None = None,
         chains: int | None = None,
         adaptive: bool | None = None,
+        reuse_maps: bool = True,
     ):
         import pyopencl as cl
 
@@ -159,6 +173,13 @@ class Renderer:
         self.lanes = lanes or (16 if is_cpu else 1)
         self.chains = chains or (4 if is_cpu else 1)
         self.adaptive = adaptive
+        self.reuse_maps = reuse_maps
+        #: what the last frame over an input was walked for, and what the table holds
+        self._last_map: tuple | None = None
+        self._table_map: tuple | None = None
+        #: whether the last render came from the table of reused maps
+        self.last_reused = False
+        self._table_limit = min(TABLE_LIMIT, dev.max_mem_alloc_size)
         self._classify_group = min(CLASSIFY_GROUP, dev.max_work_group_size)
         #: pixels rendered with the full pattern by the last adaptive render
         self.last_full_pixels: int | None = None
@@ -202,6 +223,7 @@ class Renderer:
             first = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
             raise DeviceError(f"OpenCL build failed on {self.info.name}: {first}") from None
         names = ("marble", "marble_centres", "marble_classify", "marble_list")
+        names += ("marble_table", "marble_apply", "marble_pad")
         kernel = ({n: cl.Kernel(program, n) for n in names}, rows)
         self._kernels[key] = kernel
         return kernel
@@ -249,23 +271,31 @@ class Renderer:
         w, h = geom.out_w, geom.out_h
         if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
             raise UsageError(f"output size {w}x{h} is outside 1..{MAX_SIDE} per side")
-        kernels, rows = self.kernel_for(Structure.of(spec, image is not None))
+        structure = Structure.of(spec, image is not None)
+        kernels, rows = self.kernel_for(structure)
         queue = self.queue
         params = pack_params(spec)
+        geo = np.array([*geom.to_canvas, *geom.to_input], dtype=np.float32)
+        rgba = None if image is None else to_rgba(image)
+        sh, sw = (1, 1) if rgba is None else rgba.shape[:2]
+        reuse = False
+        if rgba is not None and self.reuse_maps:
+            key = (structure, params.tobytes(), geo.tobytes(), w, h, sw, sh)
+            table_bytes = len(pattern(spec.antialias)) * h * self._table_stride(w) * 4
+            reuse = key == self._last_map and table_bytes <= self._table_limit
+            self._last_map = key
+        self.last_reused = reuse
         pbuf = self._buffer("params", params.nbytes)
         cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
-        if image is not None:
-            rgba = to_rgba(image)
-            sh, sw = rgba.shape[:2]
+        if reuse:
+            src = self._padded_upload(kernels, rgba, spec)
+        elif rgba is not None:
             src = self._buffer("src", rgba.nbytes)
             cl.enqueue_copy(queue, src, rgba, is_blocking=False)
         else:
-            sw = sh = 1
             src = self._buffer("src", 4)
         dst = self._buffer("dst", w * h * 4)
         bg = [float(c) for c in spec.background]
-        packed_bg = int(round(bg[0])) | int(round(bg[1])) << 8 | int(round(bg[2])) << 16
-        geo = np.array([*geom.to_canvas, *geom.to_input], dtype=np.float32)
         common = (
             src,
             np.int32(sw),
@@ -274,11 +304,13 @@ class Renderer:
             self._sample_buffer(spec.antialias),
             geo.view(cl.cltypes.float8)[0],
             np.array(bg + [255.0], dtype=np.float32).view(cl.cltypes.float4)[0],
-            np.uint32(packed_bg | 255 << 24),
+            np.uint32(_packed(bg)),
         )
         try:
             adaptive = self.adaptive if self.adaptive is not None else image is None
-            if adaptive and len(pattern(spec.antialias)) > 1:
+            if reuse:
+                self._render_from_table(kernels, rows, dst, w, h, common, key)
+            elif adaptive and len(pattern(spec.antialias)) > 1:
                 self._render_adaptive(kernels, dst, w, h, common, pbuf, geo, image is not None)
             else:
                 k = kernels["marble"]
@@ -292,6 +324,48 @@ class Renderer:
         except cl.Error as exc:
             raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
         return out
+
+    def _table_stride(self, w: int) -> int:
+        return -(-w // self.lanes) * self.lanes
+
+    def _padded_upload(self, kernels, rgba: np.ndarray, spec: FrameSpec):
+        """The input inside a one-pixel border that marble_pad fills for the edges mode."""
+        cl = self._cl
+        sh, sw = rgba.shape[:2]
+        padded = self._buffer("padded", (sw + 2) * (sh + 2) * 4)
+        cl.enqueue_copy(
+            self.queue,
+            padded,
+            rgba,
+            buffer_origin=(4, 1),
+            host_origin=(0, 0),
+            region=(sw * 4, sh),
+            buffer_pitches=((sw + 2) * 4,),
+            host_pitches=(sw * 4,),
+            is_blocking=False,
+        )
+        k = kernels["marble_pad"]
+        k.set_args(padded, np.int32(sw), np.int32(sh), np.uint32(_packed(spec.background)))
+        cl.enqueue_nd_range_kernel(self.queue, k, (_pad(2 * (sw + 2) + 2 * sh),), None)
+        return padded
+
+    def _render_from_table(self, kernels, rows, dst, w, h, common, key) -> None:
+        """Fetch and blend from the table, walking it first if it holds other maps."""
+        cl, queue = self._cl, self.queue
+        stride = self._table_stride(w)
+        nbytes = len(pattern(key[0].antialias)) * h * stride * 4
+        taps, wts = self._buffer("taps", nbytes), self._buffer("wts", nbytes)
+        nbx = -(-w // self.lanes)
+        if self._table_map != key:
+            self._table_map = None  # half-written if the walk fails
+            k = kernels["marble_table"]
+            k.set_args(taps, wts, np.int32(w), np.int32(h), np.int32(stride), *common)
+            cl.enqueue_nd_range_kernel(queue, k, (_pad(nbx * -(-h // rows)),), None)
+            self._table_map = key
+        src, sw, samples = common[0], common[1], common[4]
+        k = kernels["marble_apply"]
+        k.set_args(dst, np.int32(w), np.int32(h), taps, wts, np.int32(stride), src, sw, samples)
+        cl.enqueue_nd_range_kernel(queue, k, (_pad(nbx * h),), None)
 
     def _render_adaptive(self, kernels, dst, w, h, common, pbuf, geo, has_input) -> None:
         """The three passes of adaptive antialiasing (see marble.cl)."""
