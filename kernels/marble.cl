@@ -239,6 +239,18 @@ inline vu gather(__global const uint *src, vi xi, vi yi, int sw, uint bg) {
 
 #define CH(t, k) CVT_F(((t) >> (8 * (k))) & 0xffu)
 
+/* The four taps of a bilinear footprint (left/right, top/bottom) blended by
+ * the weights of the right (wx) and bottom (wy) taps, per channel. */
+inline void blend_taps(vu t00, vu t10, vu t01, vu t11, vf wx, vf wy,
+                       vf *r, vf *g, vf *b, vf *a) {
+#define LERP2(k) mix(mix(CH(t00, k), CH(t10, k), wx), mix(CH(t01, k), CH(t11, k), wx), wy)
+    *r = LERP2(0);
+    *g = LERP2(1);
+    *b = LERP2(2);
+    *a = LERP2(3);
+#undef LERP2
+}
+
 /* Bilinear between input pixel centres at input pixel coordinates (ix, iy). */
 inline void bilinear(__global const uint *src, int sw, int sh, uint bg, vf ix, vf iy,
                      vf *r, vf *g, vf *b, vf *a) {
@@ -249,12 +261,7 @@ inline void bilinear(__global const uint *src, int sw, int sh, uint bg, vf ix, v
     vi ya = edge_index(y0, sh), yb = edge_index(y0 + 1.0f, sh);
     vu t00 = gather(src, xa, ya, sw, bg), t10 = gather(src, xb, ya, sw, bg);
     vu t01 = gather(src, xa, yb, sw, bg), t11 = gather(src, xb, yb, sw, bg);
-#define LERP2(k) mix(mix(CH(t00, k), CH(t10, k), wx), mix(CH(t01, k), CH(t11, k), wx), wy)
-    *r = LERP2(0);
-    *g = LERP2(1);
-    *b = LERP2(2);
-    *a = LERP2(3);
-#undef LERP2
+    blend_taps(t00, t10, t01, t11, wx, wy, r, g, b, a);
 }
 
 #define KPARAMS __global const uint *src, int sw, int sh, __constant const float *params, \
@@ -620,13 +627,13 @@ __kernel void marble_apply(__global uint *dst, int w, int h, __global const uint
         vu t01 = GATHER_LANES(src + psw, i00), t11 = GATHER_LANES(src + psw + 1, i00);
         vf wx = CVT_F(q & 0x7fffu) * (1.0f / WSCALE);
         vf wy = CVT_F((q >> 15) & 0x7fffu) * (1.0f / WSCALE);
+        vf r, g, b, a;
+        blend_taps(t00, t10, t01, t11, wx, wy, &r, &g, &b, &a);
         float wgt = samples[3 * s + 2];
-#define LERP2(k) mix(mix(CH(t00, k), CH(t10, k), wx), mix(CH(t01, k), CH(t11, k), wx), wy)
-        ar += wgt * select(LERP2(0), CH(tap, 0), hit);
-        ag += wgt * select(LERP2(1), CH(tap, 1), hit);
-        ab += wgt * select(LERP2(2), CH(tap, 2), hit);
-        aa += wgt * select(LERP2(3), (vf)255.0f, hit);
-#undef LERP2
+        ar += wgt * select(r, CH(tap, 0), hit);
+        ag += wgt * select(g, CH(tap, 1), hit);
+        ab += wgt * select(b, CH(tap, 2), hit);
+        aa += wgt * select(a, (vf)255.0f, hit);
     }
     store_row(dst + (size_t)y * w + x0, pack_rgba(ar, ag, ab, aa), w - x0);
 }

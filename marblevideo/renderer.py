@@ -278,24 +278,24 @@ class Renderer:
         geo = np.array([*geom.to_canvas, *geom.to_input], dtype=np.float32)
         rgba = None if image is None else to_rgba(image)
         sh, sw = (1, 1) if rgba is None else rgba.shape[:2]
+        bg = [float(c) for c in spec.background]
+        packed_bg = np.uint32(_packed(bg))
         reuse = False
         if rgba is not None and self.reuse_maps:
             key = (structure, params.tobytes(), geo.tobytes(), w, h, sw, sh)
-            table_bytes = len(pattern(spec.antialias)) * h * self._table_stride(w) * 4
-            reuse = key == self._last_map and table_bytes <= self._table_limit
+            reuse = key == self._last_map and self._table_bytes(key) <= self._table_limit
             self._last_map = key
         self.last_reused = reuse
         pbuf = self._buffer("params", params.nbytes)
         cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
         if reuse:
-            src = self._padded_upload(kernels, rgba, spec)
+            src = self._padded_upload(kernels, rgba, packed_bg)
         elif rgba is not None:
             src = self._buffer("src", rgba.nbytes)
             cl.enqueue_copy(queue, src, rgba, is_blocking=False)
         else:
             src = self._buffer("src", 4)
         dst = self._buffer("dst", w * h * 4)
-        bg = [float(c) for c in spec.background]
         common = (
             src,
             np.int32(sw),
@@ -304,7 +304,7 @@ class Renderer:
             self._sample_buffer(spec.antialias),
             geo.view(cl.cltypes.float8)[0],
             np.array(bg + [255.0], dtype=np.float32).view(cl.cltypes.float4)[0],
-            np.uint32(_packed(bg)),
+            packed_bg,
         )
         try:
             adaptive = self.adaptive if self.adaptive is not None else image is None
@@ -322,13 +322,19 @@ class Renderer:
                 out = np.empty((h, w, 4), dtype=np.uint8)
             cl.enqueue_copy(queue, out, dst, is_blocking=True)
         except cl.Error as exc:
+            self._table_map = None  # a table being walked may be half-written
             raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
         return out
 
     def _table_stride(self, w: int) -> int:
         return -(-w // self.lanes) * self.lanes
 
-    def _padded_upload(self, kernels, rgba: np.ndarray, spec: FrameSpec):
+    def _table_bytes(self, key: tuple) -> int:
+        """Bytes of each of the two table buffers for the maps of ``key``."""
+        structure, _, _, w, h = key[:5]
+        return len(pattern(structure.antialias)) * h * self._table_stride(w) * 4
+
+    def _padded_upload(self, kernels, rgba: np.ndarray, packed_bg: np.uint32):
         """The input inside a one-pixel border that marble_pad fills for the edges mode."""
         cl = self._cl
         sh, sw = rgba.shape[:2]
@@ -345,7 +351,7 @@ class Renderer:
             is_blocking=False,
         )
         k = kernels["marble_pad"]
-        k.set_args(padded, np.int32(sw), np.int32(sh), np.uint32(_packed(spec.background)))
+        k.set_args(padded, np.int32(sw), np.int32(sh), packed_bg)
         cl.enqueue_nd_range_kernel(self.queue, k, (_pad(2 * (sw + 2) + 2 * sh),), None)
         return padded
 
@@ -353,11 +359,10 @@ class Renderer:
         """Fetch and blend from the table, walking it first if it holds other maps."""
         cl, queue = self._cl, self.queue
         stride = self._table_stride(w)
-        nbytes = len(pattern(key[0].antialias)) * h * stride * 4
+        nbytes = self._table_bytes(key)
         taps, wts = self._buffer("taps", nbytes), self._buffer("wts", nbytes)
         nbx = -(-w // self.lanes)
         if self._table_map != key:
-            self._table_map = None  # half-written if the walk fails
             k = kernels["marble_table"]
             k.set_args(taps, wts, np.int32(w), np.int32(h), np.int32(stride), *common)
             cl.enqueue_nd_range_kernel(queue, k, (_pad(nbx * -(-h // rows)),), None)
