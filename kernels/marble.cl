@@ -622,18 +622,25 @@ __kernel void marble_apply(__global uint *dst, int w, int h, __global const uint
         size_t at = ((size_t)s * h + y) * tstride + x0;
         vu tap = VLOAD(taps + at), q = VLOAD(wts + at);
         vi hit = CVT_I(q >> 31) != 0;
-        vi i00 = select(CVT_I(tap), (vi)0, hit);
-        vu t00 = GATHER_LANES(src, i00), t10 = GATHER_LANES(src + 1, i00);
-        vu t01 = GATHER_LANES(src + psw, i00), t11 = GATHER_LANES(src + psw + 1, i00);
-        vf wx = CVT_F(q & 0x7fffu) * (1.0f / WSCALE);
-        vf wy = CVT_F((q >> 15) & 0x7fffu) * (1.0f / WSCALE);
-        vf r, g, b, a;
-        blend_taps(t00, t10, t01, t11, wx, wy, &r, &g, &b, &a);
+        vf r = CH(tap, 0), g = CH(tap, 1), b = CH(tap, 2), a = (vf)255.0f;
+        if (ANY(hit == 0)) { /* skipped where every lane is on ink */
+            vi i00 = select(CVT_I(tap), (vi)0, hit);
+            vu t00 = GATHER_LANES(src, i00), t10 = GATHER_LANES(src + 1, i00);
+            vu t01 = GATHER_LANES(src + psw, i00), t11 = GATHER_LANES(src + psw + 1, i00);
+            vf wx = CVT_F(q & 0x7fffu) * (1.0f / WSCALE);
+            vf wy = CVT_F((q >> 15) & 0x7fffu) * (1.0f / WSCALE);
+            vf br, bg, bb, ba;
+            blend_taps(t00, t10, t01, t11, wx, wy, &br, &bg, &bb, &ba);
+            r = select(br, r, hit);
+            g = select(bg, g, hit);
+            b = select(bb, b, hit);
+            a = select(ba, a, hit);
+        }
         float wgt = samples[3 * s + 2];
-        ar += wgt * select(r, CH(tap, 0), hit);
-        ag += wgt * select(g, CH(tap, 1), hit);
-        ab += wgt * select(b, CH(tap, 2), hit);
-        aa += wgt * select(a, (vf)255.0f, hit);
+        ar += wgt * r;
+        ag += wgt * g;
+        ab += wgt * b;
+        aa += wgt * a;
     }
     store_row(dst + (size_t)y * w + x0, pack_rgba(ar, ag, ab, aa), w - x0);
 }
@@ -670,4 +677,103 @@ __kernel void marble_pad(__global uint *src, int sw, int sh, uint bg) {
 #endif
     src[py * psw + px] = src[(y + 1) * psw + x + 1];
 #endif
+}
+
+/* ---- 8-bit 4:2:0 video frames (I420) ------------------------------------
+ * I420: Y (w x h), then U and V (w/2 x h/2), rows in order; w and h even.
+ * m: a 3x4 affine matrix, row-major in m.s0..s3 (first output), s4..s7, s8..sb,
+ * applied to (a, b, c, 1) in float32 (marblevideo/yuv.py is the reference).
+ * Work-item: 16 pixels of two rows (one row of chroma); the vector part does
+ * whole runs of 16, the last run of a row goes pixel by pixel. These kernels
+ * do not depend on LANES. */
+#define CODE8(v) clamp(floor((v) + 0.5f), 0.0f, 255.0f)
+#define ROW0(m, a, b, c) ((((m).s0 * (a) + (m).s1 * (b)) + (m).s2 * (c)) + (m).s3)
+#define ROW1(m, a, b, c) ((((m).s4 * (a) + (m).s5 * (b)) + (m).s6 * (c)) + (m).s7)
+#define ROW2(m, a, b, c) ((((m).s8 * (a) + (m).s9 * (b)) + (m).sa * (c)) + (m).sb)
+
+/* Work-item: columns x0 .. x0 + 15 of rows 2 cy and 2 cy + 1 of the frame, and
+ * the row of each plane there (Q: the pointers' qualifiers). */
+#define I420_ROWS(Q)                                                                 \
+    const int nbx = (w + 15) / 16, gid = get_global_id(0);                          \
+    const int x0 = (gid % nbx) * 16, cy = gid / nbx, cw = w / 2;                    \
+    if (2 * cy >= h)                                                                \
+        return;                                                                     \
+    Q uchar *yrow = yuv + (size_t)(2 * cy) * w;                                     \
+    Q uchar *urow = yuv + (size_t)w * h + (size_t)cy * cw;                          \
+    Q uchar *vrow = urow + (size_t)cw * (h / 2);
+
+inline uint yuv_pixel(float y, float u, float v, float16 m) {
+    float r = ROW0(m, y, u, v), g = ROW1(m, y, u, v), b = ROW2(m, y, u, v);
+    return convert_uint(CODE8(r)) | (convert_uint(CODE8(g)) << 8) |
+           (convert_uint(CODE8(b)) << 16) | 0xff000000u;
+}
+
+inline uint16 yuv_pixels(float16 y, float16 u, float16 v, float16 m) {
+    float16 r = ROW0(m, y, u, v), g = ROW1(m, y, u, v), b = ROW2(m, y, u, v);
+    return convert_uint16(CODE8(r)) | (convert_uint16(CODE8(g)) << 8) |
+           (convert_uint16(CODE8(b)) << 16) | (uint16)0xff000000u;
+}
+
+/* I420 frame -> RGBA pixels at dst[off + y * stride + x] (a padded or flat input). */
+__kernel void marble_from_i420(__global uint *dst, int off, int stride,
+                               __global const uchar *yuv, int w, int h, float16 m) {
+    I420_ROWS(__global const)
+    __global uint *out = dst + off + (size_t)(2 * cy) * stride;
+    if (x0 + 16 <= w) {
+        const uchar16 twice = (uchar16)(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7);
+        float16 u = convert_float16(shuffle(vload8(0, urow + x0 / 2), twice));
+        float16 v = convert_float16(shuffle(vload8(0, vrow + x0 / 2), twice));
+        for (int r = 0; r < 2; r++) {
+            float16 y = convert_float16(vload16(0, yrow + (size_t)r * w + x0));
+            vstore16(yuv_pixels(y, u, v, m), 0, out + (size_t)r * stride + x0);
+        }
+    } else {
+        for (int x = x0; x < w; x++) {
+            float u = urow[x / 2], v = vrow[x / 2];
+            for (int r = 0; r < 2; r++)
+                out[(size_t)r * stride + x] = yuv_pixel(yrow[(size_t)r * w + x], u, v, m);
+        }
+    }
+}
+
+#define CHANNEL(p, k) convert_float16(((p) >> (8 * (k))) & 0xffu)
+#define CHANNEL1(p, k) (float)(((p) >> (8 * (k))) & 0xffu)
+/* the mean of a 2x2, summed in the vector part's order: rows, then columns */
+#define MEAN4(p00, p01, p10, p11, k) \
+    (((CHANNEL1(p00, k) + CHANNEL1(p10, k)) + (CHANNEL1(p01, k) + CHANNEL1(p11, k))) * 0.25f)
+
+inline uchar luma(uint p, float16 m) {
+    return convert_uchar(
+        CODE8(ROW0(m, CHANNEL1(p, 0), CHANNEL1(p, 1), CHANNEL1(p, 2))));
+}
+
+/* RGBA w x h (rows of w pixels) -> I420; chroma from the mean RGB of each 2x2. */
+__kernel void marble_to_i420(__global uchar *yuv, __global const uint *src, int w, int h,
+                             float16 m) {
+    I420_ROWS(__global)
+    __global const uint *in = src + (size_t)(2 * cy) * w;
+    if (x0 + 16 <= w) {
+        uint16 p0 = vload16(0, in + x0), p1 = vload16(0, in + w + x0);
+        float16 r0 = CHANNEL(p0, 0), g0 = CHANNEL(p0, 1), b0 = CHANNEL(p0, 2);
+        float16 r1 = CHANNEL(p1, 0), g1 = CHANNEL(p1, 1), b1 = CHANNEL(p1, 2);
+        vstore16(convert_uchar16(CODE8(ROW0(m, r0, g0, b0))), 0, yrow + x0);
+        vstore16(convert_uchar16(CODE8(ROW0(m, r1, g1, b1))), 0, yrow + w + x0);
+        float16 rs = r0 + r1, gs = g0 + g1, bs = b0 + b1;
+        float8 r = (rs.even + rs.odd) * 0.25f, g = (gs.even + gs.odd) * 0.25f;
+        float8 b = (bs.even + bs.odd) * 0.25f;
+        vstore8(convert_uchar8(CODE8(ROW1(m, r, g, b))), 0, urow + x0 / 2);
+        vstore8(convert_uchar8(CODE8(ROW2(m, r, g, b))), 0, vrow + x0 / 2);
+    } else {
+        for (int x = x0; x < w; x += 2) {
+            const uint p00 = in[x], p01 = in[x + 1], p10 = in[w + x], p11 = in[w + x + 1];
+            yrow[x] = luma(p00, m);
+            yrow[x + 1] = luma(p01, m);
+            yrow[w + x] = luma(p10, m);
+            yrow[w + x + 1] = luma(p11, m);
+            float r = MEAN4(p00, p01, p10, p11, 0), g = MEAN4(p00, p01, p10, p11, 1);
+            float b = MEAN4(p00, p01, p10, p11, 2);
+            urow[x / 2] = convert_uchar(CODE8(ROW1(m, r, g, b)));
+            vrow[x / 2] = convert_uchar(CODE8(ROW2(m, r, g, b)));
+        }
+    }
 }

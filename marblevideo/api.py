@@ -7,7 +7,6 @@ at ``time`` or, without it, at the recipe's end (the finished design).
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -22,6 +21,7 @@ from marblevideo.renderer import Renderer
 from marblevideo.tiled import TILED_ABOVE, can_stream, write_bands
 from marblevideo.tiled import band_rows as tiled_rows
 from marblevideo.vector import DEFAULT_TOLERANCE, VectorStats, design_svg
+from marblevideo.yuv import YuvMatrix
 
 RecipeLike = Recipe | dict | str | os.PathLike
 
@@ -95,8 +95,11 @@ class Marbler:
 
     def _frame(self, image, time, size, view):
         """The recipe's values at ``time`` (default: its end) and the render's geometry."""
-        t = self.recipe.end_time() if time is None else float(time)
         input_size = None if image is None else (image.shape[1], image.shape[0])
+        return self._frame_for(input_size, time, size, view)
+
+    def _frame_for(self, input_size, time, size, view):
+        t = self.recipe.end_time() if time is None else float(time)
         if size is None:
             size = input_size or blank_size(self.recipe)
         return self.recipe.at(t, self.canvas(input_size)), self.geometry(size, input_size, view)
@@ -117,15 +120,31 @@ class Marbler:
         for _, band in bands(lambda g: self.renderer.render(spec, g, image), geom, rows):
             yield band
 
-    def transform(
-        self, size: tuple[int, int] | None = None
-    ) -> Callable[[np.ndarray, float], np.ndarray]:
-        """(frame, t) -> marbled frame, for the video pipeline."""
+    def transform(self, size: tuple[int, int] | None = None) -> VideoTransform:
+        """(frame, t) -> marbled frame for the video pipeline, with its I420 form."""
+        return VideoTransform(self, size)
 
-        def marble(frame: np.ndarray, t: float) -> np.ndarray:
-            return self.render(frame, t, size)
 
-        return marble
+class VideoTransform:
+    """A :class:`Marbler` as the video pipeline's transform, at output ``size``
+    (default: the input's).
+
+    Called as ``(rgba, t) -> rgba``; :meth:`i420` takes and gives 8-bit 4:2:0
+    frames and converts on the device, which the pipeline prefers when the
+    input and output are both yuv420p (see :mod:`marblevideo.video`).
+    """
+
+    def __init__(self, marbler: Marbler, size: tuple[int, int] | None = None):
+        self.marbler, self.size = marbler, size
+
+    def __call__(self, frame: np.ndarray, t: float) -> np.ndarray:
+        return self.marbler.render(frame, t, self.size)
+
+    def i420(self, planes: np.ndarray, t: float, src: YuvMatrix, dst: YuvMatrix) -> np.ndarray:
+        """The marbled frame of I420 ``planes`` (colours in ``src``), as I420 in ``dst``."""
+        input_size = (planes.shape[1], planes.shape[0] * 2 // 3)
+        spec, geom = self.marbler._frame_for(input_size, t, self.size, None)
+        return self.marbler.renderer.render_i420(spec, geom, planes, src, dst)
 
 
 def render_image(

@@ -25,6 +25,7 @@ from marblevideo.antialias import pattern
 from marblevideo.device import DeviceInfo, choose_device
 from marblevideo.errors import DeviceError, UsageError
 from marblevideo.frame import EDGE_MODES, FrameSpec, Geometry
+from marblevideo.yuv import YuvMatrix
 
 PSTRIDE = 12  # floats per op in the parameter buffer; the last holds the type code
 TYPE_CODES = {"drop": 0, "spray": 1, "tine": 2, "comb": 3, "wave": 4, "circle": 5, "vortex": 6}
@@ -32,6 +33,8 @@ TYPE_CODES = {"drop": 0, "spray": 1, "tine": 2, "comb": 3, "wave": 4, "circle": 
 UNROLL_LIMIT = 48
 #: Work-group size of marble_classify (its list takes one global atomic per group).
 CLASSIFY_GROUP = 64
+#: Work-group size of the other kernels on CPU devices (GPUs choose their own).
+CPU_GROUP = 128
 #: Largest output or input side accepted (OpenCL buffers and int indices).
 MAX_SIDE = 1 << 15
 #: Largest table of reused maps (bytes: 8 per subsample per pixel; 1080p RGSS
@@ -181,6 +184,9 @@ class Renderer:
         self.last_reused = False
         self._table_limit = min(TABLE_LIMIT, dev.max_mem_alloc_size)
         self._classify_group = min(CLASSIFY_GROUP, dev.max_work_group_size)
+        #: work-group size on CPUs; PoCL's own choice made 15 groups of a 720p
+        #: frame, which two cores shared unevenly (128 measured 5-10% faster)
+        self._group = min(CPU_GROUP, dev.max_work_group_size) if is_cpu else None
         #: pixels rendered with the full pattern by the last adaptive render
         self.last_full_pixels: int | None = None
         self._source = kernel_source()
@@ -223,7 +229,13 @@ class Renderer:
             first = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
             raise DeviceError(f"OpenCL build failed on {self.info.name}: {first}") from None
         names = ("marble", "marble_centres", "marble_classify", "marble_list")
-        names += ("marble_table", "marble_apply", "marble_pad")
+        names += (
+            "marble_table",
+            "marble_apply",
+            "marble_pad",
+            "marble_from_i420",
+            "marble_to_i420",
+        )
         kernel = ({n: cl.Kernel(program, n) for n in names}, rows)
         self._kernels[key] = kernel
         return kernel
@@ -255,6 +267,13 @@ class Renderer:
         return buf
 
     # -- rendering --------------------------------------------------------
+    def _launch(self, kernel, n: int) -> None:
+        """Enqueue ``n`` work-items of ``kernel`` (padded; surplus items return at once)."""
+        group = self._group
+        self._cl.enqueue_nd_range_kernel(
+            self.queue, kernel, (_pad(n, group or 64),), None if group is None else (group,)
+        )
+
     def render(
         self,
         spec: FrameSpec,
@@ -267,64 +286,154 @@ class Renderer:
         ``image`` is the input (RGBA, RGB or grey uint8), or None for a blank
         sheet; ``out`` an optional destination array of the right shape.
         """
+        rgba = None if image is None else to_rgba(image)
+        size = None if rgba is None else (rgba.shape[1], rgba.shape[0])
+
+        def put(kernels, buf, x: int, y: int, stride: int) -> None:
+            self._put_rgba(rgba, buf, x, y, stride)
+
+        def fetch(kernels, dst, w: int, h: int) -> np.ndarray:
+            result = np.empty((h, w, 4), np.uint8) if out is None else out
+            self._cl.enqueue_copy(self.queue, result, dst, is_blocking=True)
+            return result
+
+        return self._render(spec, geom, size, put, fetch)
+
+    def render_i420(
+        self,
+        spec: FrameSpec,
+        geom: Geometry,
+        planes: np.ndarray,
+        src_matrix: YuvMatrix,
+        dst_matrix: YuvMatrix,
+        out: np.ndarray | None = None,
+    ) -> np.ndarray:
+        """:meth:`render` for 8-bit 4:2:0 video frames, converted on the device.
+
+        ``planes``: the input as I420 (see :mod:`marblevideo.yuv`), even-sized,
+        in ``src_matrix``; returns the frame as I420 in ``dst_matrix``, shape
+        (3 * out_h / 2, out_w), which must be even too. Equal, up to float
+        rounding, to :func:`~marblevideo.yuv.i420_to_rgba`, :meth:`render` and
+        :func:`~marblevideo.yuv.rgba_to_i420` in turn; only a third of the RGBA
+        bytes cross to the device and back.
+        """
+        cl = self._cl
+        planes = np.ascontiguousarray(planes, dtype=np.uint8)
+        sh, sw = planes.shape[0] * 2 // 3, planes.shape[1]
+        if planes.ndim != 2 or sh * 3 != planes.shape[0] * 2 or sw % 2 or sh % 2:
+            raise ValueError(f"I420 planes must be (3h/2, w) with even w, h; got {planes.shape}")
+        if geom.out_w % 2 or geom.out_h % 2:
+            raise ValueError(f"I420 output needs even sizes, got {geom.out_w}x{geom.out_h}")
+        to_rgb, to_yuv = src_matrix.kernel_args()[0], dst_matrix.kernel_args()[1]
+
+        def put(kernels, buf, x: int, y: int, stride: int) -> None:
+            staged = self._buffer("i420_in", planes.nbytes)
+            cl.enqueue_copy(self.queue, staged, planes, is_blocking=False)
+            k = kernels["marble_from_i420"]
+            k.set_args(
+                buf,
+                np.int32(y * stride + x),
+                np.int32(stride),
+                staged,
+                np.int32(sw),
+                np.int32(sh),
+                to_rgb.view(cl.cltypes.float16)[0],
+            )
+            self._launch(k, -(-sw // 16) * (sh // 2))
+
+        def fetch(kernels, dst, w: int, h: int) -> np.ndarray:
+            result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
+            staged = self._buffer("i420_out", result.nbytes)
+            k = kernels["marble_to_i420"]
+            k.set_args(staged, dst, np.int32(w), np.int32(h), to_yuv.view(cl.cltypes.float16)[0])
+            self._launch(k, -(-w // 16) * (h // 2))
+            cl.enqueue_copy(self.queue, result, staged, is_blocking=True)
+            return result
+
+        return self._render(spec, geom, (sw, sh), put, fetch)
+
+    def _render(self, spec: FrameSpec, geom: Geometry, size, put, fetch) -> np.ndarray:
+        """One frame over an input of ``size`` (w, h), or a blank sheet (None).
+
+        ``put(kernels, buffer, x, y, stride)`` writes the input's RGBA pixels into
+        ``buffer`` from pixel (x, y) on, rows ``stride`` pixels apart;
+        ``fetch(kernels, dst, w, h)`` turns the RGBA result into the return value.
+        """
         cl = self._cl
         w, h = geom.out_w, geom.out_h
         if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
             raise UsageError(f"output size {w}x{h} is outside 1..{MAX_SIDE} per side")
-        structure = Structure.of(spec, image is not None)
+        has_input = size is not None
+        structure = Structure.of(spec, has_input)
         kernels, rows = self.kernel_for(structure)
         queue = self.queue
         params = pack_params(spec)
         geo = np.array([*geom.to_canvas, *geom.to_input], dtype=np.float32)
-        rgba = None if image is None else to_rgba(image)
-        sh, sw = (1, 1) if rgba is None else rgba.shape[:2]
+        sw, sh = size if has_input else (1, 1)
         bg = [float(c) for c in spec.background]
         packed_bg = np.uint32(_packed(bg))
         reuse = False
-        if rgba is not None and self.reuse_maps:
+        if has_input and self.reuse_maps:
             key = (structure, params.tobytes(), geo.tobytes(), w, h, sw, sh)
             reuse = key == self._last_map and self._table_bytes(key) <= self._table_limit
             self._last_map = key
         self.last_reused = reuse
-        pbuf = self._buffer("params", params.nbytes)
-        cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
-        if reuse:
-            src = self._padded_upload(kernels, rgba, packed_bg)
-        elif rgba is not None:
-            src = self._buffer("src", rgba.nbytes)
-            cl.enqueue_copy(queue, src, rgba, is_blocking=False)
-        else:
-            src = self._buffer("src", 4)
-        dst = self._buffer("dst", w * h * 4)
-        common = (
-            src,
-            np.int32(sw),
-            np.int32(sh),
-            pbuf,
-            self._sample_buffer(spec.antialias),
-            geo.view(cl.cltypes.float8)[0],
-            np.array(bg + [255.0], dtype=np.float32).view(cl.cltypes.float4)[0],
-            packed_bg,
-        )
         try:
-            adaptive = self.adaptive if self.adaptive is not None else image is None
+            pbuf = self._buffer("params", params.nbytes)
+            cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
+            if reuse:
+                src = self._buffer("padded", (sw + 2) * (sh + 2) * 4)
+                put(kernels, src, 1, 1, sw + 2)
+                k = kernels["marble_pad"]
+                k.set_args(src, np.int32(sw), np.int32(sh), packed_bg)
+                self._launch(k, 2 * (sw + 2) + 2 * sh)
+            elif has_input:
+                src = self._buffer("src", sw * sh * 4)
+                put(kernels, src, 0, 0, sw)
+            else:
+                src = self._buffer("src", 4)
+            dst = self._buffer("dst", w * h * 4)
+            common = (
+                src,
+                np.int32(sw),
+                np.int32(sh),
+                pbuf,
+                self._sample_buffer(spec.antialias),
+                geo.view(cl.cltypes.float8)[0],
+                np.array(bg + [255.0], dtype=np.float32).view(cl.cltypes.float4)[0],
+                packed_bg,
+            )
+            adaptive = self.adaptive if self.adaptive is not None else not has_input
             if reuse:
                 self._render_from_table(kernels, rows, dst, w, h, common, key)
             elif adaptive and len(pattern(spec.antialias)) > 1:
-                self._render_adaptive(kernels, dst, w, h, common, pbuf, geo, image is not None)
+                self._render_adaptive(kernels, dst, w, h, common, pbuf, geo, has_input)
             else:
                 k = kernels["marble"]
                 k.set_args(dst, np.int32(w), np.int32(h), *common)
-                cl.enqueue_nd_range_kernel(
-                    queue, k, (_pad(-(-w // self.lanes) * -(-h // rows)),), None
-                )
-            if out is None:
-                out = np.empty((h, w, 4), dtype=np.uint8)
-            cl.enqueue_copy(queue, out, dst, is_blocking=True)
+                self._launch(k, -(-w // self.lanes) * -(-h // rows))
+            return fetch(kernels, dst, w, h)
         except cl.Error as exc:
             self._table_map = None  # a table being walked may be half-written
             raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
-        return out
+
+    def _put_rgba(self, rgba: np.ndarray, buf, x: int, y: int, stride: int) -> None:
+        """Copy ``rgba`` into ``buf`` at pixel (x, y), rows ``stride`` pixels apart."""
+        sh, sw = rgba.shape[:2]
+        if (x, y, stride) == (0, 0, sw):
+            self._cl.enqueue_copy(self.queue, buf, rgba, is_blocking=False)
+            return
+        self._cl.enqueue_copy(
+            self.queue,
+            buf,
+            rgba,
+            buffer_origin=(4 * x, y),
+            host_origin=(0, 0),
+            region=(sw * 4, sh),
+            buffer_pitches=(stride * 4,),
+            host_pitches=(sw * 4,),
+            is_blocking=False,
+        )
 
     def _table_stride(self, w: int) -> int:
         return -(-w // self.lanes) * self.lanes
@@ -334,30 +443,8 @@ class Renderer:
         structure, _, _, w, h = key[:5]
         return len(pattern(structure.antialias)) * h * self._table_stride(w) * 4
 
-    def _padded_upload(self, kernels, rgba: np.ndarray, packed_bg: np.uint32):
-        """The input inside a one-pixel border that marble_pad fills for the edges mode."""
-        cl = self._cl
-        sh, sw = rgba.shape[:2]
-        padded = self._buffer("padded", (sw + 2) * (sh + 2) * 4)
-        cl.enqueue_copy(
-            self.queue,
-            padded,
-            rgba,
-            buffer_origin=(4, 1),
-            host_origin=(0, 0),
-            region=(sw * 4, sh),
-            buffer_pitches=((sw + 2) * 4,),
-            host_pitches=(sw * 4,),
-            is_blocking=False,
-        )
-        k = kernels["marble_pad"]
-        k.set_args(padded, np.int32(sw), np.int32(sh), packed_bg)
-        cl.enqueue_nd_range_kernel(self.queue, k, (_pad(2 * (sw + 2) + 2 * sh),), None)
-        return padded
-
     def _render_from_table(self, kernels, rows, dst, w, h, common, key) -> None:
         """Fetch and blend from the table, walking it first if it holds other maps."""
-        cl, queue = self._cl, self.queue
         stride = self._table_stride(w)
         nbytes = self._table_bytes(key)
         taps, wts = self._buffer("taps", nbytes), self._buffer("wts", nbytes)
@@ -365,12 +452,12 @@ class Renderer:
         if self._table_map != key:
             k = kernels["marble_table"]
             k.set_args(taps, wts, np.int32(w), np.int32(h), np.int32(stride), *common)
-            cl.enqueue_nd_range_kernel(queue, k, (_pad(nbx * -(-h // rows)),), None)
+            self._launch(k, nbx * -(-h // rows))
             self._table_map = key
         src, sw, samples = common[0], common[1], common[4]
         k = kernels["marble_apply"]
         k.set_args(dst, np.int32(w), np.int32(h), taps, wts, np.int32(stride), src, sw, samples)
-        cl.enqueue_nd_range_kernel(queue, k, (_pad(nbx * h),), None)
+        self._launch(k, nbx * h)
 
     def _render_adaptive(self, kernels, dst, w, h, common, pbuf, geo, has_input) -> None:
         """The three passes of adaptive antialiasing (see marble.cl)."""
@@ -396,9 +483,7 @@ class Renderer:
             geo.view(cl.cltypes.float8)[0],
         )
         chains = self.chains if lanes > 1 else 1
-        cl.enqueue_nd_range_kernel(
-            queue, centres, (_pad(gstride // lanes * -(-gh // chains)),), None
-        )
+        self._launch(centres, gstride // lanes * -(-gh // chains))
         classify = kernels["marble_classify"]
         classify.set_args(
             dst,
@@ -421,4 +506,4 @@ class Renderer:
         if n:
             full = kernels["marble_list"]
             full.set_args(dst, np.int32(w), listing, np.int32(n), *common)
-            cl.enqueue_nd_range_kernel(queue, full, (_pad(-(-n // lanes)),), None)
+            self._launch(full, -(-n // lanes))

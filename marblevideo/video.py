@@ -27,6 +27,14 @@ Conventions
   for the RGBA <-> YUV conversions. With a chroma-subsampled ``pix_fmt``
   (yuv420p) an odd width or height is padded by one replicated edge pixel, and
   a one-line notice says so.
+- A transform may also offer ``transform.i420(planes, t, src, dst) -> planes``:
+  the frame as I420 (:mod:`marblevideo.yuv`) with colours in the
+  :class:`~marblevideo.yuv.YuvMatrix` ``src``, the result as I420 in ``dst``.
+  It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
+  a supported matrix, when the output is yuv420p of even size; the marbler
+  converts on the OpenCL device, so neither swscale conversion runs (the
+  frames differ from the RGBA path by a level or two: swscale rounds with
+  less precision). :attr:`Stats.i420_frames` counts them.
 - Packets the decoder rejects as invalid data are skipped and counted, with a
   one-line notice at the end (decoders that conceal damage, like H.264, report
   nothing, as in ffmpeg).
@@ -59,8 +67,9 @@ from marblevideo.errors import MediaError, UsageError
 from marblevideo.inputs import check_input
 from marblevideo.output import atomic_output, check_output
 from marblevideo.progress import MODES, Progress, progress_mode
+from marblevideo.yuv import FORMATS, YuvMatrix
 
-Transform = Callable[[np.ndarray, float], np.ndarray]
+Transform = Callable[[np.ndarray, float], np.ndarray]  # with an optional ``i420`` method
 
 QUEUE_FRAMES = 4
 AUDIO_MODES = ("copy", "aac", "none")
@@ -110,6 +119,7 @@ class Stats:
     audio: str = "none"  # "copy", the re-encoder's name, or "none"
     audio_packets: int = 0  # packets copied or encoded
     corrupt_packets: int = 0  # input packets skipped as undecodable
+    i420_frames: int = 0  # frames the transform took and gave as I420 (no swscale)
     seconds: float = 0.0  # wall time
     notes: list[str] = field(default_factory=list)
 
@@ -134,10 +144,19 @@ class _Plan:
 
 @dataclass
 class _Video:
-    rgba: np.ndarray
+    rgba: np.ndarray | None  # upright RGBA, or None when the frame travels as I420
     pts: int
     duration: int
     t: float
+    i420: np.ndarray | None = None  # (3h/2, w) yuv420p planes for a transform's i420
+    matrix: YuvMatrix | None = None  # the colour matrix and range of ``i420``
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(height, width) of the frame."""
+        if self.i420 is not None:
+            return self.i420.shape[0] * 2 // 3, self.i420.shape[1]
+        return self.rgba.shape[:2]
 
 
 @dataclass
@@ -252,8 +271,16 @@ class _Reader:
     name (decoded frames). Undecodable packets are counted in ``corrupt``.
     """
 
-    def __init__(self, container, start: float | None, end: float | None, audio: dict[int, str]):
+    def __init__(
+        self,
+        container,
+        start: float | None,
+        end: float | None,
+        audio: dict[int, str],
+        i420: bool = False,
+    ):
         self.container = container
+        self.i420 = i420  # hand over upright, even-sized 8-bit 4:2:0 frames as I420
         self.video = container.streams.video[0]
         self.video.thread_type = "AUTO"
         self.tb = self.video.time_base
@@ -338,6 +365,15 @@ class _Reader:
         if self.rotation is None:
             self.rotation = frame.rotation
         pts = self._shift(frame.pts, self.tb)
+        if (
+            self.i420
+            and frame.format.name in FORMATS
+            and not frame.rotation
+            and frame.width % 2 == frame.height % 2 == 0
+        ):
+            matrix = YuvMatrix.of(frame.colorspace, frame.color_range, frame.format.name)
+            if matrix is not None:
+                return _Video(None, pts, frame.duration or 0, t, frame.to_ndarray(), matrix)
         return _Video(_upright(frame), pts, frame.duration or 0, t)
 
     def _shifted(self, item: _Audio) -> _Audio:
@@ -421,17 +457,21 @@ class _Writer:
             self.audio_out[index] = stream
 
     def video(self, item: _Video) -> None:
-        rgba = item.rgba
-        if rgba.shape[:2] != self.shape:
-            raise ValueError(f"transform changed frame size: {rgba.shape[:2]} after {self.shape}")
-        if any(self.pad):
-            rgba = np.pad(rgba, ((0, self.pad[0]), (0, self.pad[1]), (0, 0)), mode="edge")
-        frame = av.VideoFrame.from_ndarray(rgba, format="rgba")
-        frame = frame.reformat(
-            format=self.plan.pix_fmt,
-            dst_colorspace=self.colors.get("colorspace"),
-            dst_color_range=self.colors.get("color_range"),
-        )
+        if item.shape != self.shape:
+            raise ValueError(f"transform changed frame size: {item.shape} after {self.shape}")
+        if item.i420 is not None:
+            frame = av.VideoFrame.from_ndarray(item.i420, format="yuv420p")
+            self.stats.i420_frames += 1
+        else:
+            rgba = item.rgba
+            if any(self.pad):
+                rgba = np.pad(rgba, ((0, self.pad[0]), (0, self.pad[1]), (0, 0)), mode="edge")
+            frame = av.VideoFrame.from_ndarray(rgba, format="rgba")
+            frame = frame.reformat(
+                format=self.plan.pix_fmt,
+                dst_colorspace=self.colors.get("colorspace"),
+                dst_color_range=self.colors.get("color_range"),
+            )
         for key, value in self.colors.items():
             setattr(frame, key, value)
         frame.pts, frame.time_base = item.pts, self.stream.codec_context.time_base
@@ -514,6 +554,14 @@ class _Pipeline:
             thread.join(timeout)
 
 
+def _check_i420(planes) -> np.ndarray:
+    if not isinstance(planes, np.ndarray) or planes.dtype != np.uint8 or planes.ndim != 2:
+        raise TypeError("transform.i420 must return a (3h/2, w) uint8 numpy array")
+    if planes.shape[0] % 3 or planes.shape[1] % 2:
+        raise ValueError(f"transform.i420 returned shape {planes.shape}, not (3h/2, w), even")
+    return np.ascontiguousarray(planes)
+
+
 def _check_frame(rgba) -> np.ndarray:
     if not isinstance(rgba, np.ndarray) or rgba.dtype != np.uint8 or rgba.ndim != 3:
         raise TypeError("transform must return an (h, w, 4) uint8 numpy array")
@@ -528,11 +576,12 @@ def _run(
     options: VideoOptions,
     stats: Stats,
     produce: Callable[[], Iterator[_Video | _Audio]],
-    transform: Callable[[_Video], np.ndarray],
+    transform: Callable[[_Video], None],
     setup: Callable[[_Writer, _Video], None],
     total: int | None,
 ) -> None:
-    """Decode (``produce``) -> transform (this thread) -> encode, with bounded queues."""
+    """Decode (``produce``) -> transform (this thread, in place) -> encode, with bounded
+    queues."""
     pipe = _Pipeline()
     decoded: queue.Queue = queue.Queue(QUEUE_FRAMES)
     marbled: queue.Queue = queue.Queue(QUEUE_FRAMES)
@@ -571,7 +620,7 @@ def _run(
             pipe.start("encode", encode)
             while (item := pipe.get(decoded)) is not _END:
                 if isinstance(item, _Video):
-                    item.rgba = _check_frame(transform(item))
+                    transform(item)
                     bar.update()
                 pipe.put(marbled, item)
             pipe.put(marbled, _END)
@@ -622,12 +671,25 @@ def transcode(
         audio = _audio_plan(container, plan, options, Path(dst).suffix, say)
         encoders = set(audio.values()) - {"copy"}
         stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
-        reader = _Reader(container, options.start, options.end, audio)
-        vin = reader.video
+        vin = container.streams.video[0]
         colors = {k: getattr(vin.codec_context, k) for k in _COLOR_FIELDS}
+        planar = getattr(transform, "i420", None)
+        out_matrix = YuvMatrix.of(colors["colorspace"], colors["color_range"])
+        if plan.pix_fmt != "yuv420p" or (options.size and any(v % 2 for v in options.size)):
+            out_matrix = None
+        reader = _Reader(
+            container, options.start, options.end, audio, planar is not None and bool(out_matrix)
+        )
+
+        def marble(item: _Video) -> None:
+            if item.i420 is not None:
+                result = planar(item.i420, item.t, item.matrix, out_matrix)
+                item.i420 = _check_i420(result)
+            else:
+                item.rgba = _check_frame(transform(item.rgba, item.t))
 
         def setup(writer: _Writer, first: _Video) -> None:
-            height, width = first.rgba.shape[:2]
+            height, width = first.shape
             rate = vin.average_rate or vin.guessed_rate
             writer.open_video(width, height, vin.time_base, rate, colors)
             writer.open_audio({i: (container.streams[i], how) for i, how in audio.items()})
@@ -639,7 +701,7 @@ def transcode(
                 options,
                 stats,
                 reader.items,
-                lambda item: transform(item.rgba, item.t),
+                marble,
                 setup,
                 _estimate_frames(reader),
             )
@@ -709,7 +771,7 @@ def render_blank(
         return (_Video(None, i, 1, i / fps) for i in range(count))
 
     def setup(writer: _Writer, first: _Video) -> None:
-        height, width = first.rgba.shape[:2]
+        height, width = first.shape
         writer.open_video(width, height, 1 / rate, rate, {})
 
     with atomic_output(dst, options.overwrite) as tmp:
@@ -719,7 +781,7 @@ def render_blank(
             options,
             stats,
             produce,
-            lambda item: render_at(item.t),
+            lambda item: setattr(item, "rgba", _check_frame(render_at(item.t))),
             setup,
             count,
         )
