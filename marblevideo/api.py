@@ -147,6 +147,24 @@ class VideoTransform:
         return self.marbler.renderer.render_i420(spec, geom, planes, src, dst)
 
 
+class BlankFrames:
+    """A :class:`Marbler`'s blank sheet at ``size`` as frames of a video: called
+    as ``(t) -> rgba``; :meth:`i420` renders and converts on the device."""
+
+    def __init__(self, marbler: Marbler, size: tuple[int, int]):
+        self.marbler, self.size = marbler, size
+
+    def __call__(self, t: float) -> np.ndarray:
+        return self.marbler.render(None, t, self.size)
+
+    def i420(self, t: float, matrix: YuvMatrix) -> np.ndarray | None:
+        """The frame at ``t`` as I420 in ``matrix``; None for odd sizes (no I420)."""
+        if self.size[0] % 2 or self.size[1] % 2:
+            return None
+        spec, geom = self.marbler._frame_for(None, t, self.size, None)
+        return self.marbler.renderer.render_i420(spec, geom, None, None, matrix)
+
+
 def render_image(
     recipe: RecipeLike,
     image: np.ndarray | None = None,
@@ -329,7 +347,7 @@ def render_video(
         duration = recipe.end_time() + 1.0 if duration is None else duration
         marbler = Marbler(recipe, device=device)
         size = opts.size or blank_size(recipe)
-        return render_blank(dst, lambda t: marbler.render(None, t, size), duration, fps, opts)
+        return render_blank(dst, BlankFrames(marbler, size), duration, fps, opts)
     marbler = Marbler(recipe, device=device)
     return transcode(src, dst, marbler.transform(opts.size), opts)
 

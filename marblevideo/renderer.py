@@ -303,28 +303,33 @@ class Renderer:
         self,
         spec: FrameSpec,
         geom: Geometry,
-        planes: np.ndarray,
-        src_matrix: YuvMatrix,
+        planes: np.ndarray | None,
+        src_matrix: YuvMatrix | None,
         dst_matrix: YuvMatrix,
         out: np.ndarray | None = None,
     ) -> np.ndarray:
         """:meth:`render` for 8-bit 4:2:0 video frames, converted on the device.
 
         ``planes``: the input as I420 (see :mod:`marblevideo.yuv`), even-sized,
-        in ``src_matrix``; returns the frame as I420 in ``dst_matrix``, shape
-        (3 * out_h / 2, out_w), which must be even too. Equal, up to float
-        rounding, to :func:`~marblevideo.yuv.i420_to_rgba`, :meth:`render` and
-        :func:`~marblevideo.yuv.rgba_to_i420` in turn; only a third of the RGBA
-        bytes cross to the device and back.
+        in ``src_matrix``, or None for a blank sheet; returns the frame as I420
+        in ``dst_matrix``, shape (3 * out_h / 2, out_w), which must be even too.
+        Equal, up to float rounding, to :func:`~marblevideo.yuv.i420_to_rgba`,
+        :meth:`render` and :func:`~marblevideo.yuv.rgba_to_i420` in turn; only a
+        third of the RGBA bytes cross to the device and back.
         """
         cl = self._cl
-        planes = np.ascontiguousarray(planes, dtype=np.uint8)
-        sh, sw = planes.shape[0] * 2 // 3, planes.shape[1]
-        if planes.ndim != 2 or sh * 3 != planes.shape[0] * 2 or sw % 2 or sh % 2:
-            raise ValueError(f"I420 planes must be (3h/2, w) with even w, h; got {planes.shape}")
         if geom.out_w % 2 or geom.out_h % 2:
             raise ValueError(f"I420 output needs even sizes, got {geom.out_w}x{geom.out_h}")
-        to_rgb, to_yuv = src_matrix.kernel_args()[0], dst_matrix.kernel_args()[1]
+        size = None
+        if planes is not None:
+            planes = np.ascontiguousarray(planes, dtype=np.uint8)
+            sh, sw = planes.shape[0] * 2 // 3, planes.shape[1]
+            if planes.ndim != 2 or sh * 3 != planes.shape[0] * 2 or sw % 2 or sh % 2:
+                raise ValueError(
+                    f"I420 planes must be (3h/2, w) with even w, h; got {planes.shape}"
+                )
+            size, to_rgb = (sw, sh), src_matrix.kernel_args()[0]
+        to_yuv = dst_matrix.kernel_args()[1]
 
         def put(kernels, buf, x: int, y: int, stride: int) -> None:
             staged = self._buffer("i420_in", planes.nbytes)
@@ -350,7 +355,7 @@ class Renderer:
             cl.enqueue_copy(self.queue, result, staged, is_blocking=True)
             return result
 
-        return self._render(spec, geom, (sw, sh), put, fetch)
+        return self._render(spec, geom, size, put, fetch)
 
     def _render(self, spec: FrameSpec, geom: Geometry, size, put, fetch) -> np.ndarray:
         """One frame over an input of ``size`` (w, h), or a blank sheet (None).

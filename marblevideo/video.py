@@ -756,7 +756,10 @@ def render_blank(
 ) -> Stats:
     """Write ``dst`` from frames ``render_at(i / fps)``, ``i = 0 .. ceil(duration * fps) - 1``.
 
-    Constant frame rate (time base 1/fps for integer rates), no audio.
+    Constant frame rate (time base 1/fps for integer rates), no audio, colours
+    untagged (BT.601, limited range). For a yuv420p output, ``render_at.i420(t,
+    matrix)``, where present, gives the frame as I420 in ``matrix`` (None where
+    it cannot, e.g. odd sizes) and swscale is skipped.
     """
     options = options or VideoOptions()
     if duration <= 0 or fps <= 0:
@@ -766,24 +769,24 @@ def render_blank(
     stats = Stats()
     rate = Fraction(fps).limit_denominator(1001)
     count = int(np.ceil(duration * fps - 1e-9))
+    planar = getattr(render_at, "i420", None) if plan.pix_fmt == "yuv420p" else None
+    matrix = YuvMatrix.of(None, None)
 
     def produce() -> Iterator[_Video]:
         return (_Video(None, i, 1, i / fps) for i in range(count))
+
+    def render(item: _Video) -> None:
+        planes = None if planar is None else planar(item.t, matrix)
+        if planes is not None:
+            item.i420 = _check_i420(planes)
+        else:
+            item.rgba = _check_frame(render_at(item.t))
 
     def setup(writer: _Writer, first: _Video) -> None:
         height, width = first.shape
         writer.open_video(width, height, 1 / rate, rate, {})
 
     with atomic_output(dst, options.overwrite) as tmp:
-        _run(
-            tmp,
-            plan,
-            options,
-            stats,
-            produce,
-            lambda item: setattr(item, "rgba", _check_frame(render_at(item.t))),
-            setup,
-            count,
-        )
+        _run(tmp, plan, options, stats, produce, render, setup, count)
     stats.seconds = time.monotonic() - began
     return stats

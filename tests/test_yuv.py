@@ -182,8 +182,11 @@ class RgbaOnly:
         return self.transform(rgba, t)
 
 
+_LOSSLESS = {"crf": 0, "preset": "ultrafast", "quiet": True}  # x264 crf 0: lossless
+
+
 def _lossless(**extra) -> VideoOptions:
-    return VideoOptions(crf=0, preset="ultrafast", quiet=True, **extra)
+    return VideoOptions(**_LOSSLESS, **extra)
 
 
 def test_pipeline_marbles_i420_frames_like_the_rgba_path(tmp_path):
@@ -228,3 +231,19 @@ def test_pipeline_falls_back_to_rgba_where_i420_cannot_go(tmp_path, case):
     transform = Marbler(RECIPE).transform(options.get("size"))
     stats = transcode(clip, tmp_path / "out.mp4", transform, _lossless(**options))
     assert stats.frames == 3 and stats.i420_frames == 0
+
+
+@pytest.mark.parametrize("size, planar", [((96, 64), True), ((95, 64), False)])
+def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, planar):
+    from marblevideo.api import render_video
+
+    recipe = parse_recipe({**RECIPE, "canvas": [96, 64]}, "t.json")
+    dst = tmp_path / "blank.mp4"
+    stats = render_video(None, recipe, dst, duration=0.3, fps=10, size=size, **_LOSSLESS)
+    assert stats.frames == 3 and stats.i420_frames == (3 if planar else 0)
+    if planar:
+        marbler = Marbler(recipe)
+        with av.open(str(dst)) as container:
+            for i, frame in enumerate(container.decode(video=0)):
+                want = rgba_to_i420(marbler.render(None, i / 10, size), MATRICES[0])
+                assert np.abs(frame.to_ndarray().astype(int) - want).max() <= 1
