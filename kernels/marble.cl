@@ -226,17 +226,6 @@ inline vi edge_index(vf i, int n) {
                                  (b)[(i).sc], (b)[(i).sd], (b)[(i).se], (b)[(i).sf]))
 #endif
 
-inline vu gather(__global const uint *src, vi xi, vi yi, int sw, uint bg) {
-    vi idx = yi * sw + xi;
-#if EDGES == 3
-    vi outside = (xi < 0) | (yi < 0);
-    vu tap = GATHER_LANES(src, select(idx, (vi)0, outside));
-    return select(tap, (vu)bg, outside);
-#else
-    return GATHER_LANES(src, idx);
-#endif
-}
-
 #define CH(t, k) CVT_F(((t) >> (8 * (k))) & 0xffu)
 
 /* The four taps of a bilinear footprint (left/right, top/bottom) blended by
@@ -251,16 +240,52 @@ inline void blend_taps(vu t00, vu t10, vu t01, vu t11, vf wx, vf wy,
 #undef LERP2
 }
 
-/* Bilinear between input pixel centres at input pixel coordinates (ix, iy). */
-inline void bilinear(__global const uint *src, int sw, int sh, uint bg, vf ix, vf iy,
+/* Left (top) tap of a footprint starting at f along an axis of n input pixels,
+ * in padded coordinates, and its weight, for the edges mode. */
+inline void padded_axis(vf f, int n, vi *tap, vf *weight) {
+    vf i0 = floor(f);
+    vf wt = f - i0;
+    float fn = (float)n;
+#if EDGES == 0
+    vf m = clamp(i0, -1.0f, fn - 1.0f);  /* the border repeats the edge pixel */
+#elif EDGES == 1
+    vf m = clamp(i0 - fn * floor(i0 / fn), 0.0f, fn - 1.0f);  /* right border = column 0 */
+#elif EDGES == 2
+    /* Mirrored stretches run backwards: take the lower tap and swap the weights;
+     * a footprint folded onto one pixel weighs only that pixel. */
+    vf ma = CVT_F(edge_index(i0, n)), mb = CVT_F(edge_index(i0 + 1.0f, n));
+    vf m = select(ma, mb, mb < ma);
+    wt = select(select(wt, 1.0f - wt, mb < ma), (vf)0.0f, mb == ma);
+#else
+    vi outside = (i0 < -1.0f) | (i0 > fn - 1.0f);  /* both taps on background */
+    vf m = select(i0, (vf)-1.0f, outside);
+    wt = select(wt, (vf)0.0f, outside);
+#endif
+    *tap = CVT_I(m) + 1;
+    *weight = wt;
+}
+
+/* The bilinear footprint at input pixel coordinates (ix, iy): the index of its
+ * top-left tap in the padded input (sw + 2 wide; marble_pad has filled the
+ * one-pixel border for the edges mode, so the other taps are always the next
+ * column and row) and the weights of the right and bottom taps. */
+inline void footprint(vf ix, vf iy, int sw, int sh, vi *tap, vf *wx, vf *wy) {
+    vi tx, ty;
+    padded_axis(clamp(ix - 0.5f, -4.0e6f, 4.0e6f), sw, &tx, wx);
+    padded_axis(clamp(iy - 0.5f, -4.0e6f, 4.0e6f), sh, &ty, wy);
+    *tap = ty * (sw + 2) + tx;
+}
+
+/* Bilinear between input pixel centres at input pixel coordinates (ix, iy),
+ * from the padded input. */
+inline void bilinear(__global const uint *src, int sw, int sh, vf ix, vf iy,
                      vf *r, vf *g, vf *b, vf *a) {
-    vf fx = clamp(ix - 0.5f, -4.0e6f, 4.0e6f), fy = clamp(iy - 0.5f, -4.0e6f, 4.0e6f);
-    vf x0 = floor(fx), y0 = floor(fy);
-    vf wx = fx - x0, wy = fy - y0;
-    vi xa = edge_index(x0, sw), xb = edge_index(x0 + 1.0f, sw);
-    vi ya = edge_index(y0, sh), yb = edge_index(y0 + 1.0f, sh);
-    vu t00 = gather(src, xa, ya, sw, bg), t10 = gather(src, xb, ya, sw, bg);
-    vu t01 = gather(src, xa, yb, sw, bg), t11 = gather(src, xb, yb, sw, bg);
+    vi i00;
+    vf wx, wy;
+    footprint(ix, iy, sw, sh, &i00, &wx, &wy);
+    const int psw = sw + 2;
+    vu t00 = GATHER_LANES(src, i00), t10 = GATHER_LANES(src + 1, i00);
+    vu t01 = GATHER_LANES(src + psw, i00), t11 = GATHER_LANES(src + psw + 1, i00);
     blend_taps(t00, t10, t01, t11, wx, wy, r, g, b, a);
 }
 
@@ -273,7 +298,7 @@ inline void bilinear(__global const uint *src, int sw, int sh, uint bg, vf ix, v
 #define SHADE(c, cr, cg, cb, ca)                                                          \
     cr = cg = cb = (vf)0.0f; ca = (vf)255.0f;                                              \
     if (ANY(ink[c] < 0))                                                                   \
-        bilinear(src, sw, sh, bg, px[c] * geo.s4 + geo.s6, py[c] * geo.s5 + geo.s7,        \
+        bilinear(src, sw, sh, px[c] * geo.s4 + geo.s6, py[c] * geo.s5 + geo.s7,        \
                  &cr, &cg, &cb, &ca);                                                      \
     ca = select(ca, (vf)255.0f, ink[c] >= 0);                                              \
     if (ANY(ink[c] >= 0)) { INK }
@@ -459,7 +484,7 @@ __kernel void marble_classify(__global uint *dst, int w, int h,
             vf ix = x0_ + dx * xx_ + dy * xy_ + hx * xxx_ + hy * xyy_ + hxy * xxy_;
             vf iy = y0_ + dx * yx_ + dy * yy_ + hx * yxx_ + hy * yyy_ + hxy * yxy_;
             vf r, g, b, a;
-            bilinear(src, sw, sh, bg, ix, iy, &r, &g, &b, &a);
+            bilinear(src, sw, sh, ix, iy, &r, &g, &b, &a);
             sr += wgt * r;
             sg += wgt * g;
             sb += wgt * b;
@@ -543,30 +568,6 @@ __kernel void marble_list(__global uint *dst, int w, __global const int *list, i
  * differs from marble's by at most one level (in a few pixels per million). */
 #define WSCALE 32768.0f
 
-/* Left (top) tap of a footprint starting at f along an axis of n input pixels,
- * in padded coordinates, and its weight, for the edges mode. */
-inline void padded_axis(vf f, int n, vi *tap, vf *weight) {
-    vf i0 = floor(f);
-    vf wt = f - i0;
-    float fn = (float)n;
-#if EDGES == 0
-    vf m = clamp(i0, -1.0f, fn - 1.0f);  /* the border repeats the edge pixel */
-#elif EDGES == 1
-    vf m = clamp(i0 - fn * floor(i0 / fn), 0.0f, fn - 1.0f);  /* right border = column 0 */
-#elif EDGES == 2
-    /* Mirrored stretches run backwards: take the lower tap and swap the weights;
-     * a footprint folded onto one pixel weighs only that pixel. */
-    vf ma = CVT_F(edge_index(i0, n)), mb = CVT_F(edge_index(i0 + 1.0f, n));
-    vf m = select(ma, mb, mb < ma);
-    wt = select(select(wt, 1.0f - wt, mb < ma), (vf)0.0f, mb == ma);
-#else
-    vi outside = (i0 < -1.0f) | (i0 > fn - 1.0f);  /* both taps on background */
-    vf m = select(i0, (vf)-1.0f, outside);
-    wt = select(wt, (vf)0.0f, outside);
-#endif
-    *tap = CVT_I(m) + 1;
-    *weight = wt;
-}
 
 __kernel void marble_table(__global uint *taps, __global uint *wts, int w, int h, int tstride,
                            KPARAMS) {
@@ -576,7 +577,6 @@ __kernel void marble_table(__global uint *taps, __global uint *wts, int w, int h
     if (y0 >= h)
         return;
     const vf ox = (vf)(float)x0 + IOTA + 0.5f, oy = (vf)((float)y0 + 0.5f);
-    const int psw = sw + 2;
     for (int g = 0; g < ROWS * NSAMPLES; g += CHAINS) {
         START_JOBS(g, ox, oy)
 
@@ -585,13 +585,10 @@ __kernel void marble_table(__global uint *taps, __global uint *wts, int w, int h
         FOR_CHAINS {
             const int y = y0 + ROW_OF(g + c);
             if (g + c < ROWS * NSAMPLES && y < h) {
-                vf fx = clamp(px[c] * geo.s4 + geo.s6 - 0.5f, -4.0e6f, 4.0e6f);
-                vf fy = clamp(py[c] * geo.s5 + geo.s7 - 0.5f, -4.0e6f, 4.0e6f);
-                vi tx, ty;
+                vi i00;
                 vf wx, wy;
-                padded_axis(fx, sw, &tx, &wx);
-                padded_axis(fy, sh, &ty, &wy);
-                vu tap = CVT_U(ty * psw + tx);
+                footprint(px[c] * geo.s4 + geo.s6, py[c] * geo.s5 + geo.s7, sw, sh, &i00, &wx, &wy);
+                vu tap = CVT_U(i00);
                 vu q = min(CVT_U(wx * WSCALE + 0.5f), 32767u)
                      | (min(CVT_U(wy * WSCALE + 0.5f), 32767u) << 15);
                 vf cr = 0.0f, cg = 0.0f, cb = 0.0f;

@@ -386,17 +386,14 @@ class Renderer:
         try:
             pbuf = self._buffer("params", params.nbytes)
             cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
-            if reuse:
+            if has_input:  # inside a border that marble_pad fills for the edges mode
                 src = self._buffer("padded", (sw + 2) * (sh + 2) * 4)
                 put(kernels, src, 1, 1, sw + 2)
                 k = kernels["marble_pad"]
                 k.set_args(src, np.int32(sw), np.int32(sh), packed_bg)
                 self._launch(k, 2 * (sw + 2) + 2 * sh)
-            elif has_input:
-                src = self._buffer("src", sw * sh * 4)
-                put(kernels, src, 0, 0, sw)
             else:
-                src = self._buffer("src", 4)
+                src = self._buffer("padded", 4)
             dst = self._buffer("dst", w * h * 4)
             common = (
                 src,
@@ -425,9 +422,6 @@ class Renderer:
     def _put_rgba(self, rgba: np.ndarray, buf, x: int, y: int, stride: int) -> None:
         """Copy ``rgba`` into ``buf`` at pixel (x, y), rows ``stride`` pixels apart."""
         sh, sw = rgba.shape[:2]
-        if (x, y, stride) == (0, 0, sw):
-            self._cl.enqueue_copy(self.queue, buf, rgba, is_blocking=False)
-            return
         self._cl.enqueue_copy(
             self.queue,
             buf,
