@@ -711,7 +711,7 @@ inline uint16 yuv_pixels(float16 y, float16 u, float16 v, float16 m) {
            (convert_uint16(CODE8(b)) << 16) | (uint16)0xff000000u;
 }
 
-/* I420 frame -> RGBA pixels at dst[off + y * stride + x] (a padded or flat input). */
+/* I420 frame -> RGBA pixels at dst[off + y * stride + x] (inside the padded input). */
 __kernel void marble_from_i420(__global uint *dst, int off, int stride,
                                __global const uchar *yuv, int w, int h, float16 m) {
     I420_ROWS(__global const)

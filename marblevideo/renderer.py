@@ -7,9 +7,12 @@ blank sheet or input) is built into a program once; the per-frame values (a
 cached per structure and their kernel fetched once.
 
 Images are RGBA uint8 arrays of shape (H, W, 4), rows top to bottom; RGB and
-grey inputs are widened to RGBA on upload. On CPU devices the kernel runs
-16-lane vector code with several independent chains per work-item (see
-shared/PERF-NOTES.md); on GPUs one pixel per work-item.
+grey inputs are widened to RGBA on upload. Video frames may instead come and
+go as I420 (:meth:`Renderer.render_i420`), converted on the device. An input
+is sampled inside a one-pixel border that the kernel fills for the edges mode.
+On CPU devices the kernel runs 16-lane vector code with several independent
+chains per work-item (see shared/PERF-NOTES.md); on GPUs one pixel per
+work-item.
 """
 
 from __future__ import annotations
@@ -289,8 +292,8 @@ class Renderer:
         rgba = None if image is None else to_rgba(image)
         size = None if rgba is None else (rgba.shape[1], rgba.shape[0])
 
-        def put(kernels, buf, x: int, y: int, stride: int) -> None:
-            self._put_rgba(rgba, buf, x, y, stride)
+        def put(kernels, padded) -> None:
+            self._put_rgba(rgba, padded)
 
         def fetch(kernels, dst, w: int, h: int) -> np.ndarray:
             result = np.empty((h, w, 4), np.uint8) if out is None else out
@@ -331,14 +334,14 @@ class Renderer:
             size, to_rgb = (sw, sh), src_matrix.kernel_args()[0]
         to_yuv = dst_matrix.kernel_args()[1]
 
-        def put(kernels, buf, x: int, y: int, stride: int) -> None:
+        def put(kernels, padded) -> None:
             staged = self._buffer("i420_in", planes.nbytes)
             cl.enqueue_copy(self.queue, staged, planes, is_blocking=False)
             k = kernels["marble_from_i420"]
             k.set_args(
-                buf,
-                np.int32(y * stride + x),
-                np.int32(stride),
+                padded,
+                np.int32(sw + 3),  # pixel (0, 0) of the frame
+                np.int32(sw + 2),
                 staged,
                 np.int32(sw),
                 np.int32(sh),
@@ -360,9 +363,10 @@ class Renderer:
     def _render(self, spec: FrameSpec, geom: Geometry, size, put, fetch) -> np.ndarray:
         """One frame over an input of ``size`` (w, h), or a blank sheet (None).
 
-        ``put(kernels, buffer, x, y, stride)`` writes the input's RGBA pixels into
-        ``buffer`` from pixel (x, y) on, rows ``stride`` pixels apart;
-        ``fetch(kernels, dst, w, h)`` turns the RGBA result into the return value.
+        ``put(kernels, padded)`` writes the input's RGBA pixels inside the
+        one-pixel border of ``padded`` (rows of the input's width + 2 pixels,
+        the frame from pixel (1, 1) on); ``fetch(kernels, dst, w, h)`` turns
+        the RGBA result into the return value.
         """
         cl = self._cl
         w, h = geom.out_w, geom.out_h
@@ -388,7 +392,7 @@ class Renderer:
             cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
             if has_input:  # inside a border that marble_pad fills for the edges mode
                 src = self._buffer("padded", (sw + 2) * (sh + 2) * 4)
-                put(kernels, src, 1, 1, sw + 2)
+                put(kernels, src)
                 k = kernels["marble_pad"]
                 k.set_args(src, np.int32(sw), np.int32(sh), packed_bg)
                 self._launch(k, 2 * (sw + 2) + 2 * sh)
@@ -419,17 +423,17 @@ class Renderer:
             self._table_map = None  # a table being walked may be half-written
             raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
 
-    def _put_rgba(self, rgba: np.ndarray, buf, x: int, y: int, stride: int) -> None:
-        """Copy ``rgba`` into ``buf`` at pixel (x, y), rows ``stride`` pixels apart."""
+    def _put_rgba(self, rgba: np.ndarray, padded) -> None:
+        """Copy ``rgba`` inside the one-pixel border of ``padded``."""
         sh, sw = rgba.shape[:2]
         self._cl.enqueue_copy(
             self.queue,
-            buf,
+            padded,
             rgba,
-            buffer_origin=(4 * x, y),
+            buffer_origin=(4, 1),
             host_origin=(0, 0),
             region=(sw * 4, sh),
-            buffer_pitches=(stride * 4,),
+            buffer_pitches=((sw + 2) * 4,),
             host_pitches=(sw * 4,),
             is_blocking=False,
         )
