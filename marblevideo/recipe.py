@@ -167,7 +167,9 @@ def load_recipe(path: str | os.PathLike[str]) -> Recipe:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
         raise UsageError(f"cannot read recipe {source}: {reason}") from None
     try:
-        data = json.loads(text, parse_constant=_NonFinite, parse_float=_parse_float)
+        data = json.loads(
+            text, parse_constant=_NonFinite, parse_float=_parse_float, object_pairs_hook=_Object
+        )
     except json.JSONDecodeError as exc:
         raise RecipeError(
             source, "", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}"
@@ -193,13 +195,27 @@ def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
     return _build(doc, source)
 
 
+class _Object(dict):
+    """A JSON object as read from a file, with the keys it gave more than once
+    (json keeps the last value of each without a word)."""
+
+    def __init__(self, pairs: list[tuple[str, Any]]):
+        super().__init__(pairs)
+        seen: set[str] = set()
+        self.twice = [k for k, _ in pairs if k in seen or seen.add(k)]
+
+
 def _check_depth(data: Any, source: str) -> None:
-    """Refuse nesting deeper than MAX_DEPTH, naming the first node too deep, without
-    recursion (the validator and the builder recurse)."""
+    """Refuse nesting deeper than MAX_DEPTH, naming the first node too deep, and a key
+    given twice in one object of a file, in document order, without recursion (the
+    validator and the builder recurse)."""
     stack: list[tuple[Any, list, int]] = [(data, [], 0)]
     while stack:
         node, path, depth = stack.pop()
         if isinstance(node, dict):
+            if getattr(node, "twice", None):
+                message = "given twice in one object (JSON would keep only the last)"
+                raise RecipeError(source, _format_path([*path, node.twice[0]]), message)
             children = list(node.items())
         elif isinstance(node, (list, tuple)):
             children = list(enumerate(node))

@@ -511,3 +511,17 @@ def test_non_identifier_keys_use_bracket_paths():
     with pytest.raises(RecipeError) as err:
         parse_recipe({"marblevideo": 1, "ops": [], "²": deep}, "odd.json")
     assert err.value.path.startswith('["²"][0][0]')
+
+
+def test_a_key_given_twice_is_refused_where_it_is(tmp_path):
+    text = json.dumps(recipe_with(OPS["tine"])).replace('"alpha": -30', '"alpha": -30, "alpha": 5')
+    with pytest.raises(RecipeError) as info:
+        load_recipe(write(tmp_path, text))
+    assert info.value.path == "ops[0].alpha"
+    assert str(info.value) == (
+        f"{tmp_path / 'swirl.json'}: ops[0].alpha: given twice in one object "
+        "(JSON would keep only the last)"
+    )
+    top = '{"marblevideo": 1, "ops": [], "ops": []}'
+    with pytest.raises(RecipeError, match=r": ops: given twice"):
+        load_recipe(write(tmp_path, top))
