@@ -290,8 +290,8 @@ inline void bilinear(__global const uint *src, int sw, int sh, vf ix, vf iy,
 }
 
 #define KPARAMS __global const uint *src, int sw, int sh, __constant const float *params, \
-                __constant const float *samples, float8 geo, float4 bgc, uint bg
-#define KARGS src, sw, sh, params, samples, geo, bgc, bg
+                __constant const float *samples, float8 geo, float4 bgc
+#define KARGS src, sw, sh, params, samples, geo, bgc
 
 /* The colour of chain c after its walk: ink, else the input (bilinear) or background. */
 #if HAS_INPUT
@@ -368,7 +368,7 @@ inline void store_row(__global uint *out, vu packed, int n) {
 }
 
 /* geo: output -> canvas (sx, sy, ox, oy), canvas -> input pixels (sx, sy, ox, oy).
- * bgc: background red, green, blue (0..255) and bg, the same packed RGBA8.
+ * bgc: background red, green, blue (0..255) and alpha 255.
  * Work-item: LANES pixels of ROWS rows; every subsample of the pattern. */
 __kernel void marble(__global uint *dst, int w, int h, KPARAMS) {
     const int nbx = (w + LANES - 1) / LANES;
@@ -626,12 +626,12 @@ __kernel void marble_apply(__global uint *dst, int w, int h, __global const uint
             vu t01 = GATHER_LANES(src + psw, i00), t11 = GATHER_LANES(src + psw + 1, i00);
             vf wx = CVT_F(q & 0x7fffu) * (1.0f / WSCALE);
             vf wy = CVT_F((q >> 15) & 0x7fffu) * (1.0f / WSCALE);
-            vf br, bg, bb, ba;
-            blend_taps(t00, t10, t01, t11, wx, wy, &br, &bg, &bb, &ba);
-            r = select(br, r, hit);
-            g = select(bg, g, hit);
-            b = select(bb, b, hit);
-            a = select(ba, a, hit);
+            vf fr, fg, fb, fa;
+            blend_taps(t00, t10, t01, t11, wx, wy, &fr, &fg, &fb, &fa);
+            r = select(fr, r, hit);
+            g = select(fg, g, hit);
+            b = select(fb, b, hit);
+            a = select(fa, a, hit);
         }
         float wgt = samples[3 * s + 2];
         ar += wgt * r;

@@ -331,8 +331,8 @@ class Renderer:
                 raise ValueError(
                     f"I420 planes must be (3h/2, w) with even w, h; got {planes.shape}"
                 )
-            size, to_rgb = (sw, sh), src_matrix.kernel_args()[0]
-        to_yuv = dst_matrix.kernel_args()[1]
+            size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
+        to_yuv = dst_matrix.kernel_args[1]
 
         def put(kernels, padded) -> None:
             staged = self._buffer("i420_in", planes.nbytes)
@@ -380,7 +380,6 @@ class Renderer:
         geo = np.array([*geom.to_canvas, *geom.to_input], dtype=np.float32)
         sw, sh = size if has_input else (1, 1)
         bg = [float(c) for c in spec.background]
-        packed_bg = np.uint32(_packed(bg))
         reuse = False
         if has_input and self.reuse_maps:
             key = (structure, params.tobytes(), geo.tobytes(), w, h, sw, sh)
@@ -394,7 +393,7 @@ class Renderer:
                 src = self._buffer("padded", (sw + 2) * (sh + 2) * 4)
                 put(kernels, src)
                 k = kernels["marble_pad"]
-                k.set_args(src, np.int32(sw), np.int32(sh), packed_bg)
+                k.set_args(src, np.int32(sw), np.int32(sh), np.uint32(_packed(bg)))
                 self._launch(k, 2 * (sw + 2) + 2 * sh)
             else:
                 src = self._buffer("padded", 4)
@@ -407,7 +406,6 @@ class Renderer:
                 self._sample_buffer(spec.antialias),
                 geo.view(cl.cltypes.float8)[0],
                 np.array(bg + [255.0], dtype=np.float32).view(cl.cltypes.float4)[0],
-                packed_bg,
             )
             adaptive = self.adaptive if self.adaptive is not None else not has_input
             if reuse:

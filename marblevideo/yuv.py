@@ -20,6 +20,7 @@ Conventions
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import cache, cached_property
 
 import numpy as np
 
@@ -46,14 +47,16 @@ class YuvMatrix:
     kb: float
     full: bool
 
-    @classmethod
-    def of(cls, colorspace: int | None, color_range: int | None, pix_fmt: str = "yuv420p"):
-        """The matrix for a frame's tags (AVColorSpace, AVColorRange), or None if unsupported."""
+    @staticmethod
+    def of(colorspace: int | None, color_range: int | None, pix_fmt: str = "yuv420p"):
+        """The matrix for a frame's tags (AVColorSpace, AVColorRange), or None if
+        unsupported; one shared instance per matrix and range, so that its
+        :attr:`kernel_args` are computed once, not once per frame."""
         found = _MATRICES.get(2 if colorspace is None else int(colorspace))
         if found is None:
             return None
         full = int(color_range or 0) == FULL_RANGE or pix_fmt.startswith("yuvj")
-        return cls(found[0], found[1], found[2], full)
+        return _shared(*found, full)
 
     def _scales(self) -> tuple[float, float, float]:
         """(luma offset, luma scale, chroma scale) of the 8-bit code values."""
@@ -78,12 +81,19 @@ class YuvMatrix:
         fwd = np.vstack([self.to_yuv().astype(np.float64), [0.0, 0.0, 0.0, 1.0]])
         return np.linalg.inv(fwd)[:3].astype(np.float32)
 
+    @cached_property
     def kernel_args(self) -> tuple[np.ndarray, np.ndarray]:
-        """Both matrices as 16 float32 each (row-major 3x4, then padding): ``float16`` args."""
+        """(to_rgb, to_yuv) as 16 float32 each (row-major 3x4, then padding): the
+        kernels' ``float16`` arguments, computed once per matrix."""
         return tuple(
             np.concatenate([m.ravel(), np.zeros(4, np.float32)])
             for m in (self.to_rgb(), self.to_yuv())
         )
+
+
+@cache
+def _shared(name: str, kr: float, kb: float, full: bool) -> YuvMatrix:
+    return YuvMatrix(name, kr, kb, full)
 
 
 def _affine(m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> list[np.ndarray]:
