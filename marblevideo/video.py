@@ -678,7 +678,11 @@ def transcode(
         if plan.pix_fmt != "yuv420p" or (options.size and any(v % 2 for v in options.size)):
             out_matrix = None
         reader = _Reader(
-            container, options.start, options.end, audio, planar is not None and out_matrix is not None
+            container,
+            options.start,
+            options.end,
+            audio,
+            planar is not None and out_matrix is not None,
         )
 
         def marble(item: _Video) -> None:
