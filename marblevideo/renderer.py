@@ -28,7 +28,7 @@ from marblevideo.antialias import pattern
 from marblevideo.device import DeviceInfo, choose_device
 from marblevideo.errors import DeviceError, UsageError
 from marblevideo.frame import EDGE_MODES, FrameSpec, Geometry
-from marblevideo.yuv import YuvMatrix
+from marblevideo.yuv import YuvMatrix, chroma_geometry, coded_spec
 
 PSTRIDE = 12  # floats per op in the parameter buffer; the last holds the type code
 TYPE_CODES = {"drop": 0, "spray": 1, "tine": 2, "comb": 3, "wave": 4, "circle": 5, "vortex": 6}
@@ -238,6 +238,9 @@ class Renderer:
             "marble_pad",
             "marble_from_i420",
             "marble_to_i420",
+            "marble_quads",
+            "marble_plane",
+            "marble_apply_plane",
         )
         kernel = ({n: cl.Kernel(program, n) for n in names}, rows)
         self._kernels[key] = kernel
@@ -319,6 +322,11 @@ class Renderer:
         Equal, up to float rounding, to :func:`~marblevideo.yuv.i420_to_rgba`,
         :meth:`render` and :func:`~marblevideo.yuv.rgba_to_i420` in turn; only a
         third of the RGBA bytes cross to the device and back.
+
+        When ``src_matrix`` equals ``dst_matrix`` the planes are warped as they
+        are (:func:`~marblevideo.yuv.render_planes` is the reference): no
+        conversion, one gather per bilinear footprint instead of four, and the
+        same table of reused maps per plane.
         """
         cl = self._cl
         if geom.out_w % 2 or geom.out_h % 2:
@@ -331,6 +339,8 @@ class Renderer:
                 raise ValueError(
                     f"I420 planes must be (3h/2, w) with even w, h; got {planes.shape}"
                 )
+            if src_matrix == dst_matrix:
+                return self._render_planes(spec, geom, planes, dst_matrix, out)
             size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
         to_yuv = dst_matrix.kernel_args[1]
 
@@ -417,6 +427,98 @@ class Renderer:
                 k.set_args(dst, np.int32(w), np.int32(h), *common)
                 self._launch(k, -(-w // self.lanes) * -(-h // rows))
             return fetch(kernels, dst, w, h)
+        except cl.Error as exc:
+            self._table_map = None  # a table being walked may be half-written
+            raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
+
+    def _render_planes(
+        self, spec: FrameSpec, geom: Geometry, planes: np.ndarray, matrix: YuvMatrix, out
+    ) -> np.ndarray:
+        """:meth:`render_i420` plane by plane, in ``matrix`` throughout."""
+        cl, queue = self._cl, self.queue
+        w, h = geom.out_w, geom.out_h
+        sh, sw = planes.shape[0] * 2 // 3, planes.shape[1]
+        if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
+            raise UsageError(f"output size {w}x{h} is outside 1..{MAX_SIDE} per side")
+        coded = coded_spec(spec, matrix)
+        structure = Structure.of(coded, True)
+        kernels, rows = self.kernel_for(structure)
+        params = pack_params(coded)
+        luma, chroma = geom, chroma_geometry(geom)
+        geos = [np.array([*g.to_canvas, *g.to_input], np.float32) for g in (luma, chroma)]
+        key = ("planes", structure, params.tobytes(), geos[0].tobytes(), w, h, sw, sh)
+        reuse = False
+        if self.reuse_maps:
+            reuse = key == self._last_map and self._table_bytes(key[1:]) * 5 // 4 <= (
+                self._table_limit
+            )
+            self._last_map = key
+        self.last_reused = reuse
+        result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
+        bg = coded.background
+        try:
+            pbuf = self._buffer("params", params.nbytes)
+            cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
+            staged = self._buffer("i420_in", planes.nbytes)
+            cl.enqueue_copy(queue, staged, planes, is_blocking=False)
+            dst = self._buffer("i420_out", result.nbytes)
+            samples = self._sample_buffer(spec.antialias)
+            bgc = np.array([*bg, 255.0], np.float32).view(cl.cltypes.float4)[0]
+            cw, ch = sw // 2, sh // 2
+            planes_in = (  # (name, offset, width, height, background code) of each input plane
+                ("quads_y", 0, sw, sh, bg[0]),
+                ("quads_u", sw * sh, cw, ch, bg[1]),
+                ("quads_v", sw * sh + cw * ch, cw, ch, bg[2]),
+            )
+            quads = []
+            k = kernels["marble_quads"]
+            for name, off, pw, ph, code in planes_in:
+                buf = self._buffer(name, (pw + 2) * (ph + 2) * 4)
+                k.set_args(buf, staged, np.int32(off), np.int32(pw), np.int32(ph), np.uint32(code))
+                self._launch(k, (pw + 16) // 16 * (ph + 1))
+                quads.append(buf)
+            # luma, then both chroma planes at the same points: (geometry, its packed
+            # maps, output offsets, input plane size, quads, chroma flag, table names)
+            jobs = (
+                (luma, geos[0], (0, 0), (sw, sh), quads[0], quads[0], 0, "taps", "wts"),
+                (
+                    chroma,
+                    geos[1],
+                    (w * h, w * h * 5 // 4),
+                    (cw, ch),
+                    *quads[1:],
+                    1,
+                    "ctaps",
+                    "cwts",
+                ),
+            )
+            build = reuse and self._table_map != key
+            for g, geo, offsets, in_size, q0, q1, is_chroma, tname, wname in jobs:
+                pw, ph = g.out_w, g.out_h
+                head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q0, q1)
+                head += (np.int32(is_chroma),)
+                common = (q0, *map(np.int32, in_size), pbuf, samples)
+                common += (geo.view(cl.cltypes.float8)[0], bgc)
+                nbx = -(-pw // self.lanes)
+                if not reuse:
+                    k = kernels["marble_plane"]
+                    k.set_args(*head, *common)
+                    self._launch(k, nbx * -(-ph // rows))
+                    continue
+                stride = self._table_stride(pw)
+                nbytes = len(pattern(structure.antialias)) * ph * stride * 4
+                taps, wts = self._buffer(tname, nbytes), self._buffer(wname, nbytes)
+                if build:
+                    k = kernels["marble_table"]
+                    k.set_args(taps, wts, np.int32(pw), np.int32(ph), np.int32(stride), *common)
+                    self._launch(k, nbx * -(-ph // rows))
+                k = kernels["marble_apply_plane"]
+                k.set_args(*head, taps, wts, np.int32(stride), samples)
+                self._launch(k, nbx * ph)
+            if build:
+                self._table_map = key
+            cl.enqueue_copy(queue, result, dst, is_blocking=True)
+            return result
         except cl.Error as exc:
             self._table_map = None  # a table being walked may be half-written
             raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None

@@ -31,10 +31,13 @@ Conventions
   the frame as I420 (:mod:`marblevideo.yuv`) with colours in the
   :class:`~marblevideo.yuv.YuvMatrix` ``src``, the result as I420 in ``dst``.
   It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
-  a supported matrix, when the output is yuv420p of even size; the marbler
-  converts on the OpenCL device, so neither swscale conversion runs (the
-  frames differ from the RGBA path by a level or two: swscale rounds with
-  less precision). :attr:`Stats.i420_frames` counts them.
+  a supported matrix, when the output is yuv420p of even size. The marbler
+  warps the planes themselves when ``src`` and ``dst`` are the same matrix
+  (the usual case: the output keeps the input's tags), else it converts on
+  the OpenCL device; either way neither swscale conversion runs. Luma differs
+  from the RGBA path by a level or two (swscale rounds with less precision);
+  chroma is resampled at chroma resolution (see :mod:`marblevideo.yuv`).
+  :attr:`Stats.i420_frames` counts these frames.
 - Packets the decoder rejects as invalid data are skipped and counted, with a
   one-line notice at the end (decoders that conceal damage, like H.264, report
   nothing, as in ffmpeg).

@@ -15,14 +15,26 @@ Conventions
   ``floor(v + 0.5)`` and clamped to 0..255; alpha is 255 on decode and ignored on
   encode. The OpenCL kernels ``marble_from_i420`` and ``marble_to_i420`` compute
   the same float32 expressions; the functions below are their reference.
+- *Planar* rendering (:func:`render_planes`, used when a frame's input and
+  output share one matrix) warps the planes themselves: luma at full
+  resolution, both chroma planes at half, where chroma sample (i, j) covers
+  luma pixels 2i..2i+1 x 2j..2j+1 (centred, as the 2x2 conventions above), so
+  its centre is at luma (2i + 1, 2j + 1). Ink and background colours become
+  their 8-bit codes (:func:`coded_spec`). The luma equals the RGBA path's
+  up to that path's rounding and clamping of the intermediate RGB; the
+  chroma is sampled at chroma resolution instead of being the mean of four
+  RGBA pixels, as ffmpeg's filters do on yuv420p.
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from functools import cache, cached_property
 
 import numpy as np
+
+from marblevideo.frame import INK_OPS, FrameSpec, Geometry, OpState
+from marblevideo.reference import render as reference_render
 
 # AVColorSpace -> (name, Kr, Kb); 2 is "unspecified", taken as BT.601 like swscale
 _MATRICES = {
@@ -136,3 +148,58 @@ def rgba_to_i420(rgba: np.ndarray, matrix: YuvMatrix) -> np.ndarray:
     return np.concatenate([_code(y).ravel(), _code(u).ravel(), _code(v).ravel()]).reshape(
         3 * h // 2, w
     )
+
+
+@cache
+def _codes(matrix: YuvMatrix, rgb: tuple[float, ...]) -> tuple[float, float, float]:
+    m = matrix.to_yuv().astype(np.float64)
+    yuv = m[:, :3] @ np.asarray(rgb, np.float64) + m[:, 3]
+    return tuple(float(v) for v in np.clip(np.floor(yuv + 0.5), 0.0, 255.0))
+
+
+def coded_spec(spec: FrameSpec, matrix: YuvMatrix) -> FrameSpec:
+    """``spec`` with every ink colour and the background as ``matrix``'s 8-bit
+    codes (Y, Cb, Cr) in place of (r, g, b): what planar rendering blends."""
+    ops = tuple(
+        OpState(op.type, {**op.values, "color": _codes(matrix, tuple(op["color"]))})
+        if op.type in INK_OPS
+        else op
+        for op in spec.ops
+    )
+    return replace(spec, ops=ops, background=_codes(matrix, tuple(spec.background)))
+
+
+def chroma_geometry(geom: Geometry) -> Geometry:
+    """The maps of a render's chroma planes (half the size of ``geom``'s even
+    output, over an input's half-size chroma planes)."""
+    kx, ky, tx, ty = geom.to_canvas
+    sx, sy, ox, oy = geom.to_input
+    return Geometry(
+        geom.out_w // 2,
+        geom.out_h // 2,
+        (2.0 * kx, 2.0 * ky, tx, ty),
+        (sx / 2.0, sy / 2.0, ox / 2.0, oy / 2.0),
+    )
+
+
+def render_planes(
+    spec: FrameSpec, geom: Geometry, planes: np.ndarray, matrix: YuvMatrix
+) -> np.ndarray:
+    """Reference of planar rendering: the I420 ``planes`` (colours in ``matrix``)
+    marbled by ``spec`` at ``geom`` (even output), as I420 in the same matrix.
+
+    Each plane is rendered by :func:`marblevideo.reference.render` as one channel
+    of an RGBA image, with :func:`coded_spec`'s colours: luma with ``geom``,
+    chroma with :func:`chroma_geometry`."""
+    h, w = planes.shape[0] * 2 // 3, planes.shape[1]
+    if geom.out_w % 2 or geom.out_h % 2:
+        raise ValueError(f"I420 needs even sizes, got {geom.out_w}x{geom.out_h}")
+    coded = coded_spec(spec, matrix)
+    u, v = planes[h:].reshape(2, h // 2, w // 2)
+    opaque = np.full((h, w), 255, np.uint8)
+    luma = reference_render(coded, geom, np.dstack([planes[:h], planes[:h], planes[:h], opaque]))
+    half = opaque[: h // 2, : w // 2]
+    chroma = reference_render(coded, chroma_geometry(geom), np.dstack([u, u, v, half]))
+    return np.concatenate(
+        [luma[..., 0].ravel(), chroma[..., 1].ravel(), chroma[..., 2].ravel()]
+    ).reshape(geom.out_h * 3 // 2, geom.out_w)
