@@ -8,8 +8,9 @@ cached per structure and their kernel fetched once.
 
 Images are RGBA uint8 arrays of shape (H, W, 4), rows top to bottom; RGB and
 grey inputs are widened to RGBA on upload. Video frames may instead come and
-go as I420 (:meth:`Renderer.render_i420`), converted on the device. An input
-is sampled inside a one-pixel border that the kernel fills for the edges mode.
+go as I420 (:meth:`Renderer.render_i420`): warped plane by plane where input
+and output share a colour matrix, else converted on the device. An input is
+sampled inside a one-pixel border that the kernel fills for the edges mode.
 On CPU devices the kernel runs 16-lane vector code with several independent
 chains per work-item (see shared/PERF-NOTES.md); on GPUs one pixel per
 work-item.
