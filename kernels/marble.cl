@@ -577,6 +577,23 @@ __kernel void marble_list(__global uint *dst, int w, __global const int *list, i
  * differs from marble's by at most one level (in a few pixels per million). */
 #define WSCALE 32768.0f
 
+/* Subsample s of the work-item's LANES pixels of row y in a table. */
+#define TABLE_AT(s, y) (((size_t)(s) * h + (y)) * tstride + x0)
+
+/* The bilinear weights (right, bottom) of a table entry. */
+inline void table_weights(vu q, vf *wx, vf *wy) {
+    *wx = CVT_F(q & 0x7fffu) * (1.0f / WSCALE);
+    *wy = CVT_F((q >> 15) & 0x7fffu) * (1.0f / WSCALE);
+}
+
+/* The work-item of a table reader: LANES pixels of row y from column x0; past
+ * the last row it returns. */
+#define TABLE_ROW                                                              \
+    const int nbx = (w + LANES - 1) / LANES, gid = get_global_id(0);          \
+    const int x0 = (gid % nbx) * LANES, y = gid / nbx;                         \
+    if (y >= h)                                                                \
+        return;
+
 
 __kernel void marble_table(__global uint *taps, __global uint *wts, int w, int h, int tstride,
                            KPARAMS) {
@@ -600,7 +617,7 @@ __kernel void marble_table(__global uint *taps, __global uint *wts, int w, int h
                 vi hit = ink[c] >= 0;
                 tap = select(tap, pack_rgba(cr, cg, cb, (vf)255.0f), hit);
                 q = select(q, (vu)0x80000000u, hit);
-                size_t at = ((size_t)((g + c) % NSAMPLES) * h + y) * tstride + x0;
+                size_t at = TABLE_AT((g + c) % NSAMPLES, y);
                 VSTORE(tap, taps + at);
                 VSTORE(q, wts + at);
             }
@@ -612,15 +629,11 @@ __kernel void marble_table(__global uint *taps, __global uint *wts, int w, int h
 __kernel void marble_apply(__global uint *dst, int w, int h, __global const uint *taps,
                            __global const uint *wts, int tstride, __global const uint *src,
                            int sw, __constant const float *samples) {
-    const int nbx = (w + LANES - 1) / LANES;
-    const int gid = get_global_id(0);
-    const int x0 = (gid % nbx) * LANES, y = gid / nbx;
-    if (y >= h)
-        return;
+    TABLE_ROW
     const int psw = sw + 2;
     vf ar = 0.0f, ag = 0.0f, ab = 0.0f, aa = 0.0f;
     for (int s = 0; s < NSAMPLES; s++) {
-        size_t at = ((size_t)s * h + y) * tstride + x0;
+        size_t at = TABLE_AT(s, y);
         vu tap = VLOAD(taps + at), q = VLOAD(wts + at);
         vi hit = CVT_I(q >> 31) != 0;
         vf r = CH(tap, 0), g = CH(tap, 1), b = CH(tap, 2), a = (vf)255.0f;
@@ -628,9 +641,8 @@ __kernel void marble_apply(__global uint *dst, int w, int h, __global const uint
             vi i00 = select(CVT_I(tap), (vi)0, hit);
             vu t00 = GATHER_LANES(src, i00), t10 = GATHER_LANES(src + 1, i00);
             vu t01 = GATHER_LANES(src + psw, i00), t11 = GATHER_LANES(src + psw + 1, i00);
-            vf wx = CVT_F(q & 0x7fffu) * (1.0f / WSCALE);
-            vf wy = CVT_F((q >> 15) & 0x7fffu) * (1.0f / WSCALE);
-            vf fr, fg, fb, fa;
+            vf wx, wy, fr, fg, fb, fa;
+            table_weights(q, &wx, &wy);
             blend_taps(t00, t10, t01, t11, wx, wy, &fr, &fg, &fb, &fa);
             r = select(fr, r, hit);
             g = select(fg, g, hit);
@@ -644,6 +656,18 @@ __kernel void marble_apply(__global uint *dst, int w, int h, __global const uint
         aa += wgt * a;
     }
     store_row(dst + (size_t)y * w + x0, pack_rgba(ar, ag, ab, aa), w - x0);
+}
+
+/* Padded coordinate i (0 .. n + 1) of an axis of n samples (pixels) -> the sample, or
+ * -1 for the background. */
+inline int padded_sample(int i, int n) {
+#if EDGES == 1
+    return (i - 1 + n) % n;
+#elif EDGES == 3
+    return (i < 1 || i > n) ? -1 : i - 1;
+#else
+    return clamp(i - 1, 0, n - 1); /* clamp; mirror repeats the edge sample too */
+#endif
 }
 
 /* The border of the padded input (sw + 2) x (sh + 2), whose inside holds the
@@ -668,16 +692,8 @@ __kernel void marble_pad(__global uint *src, int sw, int sh, uint bg) {
     } else {
         return;
     }
-#if EDGES == 3
-    src[py * psw + px] = bg;
-#else
-#if EDGES == 1
-    const int x = (px - 1 + sw) % sw, y = (py - 1 + sh) % sh;
-#else
-    const int x = clamp(px - 1, 0, sw - 1), y = clamp(py - 1, 0, sh - 1);
-#endif
-    src[py * psw + px] = src[(y + 1) * psw + x + 1];
-#endif
+    const int x = padded_sample(px, sw), y = padded_sample(py, sh);
+    src[py * psw + px] = (x < 0 || y < 0) ? bg : src[(y + 1) * psw + x + 1];
 }
 
 /* ---- 8-bit 4:2:0 video frames (I420) ------------------------------------
@@ -795,18 +811,6 @@ __kernel void marble_to_i420(__global uchar *yuv, __global const uint *src, int 
  * footprint, so that one 32-bit gather fetches it where the RGBA path needs
  * four. The padding follows the edges mode as marble_pad's does. */
 
-/* Padded coordinate i (0 .. n + 1) of an axis of n samples -> the sample, or
- * -1 for the background. */
-inline int padded_sample(int i, int n) {
-#if EDGES == 1
-    return (i - 1 + n) % n;
-#elif EDGES == 3
-    return (i < 1 || i > n) ? -1 : i - 1;
-#else
-    return clamp(i - 1, 0, n - 1); /* clamp; mirror repeats the edge sample too */
-#endif
-}
-
 inline uint padded_at(__global const uchar *plane, int pw, int ph, int px, int py, uint bg) {
     const int x = padded_sample(px, pw), y = padded_sample(py, ph);
     return (x < 0 || y < 0) ? bg : (uint)plane[(size_t)y * pw + x];
@@ -907,21 +911,17 @@ __kernel void marble_apply_plane(__global uchar *dst, int off0, int off1, int w,
                                  __global const uint *q0, __global const uint *q1, int chroma,
                                  __global const uint *taps, __global const uint *wts,
                                  int tstride, __constant const float *samples) {
-    const int nbx = (w + LANES - 1) / LANES;
-    const int gid = get_global_id(0);
-    const int x0 = (gid % nbx) * LANES, y = gid / nbx;
-    if (y >= h)
-        return;
+    TABLE_ROW
     vf acc0 = 0.0f, acc1 = 0.0f;
     for (int s = 0; s < NSAMPLES; s++) {
-        const size_t at = ((size_t)s * h + y) * tstride + x0;
+        const size_t at = TABLE_AT(s, y);
         vu tap = VLOAD(taps + at), q = VLOAD(wts + at);
         vi hit = CVT_I(q >> 31) != 0;
         vf v0 = CH(tap, chroma), v1 = CH(tap, 2);
         if (ANY(hit == 0)) { /* skipped where every lane is on ink */
             vi i = select(CVT_I(tap), (vi)0, hit);
-            vf wx = CVT_F(q & 0x7fffu) * (1.0f / WSCALE);
-            vf wy = CVT_F((q >> 15) & 0x7fffu) * (1.0f / WSCALE);
+            vf wx, wy;
+            table_weights(q, &wx, &wy);
             v0 = select(QUAD_LERP(GATHER_LANES(q0, i), wx, wy), v0, hit);
             if (chroma)
                 v1 = select(QUAD_LERP(GATHER_LANES(q1, i), wx, wy), v1, hit);

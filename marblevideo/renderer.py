@@ -19,6 +19,7 @@ work-item.
 from __future__ import annotations
 
 import math
+from contextlib import contextmanager
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -117,6 +118,11 @@ def _walk_source(types: tuple[str, ...]) -> str:
 def _pad(n: int, multiple: int = 64) -> int:
     """Global sizes are padded to a multiple of 64 (PoCL picks a local size dividing it)."""
     return max(multiple, -(-n // multiple) * multiple)
+
+
+def _check_size(w: int, h: int) -> None:
+    if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
+        raise UsageError(f"output size {w}x{h} is outside 1..{MAX_SIDE} per side")
 
 
 def _packed(rgb) -> int:
@@ -381,8 +387,7 @@ class Renderer:
         """
         cl = self._cl
         w, h = geom.out_w, geom.out_h
-        if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
-            raise UsageError(f"output size {w}x{h} is outside 1..{MAX_SIDE} per side")
+        _check_size(w, h)
         has_input = size is not None
         structure = Structure.of(spec, has_input)
         kernels, rows = self.kernel_for(structure)
@@ -394,10 +399,9 @@ class Renderer:
         reuse = False
         if has_input and self.reuse_maps:
             key = (structure, params.tobytes(), geo.tobytes(), w, h, sw, sh)
-            reuse = key == self._last_map and self._table_bytes(key) <= self._table_limit
-            self._last_map = key
+            reuse = self._maps_reused(key, self._table_bytes(spec.antialias, w, h))
         self.last_reused = reuse
-        try:
+        with self._device_errors():
             pbuf = self._buffer("params", params.nbytes)
             cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
             if has_input:  # inside a border that marble_pad fills for the edges mode
@@ -428,9 +432,6 @@ class Renderer:
                 k.set_args(dst, np.int32(w), np.int32(h), *common)
                 self._launch(k, -(-w // self.lanes) * -(-h // rows))
             return fetch(kernels, dst, w, h)
-        except cl.Error as exc:
-            self._table_map = None  # a table being walked may be half-written
-            raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
 
     def _render_planes(
         self, spec: FrameSpec, geom: Geometry, planes: np.ndarray, matrix: YuvMatrix, out
@@ -439,8 +440,7 @@ class Renderer:
         cl, queue = self._cl, self.queue
         w, h = geom.out_w, geom.out_h
         sh, sw = planes.shape[0] * 2 // 3, planes.shape[1]
-        if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
-            raise UsageError(f"output size {w}x{h} is outside 1..{MAX_SIDE} per side")
+        _check_size(w, h)
         coded = coded_spec(spec, matrix)
         structure = Structure.of(coded, True)
         kernels, rows = self.kernel_for(structure)
@@ -450,14 +450,14 @@ class Renderer:
         key = ("planes", structure, params.tobytes(), geos[0].tobytes(), w, h, sw, sh)
         reuse = False
         if self.reuse_maps:
-            reuse = key == self._last_map and self._table_bytes(key[1:]) * 5 // 4 <= (
-                self._table_limit
+            nbytes = sum(
+                self._table_bytes(spec.antialias, g.out_w, g.out_h) for g in (luma, chroma)
             )
-            self._last_map = key
+            reuse = self._maps_reused(key, nbytes)
         self.last_reused = reuse
         result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
         bg = coded.background
-        try:
+        with self._device_errors():
             pbuf = self._buffer("params", params.nbytes)
             cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
             staged = self._buffer("i420_in", planes.nbytes)
@@ -480,49 +480,57 @@ class Renderer:
                 quads.append(buf)
             # luma, then both chroma planes at the same points: (geometry, its packed
             # maps, output offsets, input plane size, quads, chroma flag, table names)
-            jobs = (
-                (luma, geos[0], (0, 0), (sw, sh), quads[0], quads[0], 0, "taps", "wts"),
-                (
-                    chroma,
-                    geos[1],
-                    (w * h, w * h * 5 // 4),
-                    (cw, ch),
-                    *quads[1:],
-                    1,
-                    "ctaps",
-                    "cwts",
-                ),
+            luma_job = (luma, geos[0], (0, 0), (sw, sh), quads[0], quads[0], 0, ("taps", "wts"))
+            chroma_offsets = (w * h, w * h * 5 // 4)
+            chroma_job = (
+                chroma,
+                geos[1],
+                chroma_offsets,
+                (cw, ch),
+                *quads[1:],
+                1,
+                ("ctaps", "cwts"),
             )
-            build = reuse and self._table_map != key
-            for g, geo, offsets, in_size, q0, q1, is_chroma, tname, wname in jobs:
+            walk = reuse and self._table_map != key
+            for g, geo, offsets, in_size, q0, q1, is_chroma, names in (luma_job, chroma_job):
                 pw, ph = g.out_w, g.out_h
                 head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q0, q1)
                 head += (np.int32(is_chroma),)
                 common = (q0, *map(np.int32, in_size), pbuf, samples)
                 common += (geo.view(cl.cltypes.float8)[0], bgc)
-                nbx = -(-pw // self.lanes)
                 if not reuse:
                     k = kernels["marble_plane"]
                     k.set_args(*head, *common)
-                    self._launch(k, nbx * -(-ph // rows))
+                    self._launch(k, -(-pw // self.lanes) * -(-ph // rows))
                     continue
-                stride = self._table_stride(pw)
-                nbytes = len(pattern(structure.antialias)) * ph * stride * 4
-                taps, wts = self._buffer(tname, nbytes), self._buffer(wname, nbytes)
-                if build:
-                    k = kernels["marble_table"]
-                    k.set_args(taps, wts, np.int32(pw), np.int32(ph), np.int32(stride), *common)
-                    self._launch(k, nbx * -(-ph // rows))
+                table = self._walked_table(
+                    kernels, rows, names, pw, ph, spec.antialias, common, walk
+                )
                 k = kernels["marble_apply_plane"]
-                k.set_args(*head, taps, wts, np.int32(stride), samples)
-                self._launch(k, nbx * ph)
-            if build:
+                k.set_args(*head, *table, samples)
+                self._launch(k, -(-pw // self.lanes) * ph)
+            if reuse:
                 self._table_map = key
             cl.enqueue_copy(queue, result, dst, is_blocking=True)
             return result
-        except cl.Error as exc:
-            self._table_map = None  # a table being walked may be half-written
+
+    @contextmanager
+    def _device_errors(self):
+        """OpenCL errors as DeviceError, forgetting the table (a table being walked
+        may be half-written)."""
+        try:
+            yield
+        except self._cl.Error as exc:
+            self._table_map = None
             raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
+
+    def _maps_reused(self, key: tuple, table_bytes: int) -> bool:
+        """Whether a frame whose maps are ``key`` lands where the last frame's did and
+        its tables (``table_bytes`` in one buffer of each pair) fit; ``key`` becomes the
+        last frame's."""
+        reuse = key == self._last_map and table_bytes <= self._table_limit
+        self._last_map = key
+        return reuse
 
     def _put_rgba(self, rgba: np.ndarray, padded) -> None:
         """Copy ``rgba`` inside the one-pixel border of ``padded``."""
@@ -542,26 +550,34 @@ class Renderer:
     def _table_stride(self, w: int) -> int:
         return -(-w // self.lanes) * self.lanes
 
-    def _table_bytes(self, key: tuple) -> int:
-        """Bytes of each of the two table buffers for the maps of ``key``."""
-        structure, _, _, w, h = key[:5]
-        return len(pattern(structure.antialias)) * h * self._table_stride(w) * 4
+    def _table_bytes(self, antialias: str, w: int, h: int) -> int:
+        """Bytes of each of the two table buffers of a w x h output."""
+        return len(pattern(antialias)) * h * self._table_stride(w) * 4
+
+    def _walked_table(self, kernels, rows, names, w, h, antialias, common, walk) -> tuple:
+        """(taps, wts, row stride) of the table of a w x h output in the buffers
+        ``names``, walked first by marble_table over ``common`` when ``walk``."""
+        stride = self._table_stride(w)
+        nbytes = self._table_bytes(antialias, w, h)
+        taps, wts = (self._buffer(name, nbytes) for name in names)
+        if walk:
+            k = kernels["marble_table"]
+            k.set_args(taps, wts, np.int32(w), np.int32(h), np.int32(stride), *common)
+            self._launch(k, -(-w // self.lanes) * -(-h // rows))
+        return taps, wts, np.int32(stride)
 
     def _render_from_table(self, kernels, rows, dst, w, h, common, key) -> None:
         """Fetch and blend from the table, walking it first if it holds other maps."""
-        stride = self._table_stride(w)
-        nbytes = self._table_bytes(key)
-        taps, wts = self._buffer("taps", nbytes), self._buffer("wts", nbytes)
-        nbx = -(-w // self.lanes)
-        if self._table_map != key:
-            k = kernels["marble_table"]
-            k.set_args(taps, wts, np.int32(w), np.int32(h), np.int32(stride), *common)
-            self._launch(k, nbx * -(-h // rows))
-            self._table_map = key
+        antialias = key[0].antialias
+        walk = self._table_map != key
+        taps, wts, stride = self._walked_table(
+            kernels, rows, ("taps", "wts"), w, h, antialias, common, walk
+        )
+        self._table_map = key
         src, sw, samples = common[0], common[1], common[4]
         k = kernels["marble_apply"]
-        k.set_args(dst, np.int32(w), np.int32(h), taps, wts, np.int32(stride), src, sw, samples)
-        self._launch(k, nbx * h)
+        k.set_args(dst, np.int32(w), np.int32(h), taps, wts, stride, src, sw, samples)
+        self._launch(k, -(-w // self.lanes) * h)
 
     def _render_adaptive(self, kernels, dst, w, h, common, pbuf, geo, has_input) -> None:
         """The three passes of adaptive antialiasing (see marble.cl)."""
