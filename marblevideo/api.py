@@ -136,15 +136,19 @@ class VideoTransform:
 
     def __init__(self, marbler: Marbler, size: tuple[int, int] | None = None):
         self.marbler, self.size = marbler, size
+        #: a static recipe lands every frame where the first did: its maps are kept
+        #: from the first frame on (see :class:`~marblevideo.renderer.Renderer`)
+        self.static = not marbler.recipe.is_animated
 
     def __call__(self, frame: np.ndarray, t: float) -> np.ndarray:
-        return self.marbler.render(frame, t, self.size)
+        spec, geom = self.marbler._frame(frame, t, self.size, None)
+        return self.marbler.renderer.render(spec, geom, frame, static=self.static)
 
     def i420(self, planes: np.ndarray, t: float, src: YuvMatrix, dst: YuvMatrix) -> np.ndarray:
         """The marbled frame of I420 ``planes`` (colours in ``src``), as I420 in ``dst``."""
         input_size = (planes.shape[1], planes.shape[0] * 2 // 3)
         spec, geom = self.marbler._frame_for(input_size, t, self.size, None)
-        return self.marbler.renderer.render_i420(spec, geom, planes, src, dst)
+        return self.marbler.renderer.render_i420(spec, geom, planes, src, dst, static=self.static)
 
 
 class BlankFrames:

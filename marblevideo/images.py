@@ -26,7 +26,14 @@ os.environ.setdefault("OPENCV_IO_ENABLE_OPENEXR", "1")  # UV passes (marblevideo
 # OpenCV's own warnings (e.g. libtiff's about extra samples) are not ours to print:
 # errors reach the user as one line each, through MediaError.
 os.environ.setdefault("OPENCV_LOG_LEVEL", "ERROR")
-import cv2  # noqa: E402  (reads the settings above when first imported)
+
+
+def opencv():
+    """The cv2 module, imported on first use after the settings above (which it
+    reads then); the video path never loads it."""
+    import cv2
+
+    return cv2
 
 
 def is_image_path(path: str | os.PathLike) -> bool:
@@ -35,6 +42,7 @@ def is_image_path(path: str | os.PathLike) -> bool:
 
 def read_image(path: str | os.PathLike) -> tuple[np.ndarray, bool]:
     """(RGBA uint8 array, whether the file had alpha)."""
+    cv2 = opencv()
     path = check_input(path, "an image")
     try:
         data = np.fromfile(path, dtype=np.uint8)
@@ -69,6 +77,7 @@ def write_image(
     """Write ``rgba``; alpha only when asked and the format holds it.
     ``fmt`` is the extension deciding the format (default: the path's); ``name``
     the file named in messages (default: ``path``; the target of a temporary file)."""
+    cv2 = opencv()
     path = Path(path)
     ext = (fmt or path.suffix).lower()
     if ext not in IMAGE_EXTENSIONS:

@@ -161,6 +161,10 @@ class Renderer:
     equal the previous frame's (a static recipe over a video), where every
     subsample lands is recorded once and later frames only fetch and blend
     (within one level of a fresh walk; see marble.cl). False walks every frame.
+    A render called with ``static=True`` (the caller knows that later frames
+    repeat its values, as a static recipe over a video does) fills the table
+    on its first frame already, instead of walking afresh and then again into
+    the table on the second.
     """
 
     def __init__(
@@ -293,11 +297,14 @@ class Renderer:
         geom: Geometry,
         image: np.ndarray | None = None,
         out: np.ndarray | None = None,
+        *,
+        static: bool = False,
     ) -> np.ndarray:
         """Render one frame: (geom.out_h, geom.out_w, 4) uint8 RGBA.
 
         ``image`` is the input (RGBA, RGB or grey uint8), or None for a blank
-        sheet; ``out`` an optional destination array of the right shape.
+        sheet; ``out`` an optional destination array of the right shape;
+        ``static``: later frames repeat these values (see the class).
         """
         rgba = None if image is None else to_rgba(image)
         size = None if rgba is None else (rgba.shape[1], rgba.shape[0])
@@ -310,7 +317,7 @@ class Renderer:
             self._cl.enqueue_copy(self.queue, result, dst, is_blocking=True)
             return result
 
-        return self._render(spec, geom, size, put, fetch)
+        return self._render(spec, geom, size, put, fetch, static)
 
     def render_i420(
         self,
@@ -320,6 +327,8 @@ class Renderer:
         src_matrix: YuvMatrix | None,
         dst_matrix: YuvMatrix,
         out: np.ndarray | None = None,
+        *,
+        static: bool = False,
     ) -> np.ndarray:
         """:meth:`render` for 8-bit 4:2:0 video frames, converted on the device.
 
@@ -347,7 +356,7 @@ class Renderer:
                     f"I420 planes must be (3h/2, w) with even w, h; got {planes.shape}"
                 )
             if src_matrix == dst_matrix:
-                return self._render_planes(spec, geom, planes, dst_matrix, out)
+                return self._render_planes(spec, geom, planes, dst_matrix, out, static)
             size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
         to_yuv = dst_matrix.kernel_args[1]
 
@@ -375,9 +384,11 @@ class Renderer:
             cl.enqueue_copy(self.queue, result, staged, is_blocking=True)
             return result
 
-        return self._render(spec, geom, size, put, fetch)
+        return self._render(spec, geom, size, put, fetch, static)
 
-    def _render(self, spec: FrameSpec, geom: Geometry, size, put, fetch) -> np.ndarray:
+    def _render(
+        self, spec: FrameSpec, geom: Geometry, size, put, fetch, static: bool = False
+    ) -> np.ndarray:
         """One frame over an input of ``size`` (w, h), or a blank sheet (None).
 
         ``put(kernels, padded)`` writes the input's RGBA pixels inside the
@@ -399,7 +410,7 @@ class Renderer:
         reuse = False
         if has_input and self.reuse_maps:
             key = (structure, params.tobytes(), geo.tobytes(), w, h, sw, sh)
-            reuse = self._maps_reused(key, self._table_bytes(spec.antialias, w, h))
+            reuse = self._maps_reused(key, self._table_bytes(spec.antialias, w, h), static)
         self.last_reused = reuse
         with self._device_errors():
             pbuf = self._buffer("params", params.nbytes)
@@ -434,7 +445,13 @@ class Renderer:
             return fetch(kernels, dst, w, h)
 
     def _render_planes(
-        self, spec: FrameSpec, geom: Geometry, planes: np.ndarray, matrix: YuvMatrix, out
+        self,
+        spec: FrameSpec,
+        geom: Geometry,
+        planes: np.ndarray,
+        matrix: YuvMatrix,
+        out,
+        static: bool = False,
     ) -> np.ndarray:
         """:meth:`render_i420` plane by plane, in ``matrix`` throughout."""
         cl, queue = self._cl, self.queue
@@ -453,7 +470,7 @@ class Renderer:
             nbytes = sum(
                 self._table_bytes(spec.antialias, g.out_w, g.out_h) for g in (luma, chroma)
             )
-            reuse = self._maps_reused(key, nbytes)
+            reuse = self._maps_reused(key, nbytes, static)
         self.last_reused = reuse
         result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
         bg = coded.background
@@ -524,11 +541,12 @@ class Renderer:
             self._table_map = None
             raise DeviceError(f"OpenCL error on {self.info.name}: {exc}") from None
 
-    def _maps_reused(self, key: tuple, table_bytes: int) -> bool:
-        """Whether a frame whose maps are ``key`` lands where the last frame's did and
-        its tables (``table_bytes`` in one buffer of each pair) fit; ``key`` becomes the
-        last frame's."""
-        reuse = key == self._last_map and table_bytes <= self._table_limit
+    def _maps_reused(self, key: tuple, table_bytes: int, static: bool = False) -> bool:
+        """Whether a frame whose maps are ``key`` is drawn from the tables: it lands
+        where the last frame's did (or, ``static``, later frames will land where it
+        does) and its tables (``table_bytes`` in one buffer of each pair) fit; ``key``
+        becomes the last frame's."""
+        reuse = (static or key == self._last_map) and table_bytes <= self._table_limit
         self._last_map = key
         return reuse
 

@@ -43,7 +43,9 @@ UV_EXTENSIONS = frozenset({".png", ".exr", ".tif", ".tiff"})
 
 def read_uv(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(u, v, surface) float64/bool arrays (H, W) of a UV pass file."""
-    from marblevideo.images import cv2  # sets OpenCV's EXR switch before cv2 is imported
+    from marblevideo.images import opencv  # sets OpenCV's EXR switch before cv2 loads
+
+    cv2 = opencv()
 
     path = Path(path)
     if path.suffix.lower() not in UV_EXTENSIONS:

@@ -93,6 +93,20 @@ def test_any_change_walks_afresh(fresh):
         assert max_diff(again, out) <= 1
 
 
+def test_static_frames_come_from_the_table_from_the_first(fresh):
+    """static=True (a static recipe over a video): the first frame already fills and
+    uses the table; a frame with other values under the same promise walks the
+    table again rather than serving stale maps."""
+    spec, geom, image = frame(7)
+    other, _, _ = frame(8)
+    renderer = Renderer()
+    for values in (spec, spec, other, other):
+        out = renderer.render(values, geom, image, static=True)
+        assert renderer.last_reused
+        assert max_diff(out, fresh.render(values, geom, image)) <= 1
+    assert max_diff(out, fresh.render(spec, geom, image)) > 10  # other values, other frame
+
+
 def test_identity_through_the_table_is_exact():
     image = make_image(67, 41, 5, alpha=True)
     recipe = parse_recipe(

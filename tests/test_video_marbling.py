@@ -130,3 +130,23 @@ def test_cli_range_size_and_progress_json(tmp_path, cli):
     assert len(out.frames) == 20 and (out.width, out.height) == (64, 48)
     lines = [json.loads(line) for line in run.stderr.splitlines() if line.startswith("{")]
     assert lines and lines[-1]["frame"] == 20
+
+
+def test_a_static_recipe_keeps_its_maps_from_the_first_frame(tmp_path):
+    """A recipe without keyframes lands every frame where the first did: the video
+    transform draws even the first frame from the table of reused maps."""
+    from marblevideo.api import Marbler
+
+    clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=3, fps=25, audio=False)
+    static = {**RECIPE, "ops": [{**RECIPE["ops"][1], "alpha": 20}]}
+    for recipe, expect_static in ((static, True), (RECIPE, False)):
+        marbler = Marbler(recipe)
+        transform = marbler.transform()
+        assert transform.static is expect_static
+        for t, image in iter_frames(clip):
+            ours = transform(image, t)
+            assert marbler.renderer.last_reused is expect_static  # animated: new maps
+            spec = marbler.recipe.at(t, None)
+            ref = reference_render(spec, geometry(RECIPE["canvas"], (96, 64), (96, 64)), image)
+            diff = np.abs(ours.astype(np.int16) - ref.astype(np.int16)).max(axis=2)
+            assert (diff <= 4).mean() >= 0.99
