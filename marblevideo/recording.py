@@ -3,9 +3,9 @@
 Timing: variable frame rate. Each frame's pts is its capture time minus the
 first recorded frame's, in milliseconds (time base 1/1000), so the file plays
 back at the pace it was shown, dropped frames included as gaps. Encoder
-settings are the file mode's (:func:`marblevideo.video._plan`: --codec, --crf,
---preset, --pix-fmt, --encoder-opt), written by its ``_Writer``; this module
-is a thin layer over those internals (video.py is not changed).
+settings are the file mode's, checked by :func:`marblevideo.video.plan_output`
+(--codec, --crf, --preset, --pix-fmt, --encoder-opt), and frames are written
+by its :class:`~marblevideo.video.Encoder`.
 
 Encoding runs in its own thread behind a small bounded queue; a frame that
 finds the queue full is dropped and counted (``dropped``), so a slow encoder
@@ -26,7 +26,7 @@ import av
 import numpy as np
 
 from marblevideo.output import atomic_output
-from marblevideo.video import Stats, VideoOptions, _plan, _sayer, _Video, _Writer
+from marblevideo.video import Encoder, Stats, VideoItem, VideoOptions, notifier, plan_output
 
 TIME_BASE = Fraction(1, 1000)
 QUEUE = 8
@@ -38,7 +38,7 @@ class Recorder:
     def __init__(self, dst: str | os.PathLike, options: VideoOptions):
         self.dst = dst
         self.options = options
-        self.plan = _plan(dst, options)  # every setting checked before anything opens
+        self.plan = plan_output(dst, options)  # every setting checked before anything opens
         self.stats = Stats()
         self.dropped = 0
         self._queue: queue.Queue = queue.Queue(QUEUE)
@@ -55,8 +55,8 @@ class Recorder:
         tmp = self._stack.enter_context(atomic_output(self.dst, self.options.overwrite))
         out = av.open(str(tmp), "w", format=self.plan.format, options=self.plan.container_options)
         self._stack.callback(out.close)
-        self._writer = _Writer(
-            out, self.plan, self.options, self.stats, _sayer(self.options, self.stats)
+        self._writer = Encoder(
+            out, self.plan, self.options, self.stats, notifier(self.options, self.stats)
         )
         rate = Fraction(fps).limit_denominator(1001) if fps > 0 else None
         self._writer.open_video(width, height, TIME_BASE, rate, {})
@@ -74,7 +74,7 @@ class Recorder:
             self.dropped += 1
             return
         try:
-            self._queue.put_nowait(_Video(rgba, pts, 0, ts - self._origin))
+            self._queue.put_nowait(VideoItem(rgba, pts, 0, ts - self._origin))
             self._last_pts = pts
         except queue.Full:
             self.dropped += 1

@@ -132,8 +132,8 @@ class Stats:
 
 
 @dataclass
-class _Plan:
-    """Validated output settings."""
+class OutputPlan:
+    """Validated output settings (:func:`plan_output`), used by :class:`Encoder`."""
 
     format: str
     codec: str
@@ -146,7 +146,10 @@ class _Plan:
 
 
 @dataclass
-class _Video:
+class VideoItem:
+    """One frame on its way through the pipeline: its pixels (RGBA or I420), its
+    output pts and duration in the encoder's time base, and its time ``t``."""
+
     rgba: np.ndarray | None  # upright RGBA, or None when the frame travels as I420
     pts: int
     duration: int
@@ -186,7 +189,7 @@ def _say(options: VideoOptions, stats: Stats, message: str) -> None:
         print(f"marblevideo: {message}", file=sys.stderr, flush=True)
 
 
-def _plan(dst: str | os.PathLike, options: VideoOptions) -> _Plan:
+def plan_output(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
     """Check every output setting before anything is opened; UsageError on a bad one."""
     ext = Path(dst).suffix.lower()
     if ext not in CONTAINERS:
@@ -230,7 +233,7 @@ def _plan(dst: str | os.PathLike, options: VideoOptions) -> _Plan:
     codec_options.update({str(k): str(v) for k, v in options.encoder_opts.items()})
     container_options = {"movflags": "+faststart"} if fmt in ("mp4", "mov") else {}
     even = (pix.chroma_width(2) < 2, pix.chroma_height(2) < 2)
-    return _Plan(
+    return OutputPlan(
         fmt, name, options.pix_fmt, codec_options, container_options, audio_encoder, supported, even
     )
 
@@ -298,7 +301,7 @@ class _Reader:
     def seconds(self, pts: int) -> float:
         return float((pts - self.clock) * self.tb)
 
-    def items(self) -> Iterator[_Video | _Audio]:
+    def items(self) -> Iterator[VideoItem | _Audio]:
         """Yield video and audio items in demux order (audio held until the origin is known)."""
         if self.start:
             target = self.clock + int(self.start / self.tb)
@@ -364,7 +367,7 @@ class _Reader:
         except av.error.FFmpegError as exc:
             raise MediaError(f"{self.container.name}: cannot decode: {exc.strerror}") from None
 
-    def _video_item(self, frame: av.VideoFrame, t: float) -> _Video:
+    def _video_item(self, frame: av.VideoFrame, t: float) -> VideoItem:
         if self.rotation is None:
             self.rotation = frame.rotation
         pts = self._shift(frame.pts, self.tb)
@@ -376,8 +379,8 @@ class _Reader:
         ):
             matrix = YuvMatrix.of(frame.colorspace, frame.color_range, frame.format.name)
             if matrix is not None:
-                return _Video(None, pts, frame.duration or 0, t, frame.to_ndarray(), matrix)
-        return _Video(_upright(frame), pts, frame.duration or 0, t)
+                return VideoItem(None, pts, frame.duration or 0, t, frame.to_ndarray(), matrix)
+        return VideoItem(_upright(frame), pts, frame.duration or 0, t)
 
     def _shifted(self, item: _Audio) -> _Audio:
         payload = item.payload
@@ -409,10 +412,13 @@ def _estimate_frames(reader: _Reader) -> int | None:
 # ---------------------------------------------------------------------------- encoding
 
 
-class _Writer:
-    """Owns the output container: opens streams at the first frame, encodes, muxes."""
+class Encoder:
+    """Owns an open output container: :meth:`open_video` (then :meth:`open_audio`)
+    adds the streams, :meth:`video` and :meth:`audio` encode and mux items,
+    :meth:`flush` drains the encoders. ``say`` takes one-line notices
+    (:func:`notifier`). Used by the file pipeline and by live recording."""
 
-    def __init__(self, out, plan: _Plan, options: VideoOptions, stats: Stats, say):
+    def __init__(self, out, plan: OutputPlan, options: VideoOptions, stats: Stats, say):
         self.out, self.plan, self.options, self.stats, self.say = out, plan, options, stats, say
         self.stream = None
         self.shape: tuple[int, int] | None = None
@@ -459,7 +465,7 @@ class _Writer:
             stream.format = codec.audio_formats[0].name
             self.audio_out[index] = stream
 
-    def video(self, item: _Video) -> None:
+    def video(self, item: VideoItem) -> None:
         if item.shape != self.shape:
             raise ValueError(f"transform changed frame size: {item.shape} after {self.shape}")
         if item.i420 is not None:
@@ -575,12 +581,12 @@ def _check_frame(rgba) -> np.ndarray:
 
 def _run(
     out_path: Path,
-    plan: _Plan,
+    plan: OutputPlan,
     options: VideoOptions,
     stats: Stats,
-    produce: Callable[[], Iterator[_Video | _Audio]],
-    transform: Callable[[_Video], None],
-    setup: Callable[[_Writer, _Video], None],
+    produce: Callable[[], Iterator[VideoItem | _Audio]],
+    transform: Callable[[VideoItem], None],
+    setup: Callable[[Encoder, VideoItem], None],
     total: int | None,
 ) -> None:
     """Decode (``produce``) -> transform (this thread, in place) -> encode, with bounded
@@ -595,12 +601,12 @@ def _run(
         pipe.put(decoded, _END)
 
     out = av.open(str(out_path), "w", format=plan.format, options=plan.container_options)
-    writer = _Writer(out, plan, options, stats, _sayer(options, stats))
+    writer = Encoder(out, plan, options, stats, notifier(options, stats))
 
     def encode():
         try:
             while (item := pipe.get(marbled)) is not _END:
-                if isinstance(item, _Video):
+                if isinstance(item, VideoItem):
                     if writer.stream is None:
                         setup(writer, item)
                         for held in writer.held:
@@ -622,7 +628,7 @@ def _run(
             pipe.start("decode", decode)
             pipe.start("encode", encode)
             while (item := pipe.get(decoded)) is not _END:
-                if isinstance(item, _Video):
+                if isinstance(item, VideoItem):
                     transform(item)
                     bar.update()
                 pipe.put(marbled, item)
@@ -645,7 +651,9 @@ def _run(
         raise pipe.error
 
 
-def _sayer(options: VideoOptions, stats: Stats) -> Callable[[str], None]:
+def notifier(options: VideoOptions, stats: Stats) -> Callable[[str], None]:
+    """The one-line notice function of a job: ``options.notify`` or stderr, noted in
+    ``stats``."""
     return lambda message: _say(options, stats, message)
 
 
@@ -666,11 +674,11 @@ def transcode(
     """
     options = options or VideoOptions()
     began = time.monotonic()
-    plan = _plan(dst, options)
+    plan = plan_output(dst, options)
     check_output(dst, options.overwrite, [src])
     stats = Stats()
     with _open_input(src) as container:
-        say = _sayer(options, stats)
+        say = notifier(options, stats)
         audio = _audio_plan(container, plan, options, Path(dst).suffix, say)
         encoders = set(audio.values()) - {"copy"}
         stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
@@ -688,14 +696,14 @@ def transcode(
             planar is not None and out_matrix is not None,
         )
 
-        def marble(item: _Video) -> None:
+        def marble(item: VideoItem) -> None:
             if item.i420 is not None:
                 result = planar(item.i420, item.t, item.matrix, out_matrix)
                 item.i420 = _check_i420(result)
             else:
                 item.rgba = _check_frame(transform(item.rgba, item.t))
 
-        def setup(writer: _Writer, first: _Video) -> None:
+        def setup(writer: Encoder, first: VideoItem) -> None:
             height, width = first.shape
             rate = vin.average_rate or vin.guessed_rate
             writer.open_video(width, height, vin.time_base, rate, colors)
@@ -721,7 +729,9 @@ def transcode(
     return stats
 
 
-def _audio_plan(container, plan: _Plan, options: VideoOptions, ext: str, say) -> dict[int, str]:
+def _audio_plan(
+    container, plan: OutputPlan, options: VideoOptions, ext: str, say
+) -> dict[int, str]:
     """Input audio stream index -> "copy" or the encoder to re-encode it with."""
     if options.audio == "none":
         return {}
@@ -772,24 +782,24 @@ def render_blank(
     if duration <= 0 or fps <= 0:
         raise UsageError(f"duration and fps must be positive, got {duration} s at {fps} fps")
     began = time.monotonic()
-    plan = _plan(dst, options)
+    plan = plan_output(dst, options)
     stats = Stats()
     rate = Fraction(fps).limit_denominator(1001)
     count = int(np.ceil(duration * fps - 1e-9))
     planar = getattr(render_at, "i420", None) if plan.pix_fmt == "yuv420p" else None
     matrix = YuvMatrix.of(None, None)
 
-    def produce() -> Iterator[_Video]:
-        return (_Video(None, i, 1, i / fps) for i in range(count))
+    def produce() -> Iterator[VideoItem]:
+        return (VideoItem(None, i, 1, i / fps) for i in range(count))
 
-    def render(item: _Video) -> None:
+    def render(item: VideoItem) -> None:
         planes = None if planar is None else planar(item.t, matrix)
         if planes is not None:
             item.i420 = _check_i420(planes)
         else:
             item.rgba = _check_frame(render_at(item.t))
 
-    def setup(writer: _Writer, first: _Video) -> None:
+    def setup(writer: Encoder, first: VideoItem) -> None:
         height, width = first.shape
         writer.open_video(width, height, 1 / rate, rate, {})
 
