@@ -380,13 +380,9 @@ inline void store_row(__global uint *out, vu packed, int n) {
  * bgc: background red, green, blue (0..255) and alpha 255.
  * Work-item: LANES pixels of ROWS rows; every subsample of the pattern. */
 __kernel void marble(__global uint *dst, int w, int h, KPARAMS) {
-    const int nbx = (w + LANES - 1) / LANES;
-    const int gid = get_global_id(0);
-    const int x0 = (gid % nbx) * LANES, y0 = (gid / nbx) * ROWS;
-    if (y0 >= h)
-        return;
+    WALKED_BLOCK
     vf acc[ROWS][4];
-    shade_block((vf)(float)x0 + IOTA + 0.5f, (vf)((float)y0 + 0.5f), acc, KARGS);
+    shade_block(ox, oy, acc, KARGS);
     for (int r = 0; r < ROWS && y0 + r < h; r++)
         store_row(dst + (size_t)(y0 + r) * w + x0,
                   pack_rgba(acc[r][0], acc[r][1], acc[r][2], acc[r][3]), w - x0);
