@@ -88,10 +88,13 @@ class Marbler:
         time: float | None = None,
         size: tuple[int, int] | None = None,
         view: tuple[float, float, float, float] | None = None,
+        *,
+        static: bool = False,
     ) -> np.ndarray:
-        """One marbled frame of ``image`` (or of the blank sheet) at ``time``."""
+        """One marbled frame of ``image`` (or of the blank sheet) at ``time``;
+        ``static``: later frames repeat these values (see :class:`Renderer`)."""
         spec, geom = self._frame(image, time, size, view)
-        return self.renderer.render(spec, geom, image)
+        return self.renderer.render(spec, geom, image, static=static)
 
     def _frame(self, image, time, size, view):
         """The recipe's values at ``time`` (default: its end) and the render's geometry."""
@@ -141,8 +144,7 @@ class VideoTransform:
         self.static = not marbler.recipe.is_animated
 
     def __call__(self, frame: np.ndarray, t: float) -> np.ndarray:
-        spec, geom = self.marbler._frame(frame, t, self.size, None)
-        return self.marbler.renderer.render(spec, geom, frame, static=self.static)
+        return self.marbler.render(frame, t, self.size, static=self.static)
 
     def i420(self, planes: np.ndarray, t: float, src: YuvMatrix, dst: YuvMatrix) -> np.ndarray:
         """The marbled frame of I420 ``planes`` (colours in ``src``), as I420 in ``dst``."""
