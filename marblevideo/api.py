@@ -21,7 +21,7 @@ from marblevideo.renderer import Renderer
 from marblevideo.tiled import TILED_ABOVE, can_stream, write_bands
 from marblevideo.tiled import band_rows as tiled_rows
 from marblevideo.vector import DEFAULT_TOLERANCE, VectorStats, design_svg
-from marblevideo.yuv import YuvMatrix
+from marblevideo.yuv import YuvMatrix, split_i420
 
 RecipeLike = Recipe | dict | str | os.PathLike
 
@@ -146,9 +146,11 @@ class VideoTransform:
     def __call__(self, frame: np.ndarray, t: float) -> np.ndarray:
         return self.marbler.render(frame, t, self.size, static=self.static)
 
-    def i420(self, planes: np.ndarray, t: float, src: YuvMatrix, dst: YuvMatrix) -> np.ndarray:
-        """The marbled frame of I420 ``planes`` (colours in ``src``), as I420 in ``dst``."""
-        input_size = (planes.shape[1], planes.shape[0] * 2 // 3)
+    def i420(self, planes, t: float, src: YuvMatrix, dst: YuvMatrix) -> np.ndarray:
+        """The marbled frame of I420 ``planes``, packed or as planes (colours in
+        ``src``), as packed I420 in ``dst``."""
+        planes = split_i420(planes)
+        input_size = planes[0].shape[::-1]
         spec, geom = self.marbler._frame_for(input_size, t, self.size, None)
         return self.marbler.renderer.render_i420(spec, geom, planes, src, dst, static=self.static)
 

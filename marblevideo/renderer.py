@@ -30,7 +30,7 @@ from marblevideo.antialias import pattern
 from marblevideo.device import DeviceInfo, choose_device
 from marblevideo.errors import DeviceError, UsageError
 from marblevideo.frame import EDGE_MODES, FrameSpec, Geometry
-from marblevideo.yuv import YuvMatrix, chroma_geometry, coded_spec
+from marblevideo.yuv import YuvMatrix, chroma_geometry, coded_spec, split_i420
 
 PSTRIDE = 12  # floats per op in the parameter buffer; the last holds the type code
 TYPE_CODES = {"drop": 0, "spray": 1, "tine": 2, "comb": 3, "wave": 4, "circle": 5, "vortex": 6}
@@ -323,7 +323,7 @@ class Renderer:
         self,
         spec: FrameSpec,
         geom: Geometry,
-        planes: np.ndarray | None,
+        planes,
         src_matrix: YuvMatrix | None,
         dst_matrix: YuvMatrix,
         out: np.ndarray | None = None,
@@ -332,8 +332,10 @@ class Renderer:
     ) -> np.ndarray:
         """:meth:`render` for 8-bit 4:2:0 video frames, converted on the device.
 
-        ``planes``: the input as I420 (see :mod:`marblevideo.yuv`), even-sized,
-        in ``src_matrix``, or None for a blank sheet; returns the frame as I420
+        ``planes``: the input as I420, packed or as planes (see
+        :mod:`marblevideo.yuv`; padded rows are copied as they are, without a
+        copy on the host), even-sized, in ``src_matrix``, or None for a blank
+        sheet; returns the frame as packed I420
         in ``dst_matrix``, shape (3 * out_h / 2, out_w), which must be even too.
         Equal, up to float rounding, to :func:`~marblevideo.yuv.i420_to_rgba`,
         :meth:`render` and :func:`~marblevideo.yuv.rgba_to_i420` in turn; only a
@@ -349,20 +351,15 @@ class Renderer:
             raise ValueError(f"I420 output needs even sizes, got {geom.out_w}x{geom.out_h}")
         size = None
         if planes is not None:
-            planes = np.ascontiguousarray(planes, dtype=np.uint8)
-            sh, sw = planes.shape[0] * 2 // 3, planes.shape[1]
-            if planes.ndim != 2 or sh * 3 != planes.shape[0] * 2 or sw % 2 or sh % 2:
-                raise ValueError(
-                    f"I420 planes must be (3h/2, w) with even w, h; got {planes.shape}"
-                )
+            planes = split_i420(planes)
+            sh, sw = planes[0].shape
             if src_matrix == dst_matrix:
                 return self._render_planes(spec, geom, planes, dst_matrix, out, static)
             size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
         to_yuv = dst_matrix.kernel_args[1]
 
         def put(kernels, padded) -> None:
-            staged = self._buffer("i420_in", planes.nbytes)
-            cl.enqueue_copy(self.queue, staged, planes, is_blocking=False)
+            staged = self._put_i420(planes)
             k = kernels["marble_from_i420"]
             k.set_args(
                 padded,
@@ -448,7 +445,7 @@ class Renderer:
         self,
         spec: FrameSpec,
         geom: Geometry,
-        planes: np.ndarray,
+        planes: tuple[np.ndarray, np.ndarray, np.ndarray],
         matrix: YuvMatrix,
         out,
         static: bool = False,
@@ -456,7 +453,7 @@ class Renderer:
         """:meth:`render_i420` plane by plane, in ``matrix`` throughout."""
         cl, queue = self._cl, self.queue
         w, h = geom.out_w, geom.out_h
-        sh, sw = planes.shape[0] * 2 // 3, planes.shape[1]
+        sh, sw = planes[0].shape
         _check_size(w, h)
         coded = coded_spec(spec, matrix)
         structure = Structure.of(coded, True)
@@ -477,8 +474,7 @@ class Renderer:
         with self._device_errors():
             pbuf = self._buffer("params", params.nbytes)
             cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
-            staged = self._buffer("i420_in", planes.nbytes)
-            cl.enqueue_copy(queue, staged, planes, is_blocking=False)
+            staged = self._put_i420(planes)
             dst = self._buffer("i420_out", result.nbytes)
             samples = self._sample_buffer(spec.antialias)
             bgc = np.array([*bg, 255.0], np.float32).view(cl.cltypes.float4)[0]
@@ -564,6 +560,35 @@ class Renderer:
             host_pitches=(sw * 4,),
             is_blocking=False,
         )
+
+    def _put_i420(self, planes: tuple[np.ndarray, np.ndarray, np.ndarray]):
+        """The buffer ``i420_in`` holding ``planes`` packed (see marblevideo.yuv);
+        rows padded on the host are copied by a rectangle copy, not packed first."""
+        cl = self._cl
+        staged = self._buffer("i420_in", sum(p.shape[0] * p.shape[1] for p in planes))
+        at = 0
+        for plane in planes:
+            ph, pw = plane.shape
+            pitch = plane.strides[0]
+            if pitch == pw:
+                cl.enqueue_copy(self.queue, staged, plane, dst_offset=at, is_blocking=False)
+            else:  # the bytes from the first row's start to the last row's end
+                span = np.lib.stride_tricks.as_strided(
+                    plane, shape=((ph - 1) * pitch + pw,), strides=(1,), writeable=False
+                )
+                cl.enqueue_copy(
+                    self.queue,
+                    staged,
+                    span,
+                    buffer_origin=(at, 0),
+                    host_origin=(0, 0),
+                    region=(pw, ph),
+                    buffer_pitches=(pw,),
+                    host_pitches=(pitch,),
+                    is_blocking=False,
+                )
+            at += pw * ph
+        return staged
 
     def _table_stride(self, w: int) -> int:
         return -(-w // self.lanes) * self.lanes

@@ -28,8 +28,11 @@ Conventions
   (yuv420p) an odd width or height is padded by one replicated edge pixel, and
   a one-line notice says so.
 - A transform may also offer ``transform.i420(planes, t, src, dst) -> planes``:
-  the frame as I420 (:mod:`marblevideo.yuv`) with colours in the
-  :class:`~marblevideo.yuv.YuvMatrix` ``src``, the result as I420 in ``dst``.
+  the frame as I420 planes ``(y, u, v)`` (:mod:`marblevideo.yuv`; views of the
+  decoded frame's buffers, rows possibly padded: read them, do not keep them)
+  with colours in the :class:`~marblevideo.yuv.YuvMatrix` ``src``, the result as
+  I420 in ``dst``, packed or as planes, in arrays of its own (a packed result
+  is encoded without a copy).
   It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
   a supported matrix, when the output is yuv420p of even size. The marbler
   warps the planes themselves when ``src`` and ``dst`` are the same matrix
@@ -70,7 +73,7 @@ from marblevideo.errors import MediaError, UsageError
 from marblevideo.inputs import check_input
 from marblevideo.output import atomic_output, check_output
 from marblevideo.progress import MODES, Progress, progress_mode
-from marblevideo.yuv import FORMATS, YuvMatrix
+from marblevideo.yuv import FORMATS, YuvMatrix, packed_i420, split_i420
 
 Transform = Callable[[np.ndarray, float], np.ndarray]  # with an optional ``i420`` method
 
@@ -154,14 +157,14 @@ class VideoItem:
     pts: int
     duration: int
     t: float
-    i420: np.ndarray | None = None  # (3h/2, w) yuv420p planes for a transform's i420
+    i420: np.ndarray | tuple | None = None  # I420, packed or as planes (marblevideo.yuv)
     matrix: YuvMatrix | None = None  # the colour matrix and range of ``i420``
 
     @property
     def shape(self) -> tuple[int, int]:
         """(height, width) of the frame."""
         if self.i420 is not None:
-            return self.i420.shape[0] * 2 // 3, self.i420.shape[1]
+            return split_i420(self.i420)[0].shape
         return self.rgba.shape[:2]
 
 
@@ -259,6 +262,29 @@ def _open_input(src: str | os.PathLike) -> av.container.InputContainer:
         container.close()
         raise MediaError(f"{src}: no video stream")
     return container
+
+
+def _planes(frame: av.VideoFrame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The I420 planes (y, u, v) of a yuv420p frame: views of its buffers, which
+    they keep alive (no copy; rows padded to the frame's line sizes)."""
+    return tuple(
+        np.frombuffer(plane, np.uint8).reshape(-1, plane.line_size)[: plane.height, : plane.width]
+        for plane in frame.planes
+    )
+
+
+def _frame_of(array: np.ndarray, format: str, height: int) -> av.VideoFrame:
+    """A frame of ``height`` rows on ``array``'s own memory (PyAV's
+    ``from_numpy_buffer``, which keeps it alive), or a copy where this PyAV cannot
+    wrap it (PyAV 18 takes a yuv420p height that is not a multiple of 4 for the
+    multiple of 4 below it)."""
+    try:
+        frame = av.VideoFrame.from_numpy_buffer(array, format=format)
+        if frame.height == height:
+            return frame
+    except (AttributeError, ValueError):
+        pass
+    return av.VideoFrame.from_ndarray(array, format=format)
 
 
 def _upright(frame: av.VideoFrame) -> np.ndarray:
@@ -379,7 +405,7 @@ class _Reader:
         ):
             matrix = YuvMatrix.of(frame.colorspace, frame.color_range, frame.format.name)
             if matrix is not None:
-                return VideoItem(None, pts, frame.duration or 0, t, frame.to_ndarray(), matrix)
+                return VideoItem(None, pts, frame.duration or 0, t, _planes(frame), matrix)
         return VideoItem(_upright(frame), pts, frame.duration or 0, t)
 
     def _shifted(self, item: _Audio) -> _Audio:
@@ -469,13 +495,13 @@ class Encoder:
         if item.shape != self.shape:
             raise ValueError(f"transform changed frame size: {item.shape} after {self.shape}")
         if item.i420 is not None:
-            frame = av.VideoFrame.from_ndarray(item.i420, format="yuv420p")
+            frame = _frame_of(packed_i420(item.i420), "yuv420p", self.shape[0])
             self.stats.i420_frames += 1
         else:
             rgba = item.rgba
             if any(self.pad):
                 rgba = np.pad(rgba, ((0, self.pad[0]), (0, self.pad[1]), (0, 0)), mode="edge")
-            frame = av.VideoFrame.from_ndarray(rgba, format="rgba")
+            frame = _frame_of(rgba, "rgba", rgba.shape[0])
             frame = frame.reformat(
                 format=self.plan.pix_fmt,
                 dst_colorspace=self.colors.get("colorspace"),
@@ -563,12 +589,12 @@ class _Pipeline:
             thread.join(timeout)
 
 
-def _check_i420(planes) -> np.ndarray:
-    if not isinstance(planes, np.ndarray) or planes.dtype != np.uint8 or planes.ndim != 2:
-        raise TypeError("transform.i420 must return a (3h/2, w) uint8 numpy array")
-    if planes.shape[0] % 3 or planes.shape[1] % 2:
-        raise ValueError(f"transform.i420 returned shape {planes.shape}, not (3h/2, w), even")
-    return np.ascontiguousarray(planes)
+def _check_i420(planes):
+    try:
+        split_i420(planes)
+    except ValueError as exc:
+        raise ValueError(f"transform.i420 returned no I420 frame: {exc}") from None
+    return planes
 
 
 def _check_frame(rgba) -> np.ndarray:

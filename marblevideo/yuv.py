@@ -5,6 +5,10 @@ Conventions
 - An *I420* frame is one C-contiguous uint8 array of shape ``(3 * h // 2, w)``
   (even ``w`` and ``h``): the ``h`` rows of Y, then U and then V, each
   ``(h/2, w/2)`` written row after row; this is PyAV's ``yuv420p`` ndarray.
+  A frame may also travel as its *planes* ``(y, u, v)``: 2-D uint8 arrays of
+  ``(h, w)``, ``(h/2, w/2)`` and ``(h/2, w/2)`` whose rows may be padded (the
+  views of a decoded frame's own buffers, which save a copy per frame);
+  :func:`split_i420` takes either form, :func:`packed_i420` makes the first.
 - :class:`YuvMatrix` holds the colour matrix (Kr, Kb) and the range named by a
   frame's tags: BT.601 (also for an unspecified matrix, as swscale does),
   BT.709, BT.2020 (non-constant luminance), SMPTE 240M and FCC; limited range
@@ -106,6 +110,48 @@ class YuvMatrix:
 @cache
 def _shared(name: str, kr: float, kb: float, full: bool) -> YuvMatrix:
     return YuvMatrix(name, kr, kb, full)
+
+
+def split_i420(frame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The planes (y, u, v) of an I420 frame given packed or as planes (views, no
+    copy); ValueError for a frame that is neither, or odd-sized."""
+    if isinstance(frame, np.ndarray):
+        if frame.dtype != np.uint8 or frame.ndim != 2 or frame.shape[0] % 3:
+            raise ValueError(
+                f"I420 frames must be (3h/2, w) uint8 with even w and h, got {frame.shape}"
+            )
+        h, w = frame.shape[0] * 2 // 3, frame.shape[1]
+        if h % 2 or w % 2:
+            raise ValueError(f"I420 frames need even sizes, got {w}x{h}")
+        frame = np.ascontiguousarray(frame)
+        chroma = frame[h:].reshape(2, h // 2, w // 2)
+        return frame[:h], chroma[0], chroma[1]
+    try:
+        y, u, v = frame
+    except (TypeError, ValueError):
+        raise ValueError("I420 frames are one (3h/2, w) array or planes (y, u, v)") from None
+    h, w = getattr(y, "shape", (1, 1))[:2]
+    half = (h // 2, w // 2)
+    for plane, shape in ((y, (h, w)), (u, half), (v, half)):
+        if not isinstance(plane, np.ndarray) or plane.dtype != np.uint8 or plane.shape != shape:
+            raise ValueError(
+                f"I420 planes must be uint8 of {w}x{h}, {w // 2}x{h // 2}, {w // 2}x{h // 2}"
+            )
+        if plane.strides[1] != 1:
+            raise ValueError("I420 planes need contiguous rows")
+    if h % 2 or w % 2:
+        raise ValueError(f"I420 frames need even sizes, got {w}x{h}")
+    return y, u, v
+
+
+def packed_i420(frame) -> np.ndarray:
+    """An I420 frame as one (3h/2, w) array: ``frame`` itself when packed, else its
+    planes copied row after row."""
+    if isinstance(frame, np.ndarray):
+        split_i420(frame)
+        return np.ascontiguousarray(frame)
+    y, u, v = split_i420(frame)
+    return np.concatenate([y.ravel(), u.ravel(), v.ravel()]).reshape(-1, y.shape[1])
 
 
 def _affine(m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> list[np.ndarray]:
