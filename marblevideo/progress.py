@@ -13,8 +13,6 @@ import sys
 import time
 from typing import TextIO
 
-from tqdm import tqdm
-
 MODES = ("auto", "bar", "json", "off")
 
 
@@ -54,6 +52,8 @@ class Progress:
         self._start = self._last = time.monotonic()
         self._bar = None
         if self.mode == "bar":
+            from tqdm import tqdm  # loaded only for a bar (about 20 ms)
+
             self._bar = tqdm(total=self.total, unit=unit, file=self.stream, dynamic_ncols=True)
 
     def update(self, n: int = 1) -> None:
