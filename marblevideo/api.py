@@ -17,7 +17,7 @@ from marblevideo.images import read_image, write_image
 from marblevideo.output import atomic_output, check_output
 from marblevideo.progress import Progress
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
-from marblevideo.renderer import Renderer
+from marblevideo.renderer import Renderer, Structure
 from marblevideo.tiled import TILED_ABOVE, can_stream, write_bands
 from marblevideo.tiled import band_rows as tiled_rows
 from marblevideo.vector import DEFAULT_TOLERANCE, VectorStats, design_svg
@@ -211,8 +211,9 @@ def render_still(
     if src is None:
         blank_canvas(recipe)
     check_output(dst, overwrite, inputs)
-    image, has_alpha = (None, False) if src is None else read_image(src)
     marbler = Marbler(recipe, device=device)
+    marbler.renderer.prebuild(Structure.of(recipe, src is not None))  # while the image loads
+    image, has_alpha = (None, False) if src is None else read_image(src)
     fmt = dst.suffix.lower()
     out_size = size or (
         (image.shape[1], image.shape[0]) if image is not None else blank_size(recipe)
@@ -346,17 +347,20 @@ def render_video(
     ``options`` are the fields of :class:`marblevideo.video.VideoOptions`
     (codec, crf, preset, pix_fmt, encoder_opts, audio, start, end, size, overwrite,
     quiet, progress). Returns the job's :class:`marblevideo.video.Stats`."""
-    from marblevideo.video import render_blank, transcode
-
     recipe = as_recipe(recipe)
-    opts = _video_options(options)
     if src is None:
         blank_canvas(recipe)
+    check_output(dst, bool(options.get("overwrite")), [] if src is None else [src])
+    marbler = Marbler(recipe, device=device)
+    # the program builds (without the GIL) while PyAV loads and the video opens
+    marbler.renderer.prebuild(Structure.of(recipe, src is not None))
+    from marblevideo.video import render_blank, transcode
+
+    opts = _video_options(options)
+    if src is None:
         duration = recipe.end_time() + 1.0 if duration is None else duration
-        marbler = Marbler(recipe, device=device)
         size = opts.size or blank_size(recipe)
         return render_blank(dst, BlankFrames(marbler, size), duration, fps, opts)
-    marbler = Marbler(recipe, device=device)
     return transcode(src, dst, marbler.transform(opts.size), opts)
 
 

@@ -19,7 +19,8 @@ work-item.
 from __future__ import annotations
 
 import math
-from contextlib import contextmanager
+import threading
+from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -102,7 +103,9 @@ class Structure:
     has_input: bool
 
     @classmethod
-    def of(cls, spec: FrameSpec, has_input: bool) -> Structure:
+    def of(cls, spec, has_input: bool) -> Structure:
+        """The structure of a FrameSpec or a Recipe (both have ops with a type,
+        antialias and edges)."""
         return cls(tuple(op.type for op in spec.ops), spec.antialias, spec.edges, has_input)
 
 
@@ -205,6 +208,7 @@ class Renderer:
         self.last_full_pixels: int | None = None
         self._source = kernel_source()
         self._kernels: dict[tuple, object] = {}
+        self._build_lock = threading.Lock()
         self._buffers: dict[str, tuple[int, object]] = {}
         self._samples: dict[str, object] = {}
 
@@ -219,12 +223,34 @@ class Renderer:
             return 1, nsamples
         return 1, self.chains
 
+    def prebuild(self, structure: Structure) -> None:
+        """Start building ``structure``'s program in a background thread, where the
+        OpenCL compiler runs without the GIL: a caller that opens its input and
+        decoder meanwhile starts sooner. A failure there is left for the first
+        render, which builds again and reports it. The thread is not a daemon: a
+        process that exits meanwhile waits for the build (killing a thread inside
+        the OpenCL compiler aborts the process)."""
+
+        def build() -> None:
+            with suppress(Exception):  # reported by the render that needs the program
+                self.kernel_for(structure)
+
+        threading.Thread(target=build, name="marblevideo-build").start()
+
     def kernel_for(self, structure: Structure):
-        """The kernel for ``structure``, built on first use and cached."""
+        """The kernel for ``structure``, built on first use and cached (one build at
+        a time: a render waits for a :meth:`prebuild` of the same program)."""
         key = (structure,)
         kernel = self._kernels.get(key)
         if kernel is not None:
             return kernel
+        with self._build_lock:
+            kernel = self._kernels.get(key)
+            return kernel if kernel is not None else self._build(structure)
+
+    def _build(self, structure: Structure):
+        """Build and cache ``structure``'s program (the caller holds the build lock)."""
+        key = (structure,)
         cl = self._cl
         nsamples = len(pattern(structure.antialias))
         rows, chains = self._layout(nsamples)

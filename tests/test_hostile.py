@@ -528,6 +528,16 @@ def test_kernel_build_failure_is_one_line():
     assert "\n" not in str(info.value)
 
 
+def test_a_failed_prebuild_is_reported_by_the_render():
+    renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+    renderer._source = "__kernel void marble(__global uint *dst) { this is not C; }\n"
+    structure = Structure(("drop",), "none", "clamp", False)
+    renderer.prebuild(structure)  # fails in its thread, silently
+    with pytest.raises(DeviceError, match="OpenCL build failed") as info:
+        renderer.kernel_for(structure)
+    assert "\n" not in str(info.value)
+
+
 def test_unknown_device_choice_is_a_usage_error(cli, tmp_path, blank):
     proc = cli("--ops", "blank.json", "-o", "o.png", "--device", "7:7")
     assert proc.returncode == 2 and "no OpenCL device matches" in one_line(proc)

@@ -2,6 +2,9 @@
 
 from __future__ import annotations
 
+import os
+import threading
+
 import numpy as np
 import pytest
 from recipes import EDGES, PATTERNS, make_image, random_recipe
@@ -66,6 +69,23 @@ def test_identity_recipe_returns_the_input_exactly(renderer):
     recipe = {"marblevideo": 1, "antialias": "none", "ops": []}
     ours, _ = check(renderer, recipe | {"canvas": [67, 41]}, (67, 41), image)
     assert np.array_equal(ours, image)
+
+
+def test_a_prebuilt_program_is_built_once_and_renders_as_ever():
+    """prebuild builds in a thread; a render asking meanwhile waits for that build
+    instead of starting its own, and the result matches the reference."""
+    from marblevideo.renderer import Renderer, Structure
+
+    renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+    builds = []
+    build = renderer._build
+    renderer._build = lambda st: builds.append((st, threading.current_thread().name)) or build(st)
+    recipe = parse_recipe(random_recipe(3), "random.json")
+    structure = Structure.of(recipe, True)
+    renderer.prebuild(structure)
+    check(renderer, random_recipe(3), (97, 61), make_image(80, 60, 3))
+    assert builds == [(structure, "marblevideo-build")]
+    assert renderer.kernel_for(structure) is renderer.kernel_for(structure)
 
 
 @pytest.mark.parametrize("seed", [0, 5, 14, 23])
