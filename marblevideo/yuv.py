@@ -163,14 +163,12 @@ def _code(v: np.ndarray) -> np.ndarray:
     return np.clip(np.floor(v + np.float32(0.5)), 0, 255).astype(np.uint8)
 
 
-def i420_to_rgba(planes: np.ndarray, matrix: YuvMatrix) -> np.ndarray:
-    """(3h/2, w) I420 -> (h, w, 4) RGBA (reference of ``marble_from_i420``)."""
-    h, w = planes.shape[0] * 2 // 3, planes.shape[1]
-    y = planes[:h].astype(np.float32)
-    chroma = planes[h:].reshape(2, h // 2, w // 2).astype(np.float32)
-    u, v = (c.repeat(2, axis=0).repeat(2, axis=1) for c in chroma)
+def i420_to_rgba(planes, matrix: YuvMatrix) -> np.ndarray:
+    """I420 (packed or planes) -> (h, w, 4) RGBA (reference of ``marble_from_i420``)."""
+    y, u, v = (p.astype(np.float32) for p in split_i420(planes))
+    u, v = (c.repeat(2, axis=0).repeat(2, axis=1) for c in (u, v))
     rgb = _affine(matrix.to_rgb(), y, u, v)
-    out = np.empty((h, w, 4), np.uint8)
+    out = np.empty((*y.shape, 4), np.uint8)
     for k in range(3):
         out[..., k] = _code(rgb[k])
     out[..., 3] = 255
@@ -191,9 +189,7 @@ def rgba_to_i420(rgba: np.ndarray, matrix: YuvMatrix) -> np.ndarray:
         return (rows[:, 0::2] + rows[:, 1::2]) * np.float32(0.25)
 
     _, u, v = _affine(m, mean(r), mean(g), mean(b))
-    return np.concatenate([_code(y).ravel(), _code(u).ravel(), _code(v).ravel()]).reshape(
-        3 * h // 2, w
-    )
+    return packed_i420((_code(y), _code(u), _code(v)))
 
 
 @cache
@@ -228,24 +224,20 @@ def chroma_geometry(geom: Geometry) -> Geometry:
     )
 
 
-def render_planes(
-    spec: FrameSpec, geom: Geometry, planes: np.ndarray, matrix: YuvMatrix
-) -> np.ndarray:
+def render_planes(spec: FrameSpec, geom: Geometry, planes, matrix: YuvMatrix) -> np.ndarray:
     """Reference of planar rendering: the I420 ``planes`` (colours in ``matrix``)
     marbled by ``spec`` at ``geom`` (even output), as I420 in the same matrix.
 
     Each plane is rendered by :func:`marblevideo.reference.render` as one channel
     of an RGBA image, with :func:`coded_spec`'s colours: luma with ``geom``,
     chroma with :func:`chroma_geometry`."""
-    h, w = planes.shape[0] * 2 // 3, planes.shape[1]
     if geom.out_w % 2 or geom.out_h % 2:
         raise ValueError(f"I420 needs even sizes, got {geom.out_w}x{geom.out_h}")
     coded = coded_spec(spec, matrix)
-    u, v = planes[h:].reshape(2, h // 2, w // 2)
-    opaque = np.full((h, w), 255, np.uint8)
-    luma = reference_render(coded, geom, np.dstack([planes[:h], planes[:h], planes[:h], opaque]))
-    half = opaque[: h // 2, : w // 2]
+    y, u, v = split_i420(planes)
+    opaque = np.full(y.shape, 255, np.uint8)
+    luma = reference_render(coded, geom, np.dstack([y, y, y, opaque]))
+    half = opaque[: u.shape[0], : u.shape[1]]
     chroma = reference_render(coded, chroma_geometry(geom), np.dstack([u, u, v, half]))
-    return np.concatenate(
-        [luma[..., 0].ravel(), chroma[..., 1].ravel(), chroma[..., 2].ravel()]
-    ).reshape(geom.out_h * 3 // 2, geom.out_w)
+    codes = (luma[..., 0], chroma[..., 1], chroma[..., 2])
+    return packed_i420(tuple(np.ascontiguousarray(c) for c in codes))
