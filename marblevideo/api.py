@@ -14,6 +14,7 @@ import numpy as np
 from marblevideo.errors import RecipeError, UsageError
 from marblevideo.frame import Geometry, geometry
 from marblevideo.images import read_image, write_image
+from marblevideo.inputs import check_input
 from marblevideo.output import atomic_output, check_output
 from marblevideo.progress import Progress
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
@@ -211,6 +212,8 @@ def render_still(
     if src is None:
         blank_canvas(recipe)
     check_output(dst, overwrite, inputs)
+    if src is not None:  # before the build, which an early exit would wait for
+        check_input(src, "an image")
     marbler = Marbler(recipe, device=device)
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))  # while the image loads
     image, has_alpha = (None, False) if src is None else read_image(src)
@@ -350,7 +353,10 @@ def render_video(
     recipe = as_recipe(recipe)
     if src is None:
         blank_canvas(recipe)
+    # the cheap checks first: an exit during the build below waits for it
     check_output(dst, bool(options.get("overwrite")), [] if src is None else [src])
+    if src is not None:
+        check_input(src, "a video")
     marbler = Marbler(recipe, device=device)
     # the program builds (without the GIL) while PyAV loads and the video opens
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))
