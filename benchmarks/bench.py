@@ -9,7 +9,8 @@
   read back), adaptive and full-pattern sampling, beside the paper's GPU figures.
 - e2e: marbling a 1280x720 clip (that recipe, RGSS) with libx264 veryfast crf 23,
   against a plain PyAV decode + encode of the same clip with the same settings
-  (plain_transcode.py, as a script of its own and in-process).
+  (plain_transcode.py, as a script of its own and in-process); clips of 4 and 20
+  seconds (--seconds), since the CLI's fixed start weighs less on a longer one.
 - numpy: our renderer against the same recipe computed per frame with NumPy
   float32 inverse maps and cv2.remap (one remap per RGSS subsample).
 - memory: peak RSS of the CLI marbling a 1080p clip of 10 s and of 10 minutes (--long).
@@ -170,18 +171,19 @@ def marble_command(clip: Path, recipe: Path, out: Path, device: str | None) -> l
     return cmd + (["--device", device] if device else [])
 
 
-def animated12() -> dict:
-    """recipe12 with its wave's phase and its vortex's strength keyframed over 4 s:
-    every frame has new values, so no map is reused."""
+def animated12(seconds: float = 4) -> dict:
+    """recipe12 with its wave's phase and its vortex's strength keyframed over
+    ``seconds`` (the clip's length): every frame has new values, so no map is reused."""
     recipe = recipe12("rgss")
     wave, vortex = recipe["ops"][-2], recipe["ops"][-1]
-    wave["phase"] = {"keys": [{"t": 0, "v": 0}, {"t": 4, "v": 360}]}
-    vortex["alpha"] = {"keys": [{"t": 0, "v": 0}, {"t": 4, "v": 300, "ease": "ease-in-out"}]}
+    wave["phase"] = {"keys": [{"t": 0, "v": 0}, {"t": seconds, "v": 360}]}
+    vortex["alpha"] = {"keys": [{"t": 0, "v": 0}, {"t": seconds, "v": 300, "ease": "ease-in-out"}]}
     return recipe
 
 
-def e2e(device: str | None) -> None:
-    """The CLI on a 4 s 720p clip against a plain transcode, static and animated recipe.
+def e2e(device: str | None, seconds: int = 4) -> None:
+    """The CLI on a 720p clip of ``seconds`` against a plain transcode, static and
+    animated recipe.
 
     A static recipe keeps its maps from the first frame on (Renderer's reused
     maps); the animated one walks every frame. Two ratios: the whole command
@@ -189,15 +191,17 @@ def e2e(device: str | None) -> None:
     Python's start and their imports), and per frame, where the CLI's fixed cost
     (process start, imports, OpenCL set-up, the first frames: the CLI on the
     clip's first 0.1 s) is taken off and set against the in-process transcode.
+    The fixed cost weighs less on a longer clip: run it with several lengths.
     """
     import json
 
-    n, fps, fixed_end = 120, 30, 0.1
+    fps, fixed_end = 30, 0.1
+    n = seconds * fps
     fixed_frames = math.ceil(fixed_end * fps)  # frames at t = 0, 1/30, 2/30
     with tempfile.TemporaryDirectory() as tmp:
         tmp = Path(tmp)
-        clip = make_clip(tmp / "clip.mp4", fps=fps)
-        recipes = {"static": recipe12("rgss"), "animated": animated12()}
+        clip = make_clip(tmp / "clip.mp4", seconds=seconds, fps=fps)
+        recipes = {"static": recipe12("rgss"), "animated": animated12(seconds)}
         cmds = {}
         for name, recipe in recipes.items():
             (tmp / f"{name}.json").write_text(json.dumps(recipe))
@@ -216,7 +220,10 @@ def e2e(device: str | None) -> None:
                 times[name].append(time.perf_counter() - t)
         med = {k: statistics.median(v) for k, v in times.items()}
         p = med["plain"]
-        print(f"\n## End to end: 1280x720, {n} frames, 12 ops RGSS, x264 veryfast crf 23")
+        print(
+            f"\n## End to end: 1280x720, {seconds} s ({n} frames), 12 ops RGSS, "
+            "x264 veryfast crf 23"
+        )
         print(f"plain PyAV decode+encode, in process: {p:.2f} s ({p / n * 1e3:.1f} ms/frame)")
         print(f"the same as a script (its own process): {med['script']:.2f} s")
         fixed = med["fixed"]
@@ -344,6 +351,14 @@ def main() -> None:
     parser.add_argument(
         "--long", type=int, default=600, help="seconds of the long memory clip (default 600)"
     )
+    parser.add_argument(
+        "--seconds",
+        type=int,
+        nargs="+",
+        default=[4, 20],
+        metavar="S",
+        help="lengths of the e2e clips in seconds (default 4 20)",
+    )
     args = parser.parse_args()
     print(
         f"# {platform.node()} {platform.processor() or platform.machine()}, "
@@ -352,6 +367,9 @@ def main() -> None:
     for part in args.parts:
         if part == "memory":
             memory(args.device, args.long)
+        elif part == "e2e":
+            for seconds in args.seconds:
+                e2e(args.device, seconds)
         else:
             {"table1": table1, "e2e": e2e, "numpy": numpy_baseline}[part](args.device)
 
