@@ -7,6 +7,7 @@ at ``time`` or, without it, at the recipe's end (the finished design).
 from __future__ import annotations
 
 import os
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -150,10 +151,20 @@ class VideoTransform:
     def i420(self, planes, t: float, src: YuvMatrix, dst: YuvMatrix) -> np.ndarray:
         """The marbled frame of I420 ``planes``, packed or as planes (colours in
         ``src``), as packed I420 in ``dst``."""
+        return self.i420_start(planes, t, src, dst)()
+
+    def i420_start(
+        self, planes, t: float, src: YuvMatrix, dst: YuvMatrix
+    ) -> Callable[[], np.ndarray]:
+        """:meth:`i420` queued on the device: returns a function that waits for the
+        frame and returns it. The video pipeline queues the next frame before
+        waiting, so the device works while the host prepares that frame."""
         planes = split_i420(planes)
         input_size = planes[0].shape[::-1]
         spec, geom = self.marbler._frame_for(input_size, t, self.size, None)
-        return self.marbler.renderer.render_i420(spec, geom, planes, src, dst, static=self.static)
+        return self.marbler.renderer.render_i420(
+            spec, geom, planes, src, dst, static=self.static, wait=False
+        )
 
 
 class BlankFrames:

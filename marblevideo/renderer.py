@@ -355,7 +355,8 @@ class Renderer:
         out: np.ndarray | None = None,
         *,
         static: bool = False,
-    ) -> np.ndarray:
+        wait: bool = True,
+    ):
         """:meth:`render` for 8-bit 4:2:0 video frames, converted on the device.
 
         ``planes``: the input as I420, packed or as planes (see
@@ -371,6 +372,13 @@ class Renderer:
         are (:func:`~marblevideo.yuv.render_planes` is the reference): no
         conversion, one gather per bilinear footprint instead of four, and the
         same table of reused maps per plane.
+
+        ``wait=False`` returns as soon as the frame is queued on the device, with
+        a function that waits for it and returns the frame: the caller may queue
+        the next frame first, so that the device does not idle while the host
+        prepares it (the queue runs in order, so frames in flight share the
+        buffers safely). ``planes`` must stay unchanged until then; the function
+        holds them.
         """
         cl = self._cl
         if geom.out_w % 2 or geom.out_h % 2:
@@ -380,12 +388,12 @@ class Renderer:
             planes = split_i420(planes)
             sh, sw = planes[0].shape
             if src_matrix == dst_matrix:
-                return self._render_planes(spec, geom, planes, dst_matrix, out, static)
+                return self._render_planes(spec, geom, planes, dst_matrix, out, static, wait)
             size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
         to_yuv = dst_matrix.kernel_args[1]
 
         def put(kernels, padded) -> None:
-            staged = self._put_i420(planes)
+            staged = self._put_i420(planes, [])
             k = kernels["marble_from_i420"]
             k.set_args(
                 padded,
@@ -407,7 +415,8 @@ class Renderer:
             cl.enqueue_copy(self.queue, result, staged, is_blocking=True)
             return result
 
-        return self._render(spec, geom, size, put, fetch, static)
+        result = self._render(spec, geom, size, put, fetch, static)
+        return result if wait else lambda: result
 
     def _render(
         self, spec: FrameSpec, geom: Geometry, size, put, fetch, static: bool = False
@@ -475,7 +484,8 @@ class Renderer:
         matrix: YuvMatrix,
         out,
         static: bool = False,
-    ) -> np.ndarray:
+        wait: bool = True,
+    ):
         """:meth:`render_i420` plane by plane, in ``matrix`` throughout."""
         cl, queue = self._cl, self.queue
         w, h = geom.out_w, geom.out_h
@@ -499,8 +509,9 @@ class Renderer:
         bg = coded.background
         with self._device_errors():
             pbuf = self._buffer("params", params.nbytes)
-            cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
-            staged = self._put_i420(planes)
+            # the uploads' events hold their host arrays until the copies are done
+            uploads = [cl.enqueue_copy(queue, pbuf, params, is_blocking=False)]
+            staged = self._put_i420(planes, uploads)
             dst = self._buffer("i420_out", result.nbytes)
             samples = self._sample_buffer(spec.antialias)
             bgc = np.array([*bg, 255.0], np.float32).view(cl.cltypes.float4)[0]
@@ -550,8 +561,17 @@ class Renderer:
                 self._launch(k, -(-pw // self.lanes) * ph)
             if reuse:
                 self._table_map = key
-            cl.enqueue_copy(queue, result, dst, is_blocking=True)
+            download = cl.enqueue_copy(queue, result, dst, is_blocking=wait)
+        if wait:
             return result
+
+        def finish() -> np.ndarray:
+            with self._device_errors():
+                download.wait()
+            uploads.clear()
+            return result
+
+        return finish
 
     @contextmanager
     def _device_errors(self):
@@ -587,9 +607,10 @@ class Renderer:
             is_blocking=False,
         )
 
-    def _put_i420(self, planes: tuple[np.ndarray, np.ndarray, np.ndarray]):
+    def _put_i420(self, planes: tuple[np.ndarray, np.ndarray, np.ndarray], events: list):
         """The buffer ``i420_in`` holding ``planes`` packed (see marblevideo.yuv);
-        rows padded on the host are copied by a rectangle copy, not packed first."""
+        rows padded on the host are copied by a rectangle copy, not packed first.
+        The copies' events are appended to ``events``."""
         cl = self._cl
         staged = self._buffer("i420_in", sum(p.shape[0] * p.shape[1] for p in planes))
         at = 0
@@ -597,12 +618,12 @@ class Renderer:
             ph, pw = plane.shape
             pitch = plane.strides[0]
             if pitch == pw:
-                cl.enqueue_copy(self.queue, staged, plane, dst_offset=at, is_blocking=False)
+                event = cl.enqueue_copy(self.queue, staged, plane, dst_offset=at, is_blocking=False)
             else:  # the bytes from the first row's start to the last row's end
                 span = np.lib.stride_tricks.as_strided(
                     plane, shape=((ph - 1) * pitch + pw,), strides=(1,), writeable=False
                 )
-                cl.enqueue_copy(
+                event = cl.enqueue_copy(
                     self.queue,
                     staged,
                     span,
@@ -613,6 +634,7 @@ class Renderer:
                     host_pitches=(pitch,),
                     is_blocking=False,
                 )
+            events.append(event)
             at += pw * ph
         return staged
 

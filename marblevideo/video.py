@@ -32,7 +32,12 @@ Conventions
   decoded frame's buffers, rows possibly padded: read them, do not keep them)
   with colours in the :class:`~marblevideo.yuv.YuvMatrix` ``src``, the result as
   I420 in ``dst``, packed or as planes, in arrays of its own (a packed result
-  is encoded without a copy).
+  is encoded without a copy). With ``transform.i420_start(planes, t, src, dst)
+  -> finish`` as well, the pipeline keeps one frame in flight: it starts frame
+  n + 1 before calling frame n's ``finish()``, which returns what ``i420``
+  would have, so a device renders while the host prepares the next frame
+  (:meth:`marblevideo.api.VideoTransform.i420_start`); the planes stay the
+  pipeline's until ``finish`` returns.
   It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
   a supported matrix, when the output is yuv420p of even size. The marbler
   warps the planes themselves when ``src`` and ``dst`` are the same matrix
@@ -75,7 +80,7 @@ from marblevideo.output import atomic_output, check_output
 from marblevideo.progress import MODES, Progress, progress_mode
 from marblevideo.yuv import FORMATS, YuvMatrix, packed_i420, split_i420
 
-Transform = Callable[[np.ndarray, float], np.ndarray]  # with an optional ``i420`` method
+Transform = Callable[[np.ndarray, float], np.ndarray]  # optional ``i420``, ``i420_start``
 
 QUEUE_FRAMES = 4
 AUDIO_MODES = ("copy", "aac", "none")
@@ -611,12 +616,13 @@ def _run(
     options: VideoOptions,
     stats: Stats,
     produce: Callable[[], Iterator[VideoItem | _Audio]],
-    transform: Callable[[VideoItem], None],
+    transform: Callable[[VideoItem], Callable[[], None] | None],
     setup: Callable[[Encoder, VideoItem], None],
     total: int | None,
 ) -> None:
     """Decode (``produce``) -> transform (this thread, in place) -> encode, with bounded
-    queues."""
+    queues. ``transform`` may return a function that finishes the item: it is
+    called once the next frame has been started (one frame in flight)."""
     pipe = _Pipeline()
     decoded: queue.Queue = queue.Queue(QUEUE_FRAMES)
     marbled: queue.Queue = queue.Queue(QUEUE_FRAMES)
@@ -653,11 +659,23 @@ def _run(
         with Progress(total, mode=progress_mode(options.progress, options.quiet)) as bar:
             pipe.start("decode", decode)
             pipe.start("encode", encode)
+            flight: list = []  # (item, finish or None), in order; one frame among them
+
+            def land() -> None:
+                for item, finish in flight:
+                    if finish is not None:
+                        finish()
+                    if isinstance(item, VideoItem):
+                        bar.update()
+                    pipe.put(marbled, item)
+                flight.clear()
+
             while (item := pipe.get(decoded)) is not _END:
+                finish = transform(item) if isinstance(item, VideoItem) else None
                 if isinstance(item, VideoItem):
-                    transform(item)
-                    bar.update()
-                pipe.put(marbled, item)
+                    land()
+                flight.append((item, finish))
+            land()
             pipe.put(marbled, _END)
             for thread in pipe.threads:
                 while thread.is_alive():  # short joins keep Ctrl-C responsive
@@ -722,12 +740,23 @@ def transcode(
             planar is not None and out_matrix is not None,
         )
 
-        def marble(item: VideoItem) -> None:
-            if item.i420 is not None:
-                result = planar(item.i420, item.t, item.matrix, out_matrix)
-                item.i420 = _check_i420(result)
-            else:
+        start = getattr(transform, "i420_start", None) if planar is not None else None
+
+        def marble(item: VideoItem) -> Callable[[], None] | None:
+            if item.i420 is None:
                 item.rgba = _check_frame(transform(item.rgba, item.t))
+            elif start is None:
+                item.i420 = _check_i420(planar(item.i420, item.t, item.matrix, out_matrix))
+            else:
+                started = start(item.i420, item.t, item.matrix, out_matrix)
+                if not callable(started):
+                    raise TypeError("transform.i420_start must return a function")
+
+                def finish() -> None:
+                    item.i420 = _check_i420(started())
+
+                return finish
+            return None
 
         def setup(writer: Encoder, first: VideoItem) -> None:
             height, width = first.shape

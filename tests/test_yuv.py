@@ -274,6 +274,38 @@ def test_planar_frames_change_with_the_maps_and_the_picture():
         assert np.abs(converted.astype(int) - want).max() <= 1
 
 
+@pytest.mark.parametrize("lanes", [16, 1], ids=["cpu-vectors", "gpu-scalar"])
+@pytest.mark.parametrize("static", [False, True], ids=["walked", "static"])
+def test_frames_in_flight_come_out_as_rendered_one_at_a_time(lanes, static):
+    """Frames queued with wait=False before any is finished share the device's
+    buffers but come out exactly as frames rendered one at a time, each from its
+    own picture, whichever is finished first; the converting route (other matrix
+    out) is finished at once. The frames are big enough that the device is still
+    at work when the last one is finished."""
+    size = (960, 544)
+    chains = None if lanes > 1 else 1
+    recipe = parse_recipe(RECIPE, "t.json")
+    spec, geom = recipe.at(0, size), geometry(size, size, size)
+    pictures = [frame_of(photo_like(*size, seed=s), MATRICES[1]) for s in range(4)]
+    one_by_one = Renderer(lanes=lanes, chains=chains)
+    want = [
+        one_by_one.render_i420(spec, geom, p, MATRICES[1], MATRICES[1], static=static)
+        for p in pictures
+    ]
+    assert not all(np.array_equal(want[0], w) for w in want[1:])
+    renderer = Renderer(lanes=lanes, chains=chains)
+    started = [
+        renderer.render_i420(spec, geom, p, MATRICES[1], MATRICES[1], static=static, wait=False)
+        for p in pictures
+    ]
+    for finish, expected in reversed(list(zip(started, want, strict=True))):
+        assert np.array_equal(finish(), expected)
+    converted = renderer.render_i420(spec, geom, pictures[0], MATRICES[1], MATRICES[0], wait=False)
+    assert np.array_equal(
+        converted(), one_by_one.render_i420(spec, geom, pictures[0], MATRICES[1], MATRICES[0])
+    )
+
+
 @pytest.mark.parametrize(
     "out_size, planes_shape",
     [((95, 64), (96, 96)), ((96, 64), (95, 96)), ((96, 64), (96, 95))],
@@ -389,6 +421,63 @@ def test_i420_frames_cross_the_pipeline_exactly(tmp_path, size):
         assert stats.i420_frames == 3
         for a, b in zip(_planes(clip), _planes(tmp_path / f"{name}.mkv"), strict=True):
             assert np.array_equal(a, b)
+
+
+class InFlight(PlanesBack):
+    """PlanesBack with i420_start, logging when each frame starts and finishes."""
+
+    def __init__(self):
+        self.log: list[tuple[str, int]] = []  # (what, frame number)
+        self.times: list[float] = []
+
+    def i420_start(self, planes, t, src, dst):
+        self.times.append(t)
+        frame = len(self.times) - 1
+        self.log.append(("start", frame))
+        result = self.i420(planes, t, src, dst)
+
+        def finish():
+            self.log.append(("finish", frame))
+            return result
+
+        return finish
+
+
+def test_pipeline_keeps_one_frame_in_flight(tmp_path):
+    """With i420_start the pipeline starts frame n + 1 before it finishes frame n,
+    and the file is the one i420 alone writes: frames, timing and audio alike."""
+    clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=4, audio=True)
+    transform = InFlight()
+    stats = transcode(clip, tmp_path / "flight.mp4", transform, _lossless())
+    assert stats.i420_frames == 4 and transform.times == sorted(transform.times)
+    assert transform.log == [
+        ("start", 0),
+        ("start", 1),
+        ("finish", 0),
+        ("start", 2),
+        ("finish", 1),
+        ("start", 3),
+        ("finish", 2),
+        ("finish", 3),
+    ]
+    transcode(clip, tmp_path / "one.mp4", PlanesBack(), _lossless())
+    a, b = probe(tmp_path / "flight.mp4"), probe(tmp_path / "one.mp4")
+    assert a.pts == b.pts and a.audio_packets == b.audio_packets
+    files = (clip, tmp_path / "flight.mp4", tmp_path / "one.mp4")
+    for x, y, z in zip(*map(_planes, files), strict=True):
+        assert np.array_equal(x, y) and np.array_equal(y, z)
+
+
+class StartsBadly(PlanesBack):
+    def i420_start(self, planes, t, src, dst):
+        return self.i420(planes, t, src, dst)  # the frame, not a function
+
+
+def test_an_i420_start_that_returns_no_function_is_refused(tmp_path):
+    clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=2, audio=False)
+    with pytest.raises(TypeError, match="i420_start must return a function"):
+        transcode(clip, tmp_path / "out.mp4", StartsBadly(), _lossless())
+    assert not (tmp_path / "out.mp4").exists()
 
 
 def test_pipeline_keeps_full_range_on_the_i420_path(tmp_path):
