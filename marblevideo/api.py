@@ -146,7 +146,13 @@ class VideoTransform:
         self.static = not marbler.recipe.is_animated
 
     def __call__(self, frame: np.ndarray, t: float) -> np.ndarray:
-        return self.marbler.render(frame, t, self.size, static=self.static)
+        return self.rgba_start(frame, t)()
+
+    def rgba_start(self, frame: np.ndarray, t: float) -> Callable[[], np.ndarray]:
+        """The call queued on the device: returns a function that waits for the
+        frame and returns it (see :meth:`i420_start`)."""
+        spec, geom = self.marbler._frame(frame, t, self.size, None)
+        return self.marbler.renderer.render(spec, geom, frame, static=self.static, wait=False)
 
     def i420(self, planes, t: float, src: YuvMatrix, dst: YuvMatrix) -> np.ndarray:
         """The marbled frame of I420 ``planes``, packed or as planes (colours in
@@ -179,10 +185,16 @@ class BlankFrames:
 
     def i420(self, t: float, matrix: YuvMatrix) -> np.ndarray | None:
         """The frame at ``t`` as I420 in ``matrix``; None for odd sizes (no I420)."""
+        started = self.i420_start(t, matrix)
+        return None if started is None else started()
+
+    def i420_start(self, t: float, matrix: YuvMatrix) -> Callable[[], np.ndarray] | None:
+        """:meth:`i420` queued on the device: a function that waits for the frame
+        and returns it, or None for odd sizes."""
         if self.size[0] % 2 or self.size[1] % 2:
             return None
         spec, geom = self.marbler._frame_for(None, t, self.size, None)
-        return self.marbler.renderer.render_i420(spec, geom, None, None, matrix)
+        return self.marbler.renderer.render_i420(spec, geom, None, None, matrix, wait=False)
 
 
 def render_image(

@@ -325,23 +325,26 @@ class Renderer:
         out: np.ndarray | None = None,
         *,
         static: bool = False,
-    ) -> np.ndarray:
+        wait: bool = True,
+    ):
         """Render one frame: (geom.out_h, geom.out_w, 4) uint8 RGBA.
 
         ``image`` is the input (RGBA, RGB or grey uint8), or None for a blank
         sheet; ``out`` an optional destination array of the right shape;
         ``static``: later frames repeat these values (see the class).
+        ``wait=False`` returns once the frame is queued, with a function that
+        waits for it and returns it (see :meth:`render_i420`).
         """
         rgba = None if image is None else to_rgba(image)
         size = None if rgba is None else (rgba.shape[1], rgba.shape[0])
+        uploads: list = []
 
         def put(kernels, padded) -> None:
-            self._put_rgba(rgba, padded)
+            uploads.append(self._put_rgba(rgba, padded))
 
-        def fetch(kernels, dst, w: int, h: int) -> np.ndarray:
+        def fetch(kernels, dst, w: int, h: int):
             result = np.empty((h, w, 4), np.uint8) if out is None else out
-            self._cl.enqueue_copy(self.queue, result, dst, is_blocking=True)
-            return result
+            return self._download(result, dst, wait, uploads)
 
         return self._render(spec, geom, size, put, fetch, static)
 
@@ -392,8 +395,10 @@ class Renderer:
             size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
         to_yuv = dst_matrix.kernel_args[1]
 
+        uploads: list = []
+
         def put(kernels, padded) -> None:
-            staged = self._put_i420(planes, [])
+            staged = self._put_i420(planes, uploads)
             k = kernels["marble_from_i420"]
             k.set_args(
                 padded,
@@ -406,21 +411,17 @@ class Renderer:
             )
             self._launch(k, -(-sw // 16) * (sh // 2))
 
-        def fetch(kernels, dst, w: int, h: int) -> np.ndarray:
+        def fetch(kernels, dst, w: int, h: int):
             result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
             staged = self._buffer("i420_out", result.nbytes)
             k = kernels["marble_to_i420"]
             k.set_args(staged, dst, np.int32(w), np.int32(h), to_yuv.view(cl.cltypes.float16)[0])
             self._launch(k, -(-w // 16) * (h // 2))
-            cl.enqueue_copy(self.queue, result, staged, is_blocking=True)
-            return result
+            return self._download(result, staged, wait, uploads)
 
-        result = self._render(spec, geom, size, put, fetch, static)
-        return result if wait else lambda: result
+        return self._render(spec, geom, size, put, fetch, static)
 
-    def _render(
-        self, spec: FrameSpec, geom: Geometry, size, put, fetch, static: bool = False
-    ) -> np.ndarray:
+    def _render(self, spec: FrameSpec, geom: Geometry, size, put, fetch, static: bool = False):
         """One frame over an input of ``size`` (w, h), or a blank sheet (None).
 
         ``put(kernels, padded)`` writes the input's RGBA pixels inside the
@@ -561,7 +562,14 @@ class Renderer:
                 self._launch(k, -(-pw // self.lanes) * ph)
             if reuse:
                 self._table_map = key
-            download = cl.enqueue_copy(queue, result, dst, is_blocking=wait)
+            return self._download(result, dst, wait, uploads)
+
+    def _download(self, result: np.ndarray, dst, wait: bool, uploads: list):
+        """Copy the device buffer ``dst`` into ``result`` and return it; or, unless
+        ``wait``, queue the copy and return a function that waits for it and
+        returns ``result``, holding ``uploads`` (the events of the frame's copies
+        from the host, which hold their arrays) until then."""
+        download = self._cl.enqueue_copy(self.queue, result, dst, is_blocking=wait)
         if wait:
             return result
 
@@ -592,10 +600,10 @@ class Renderer:
         self._last_map = key
         return reuse
 
-    def _put_rgba(self, rgba: np.ndarray, padded) -> None:
-        """Copy ``rgba`` inside the one-pixel border of ``padded``."""
+    def _put_rgba(self, rgba: np.ndarray, padded):
+        """Copy ``rgba`` inside the one-pixel border of ``padded``; the copy's event."""
         sh, sw = rgba.shape[:2]
-        self._cl.enqueue_copy(
+        return self._cl.enqueue_copy(
             self.queue,
             padded,
             rgba,

@@ -37,7 +37,8 @@ Conventions
   n + 1 before calling frame n's ``finish()``, which returns what ``i420``
   would have, so a device renders while the host prepares the next frame
   (:meth:`marblevideo.api.VideoTransform.i420_start`); the planes stay the
-  pipeline's until ``finish`` returns.
+  pipeline's until ``finish`` returns. ``transform.rgba_start(rgba, t) ->
+  finish`` does the same for frames that go the RGBA way.
   It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
   a supported matrix, when the output is yuv420p of even size. The marbler
   warps the planes themselves when ``src`` and ``dst`` are the same matrix
@@ -80,7 +81,7 @@ from marblevideo.output import atomic_output, check_output
 from marblevideo.progress import MODES, Progress, progress_mode
 from marblevideo.yuv import FORMATS, YuvMatrix, packed_i420, split_i420
 
-Transform = Callable[[np.ndarray, float], np.ndarray]  # optional ``i420``, ``i420_start``
+Transform = Callable[[np.ndarray, float], np.ndarray]  # optional i420, i420_start, rgba_start
 
 QUEUE_FRAMES = 4
 AUDIO_MODES = ("copy", "aac", "none")
@@ -602,6 +603,12 @@ def _check_i420(planes):
     return planes
 
 
+def _started(finish, kind: str) -> Callable[[], object]:
+    if not callable(finish):
+        raise TypeError(f"transform.{kind}_start must return a function")
+    return finish
+
+
 def _check_frame(rgba) -> np.ndarray:
     if not isinstance(rgba, np.ndarray) or rgba.dtype != np.uint8 or rgba.ndim != 3:
         raise TypeError("transform must return an (h, w, 4) uint8 numpy array")
@@ -741,22 +748,20 @@ def transcode(
         )
 
         start = getattr(transform, "i420_start", None) if planar is not None else None
+        rgba_start = getattr(transform, "rgba_start", None)
 
         def marble(item: VideoItem) -> Callable[[], None] | None:
-            if item.i420 is None:
+            if item.i420 is not None:
+                if start is None:
+                    item.i420 = _check_i420(planar(item.i420, item.t, item.matrix, out_matrix))
+                    return None
+                started = _started(start(item.i420, item.t, item.matrix, out_matrix), "i420")
+                return lambda: setattr(item, "i420", _check_i420(started()))
+            if rgba_start is None:
                 item.rgba = _check_frame(transform(item.rgba, item.t))
-            elif start is None:
-                item.i420 = _check_i420(planar(item.i420, item.t, item.matrix, out_matrix))
-            else:
-                started = start(item.i420, item.t, item.matrix, out_matrix)
-                if not callable(started):
-                    raise TypeError("transform.i420_start must return a function")
-
-                def finish() -> None:
-                    item.i420 = _check_i420(started())
-
-                return finish
-            return None
+                return None
+            started = _started(rgba_start(item.rgba, item.t), "rgba")
+            return lambda: setattr(item, "rgba", _check_frame(started()))
 
         def setup(writer: Encoder, first: VideoItem) -> None:
             height, width = first.shape
@@ -831,7 +836,9 @@ def render_blank(
     Constant frame rate (time base 1/fps for integer rates), no audio, colours
     untagged (BT.601, limited range). For a yuv420p output, ``render_at.i420(t,
     matrix)``, where present, gives the frame as I420 in ``matrix`` (None where
-    it cannot, e.g. odd sizes) and swscale is skipped.
+    it cannot, e.g. odd sizes) and swscale is skipped; ``render_at.i420_start(t,
+    matrix)`` instead returns a function giving that frame (or None), and the
+    next frame is started before it is called.
     """
     options = options or VideoOptions()
     if duration <= 0 or fps <= 0:
@@ -842,17 +849,24 @@ def render_blank(
     rate = Fraction(fps).limit_denominator(1001)
     count = int(np.ceil(duration * fps - 1e-9))
     planar = getattr(render_at, "i420", None) if plan.pix_fmt == "yuv420p" else None
+    start = getattr(render_at, "i420_start", None) if planar is not None else None
     matrix = YuvMatrix.of(None, None)
 
     def produce() -> Iterator[VideoItem]:
         return (VideoItem(None, i, 1, i / fps) for i in range(count))
 
-    def render(item: VideoItem) -> None:
-        planes = None if planar is None else planar(item.t, matrix)
+    def render(item: VideoItem) -> Callable[[], None] | None:
+        if start is not None:
+            started = start(item.t, matrix)
+            if started is not None:
+                started = _started(started, "i420")
+                return lambda: setattr(item, "i420", _check_i420(started()))
+        planes = None if planar is None or start is not None else planar(item.t, matrix)
         if planes is not None:
             item.i420 = _check_i420(planes)
         else:
             item.rgba = _check_frame(render_at(item.t))
+        return None
 
     def setup(writer: Encoder, first: VideoItem) -> None:
         height, width = first.shape

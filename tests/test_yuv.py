@@ -13,7 +13,7 @@ from marblevideo.frame import geometry
 from marblevideo.recipe import parse_recipe
 from marblevideo.reference import render as reference_render
 from marblevideo.renderer import Renderer
-from marblevideo.video import VideoOptions, transcode
+from marblevideo.video import VideoOptions, render_blank, transcode
 from marblevideo.yuv import (
     YuvMatrix,
     chroma_geometry,
@@ -279,10 +279,11 @@ def test_planar_frames_change_with_the_maps_and_the_picture():
 def test_frames_in_flight_come_out_as_rendered_one_at_a_time(lanes, static):
     """Frames queued with wait=False before any is finished share the device's
     buffers but come out exactly as frames rendered one at a time, each from its
-    own picture, whichever is finished first; the converting route (other matrix
-    out) is finished at once. The frames are big enough that the device is still
-    at work when the last one is finished."""
-    size = (960, 544)
+    own picture, whichever is finished first; so do RGBA frames and the converting
+    route (another matrix out). With vectors the frames are big enough that the
+    device is still at work when the last one is finished (the one-pixel GPU code
+    is slow on a CPU: small frames there)."""
+    size = (960, 544) if lanes > 1 else (320, 192)
     chains = None if lanes > 1 else 1
     recipe = parse_recipe(RECIPE, "t.json")
     spec, geom = recipe.at(0, size), geometry(size, size, size)
@@ -301,9 +302,13 @@ def test_frames_in_flight_come_out_as_rendered_one_at_a_time(lanes, static):
     for finish, expected in reversed(list(zip(started, want, strict=True))):
         assert np.array_equal(finish(), expected)
     converted = renderer.render_i420(spec, geom, pictures[0], MATRICES[1], MATRICES[0], wait=False)
-    assert np.array_equal(
-        converted(), one_by_one.render_i420(spec, geom, pictures[0], MATRICES[1], MATRICES[0])
-    )
+    want_converted = one_by_one.render_i420(spec, geom, pictures[0], MATRICES[1], MATRICES[0])
+    rgba = [photo_like(*size, seed=s) for s in range(3)]
+    want = [one_by_one.render(spec, geom, p, static=static) for p in rgba]
+    started = [renderer.render(spec, geom, p, static=static, wait=False) for p in rgba]
+    for finish, expected in reversed(list(zip(started, want, strict=True))):
+        assert np.array_equal(finish(), expected)
+    assert np.array_equal(converted(), want_converted)
 
 
 @pytest.mark.parametrize(
@@ -423,18 +428,17 @@ def test_i420_frames_cross_the_pipeline_exactly(tmp_path, size):
             assert np.array_equal(a, b)
 
 
-class InFlight(PlanesBack):
-    """PlanesBack with i420_start, logging when each frame starts and finishes."""
+class Logged:
+    """Logs when each frame starts and finishes, frames numbered by start."""
 
     def __init__(self):
         self.log: list[tuple[str, int]] = []  # (what, frame number)
         self.times: list[float] = []
 
-    def i420_start(self, planes, t, src, dst):
+    def started(self, t: float, result):
         self.times.append(t)
         frame = len(self.times) - 1
         self.log.append(("start", frame))
-        result = self.i420(planes, t, src, dst)
 
         def finish():
             self.log.append(("finish", frame))
@@ -443,40 +447,88 @@ class InFlight(PlanesBack):
         return finish
 
 
-def test_pipeline_keeps_one_frame_in_flight(tmp_path):
-    """With i420_start the pipeline starts frame n + 1 before it finishes frame n,
-    and the file is the one i420 alone writes: frames, timing and audio alike."""
+class InFlight(Logged, PlanesBack):
+    """PlanesBack with i420_start."""
+
+    def i420_start(self, planes, t, src, dst):
+        return self.started(t, self.i420(planes, t, src, dst))
+
+
+class RgbaInFlight(Logged):
+    """An RGBA transform (no i420) with rgba_start."""
+
+    def __call__(self, rgba, t):
+        return 255 - rgba
+
+    def rgba_start(self, rgba, t):
+        return self.started(t, self(rgba, t))
+
+
+class BlankInFlight(Logged):
+    """Blank frames, as render_blank's render_at, with i420 and i420_start."""
+
+    def __init__(self):
+        super().__init__()
+        self.planes = frame_of(photo_like(96, 64), MATRICES[0])
+
+    def __call__(self, t):
+        return i420_to_rgba(self.planes, MATRICES[0])
+
+    def i420(self, t, matrix):
+        return self.planes + int(t * 10)
+
+    def i420_start(self, t, matrix):
+        return self.started(t, self.i420(t, matrix))
+
+
+#: frames n + 1 and n: started, then finished, one frame in flight
+IN_FLIGHT_LOG = [("start", 0), ("start", 1), ("finish", 0), ("start", 2), ("finish", 1)]
+IN_FLIGHT_LOG += [("start", 3), ("finish", 2), ("finish", 3)]
+
+
+@pytest.mark.parametrize(
+    "flight, alone, i420_frames",
+    [(InFlight, PlanesBack, 4), (RgbaInFlight, lambda: lambda rgba, t: 255 - rgba, 0)],
+    ids=["i420", "rgba"],
+)
+def test_pipeline_keeps_one_frame_in_flight(tmp_path, flight, alone, i420_frames):
+    """With i420_start (or rgba_start) the pipeline starts frame n + 1 before it
+    finishes frame n, and the file is the one the plain call writes: frames,
+    timing and audio alike."""
     clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=4, audio=True)
-    transform = InFlight()
+    transform = flight()
     stats = transcode(clip, tmp_path / "flight.mp4", transform, _lossless())
-    assert stats.i420_frames == 4 and transform.times == sorted(transform.times)
-    assert transform.log == [
-        ("start", 0),
-        ("start", 1),
-        ("finish", 0),
-        ("start", 2),
-        ("finish", 1),
-        ("start", 3),
-        ("finish", 2),
-        ("finish", 3),
-    ]
-    transcode(clip, tmp_path / "one.mp4", PlanesBack(), _lossless())
+    assert stats.i420_frames == i420_frames and transform.times == sorted(transform.times)
+    assert transform.log == IN_FLIGHT_LOG
+    transcode(clip, tmp_path / "one.mp4", alone(), _lossless())
     a, b = probe(tmp_path / "flight.mp4"), probe(tmp_path / "one.mp4")
     assert a.pts == b.pts and a.audio_packets == b.audio_packets
-    files = (clip, tmp_path / "flight.mp4", tmp_path / "one.mp4")
-    for x, y, z in zip(*map(_planes, files), strict=True):
-        assert np.array_equal(x, y) and np.array_equal(y, z)
+    for x, y in zip(*map(_planes, (tmp_path / "flight.mp4", tmp_path / "one.mp4")), strict=True):
+        assert np.array_equal(x, y)
+
+
+def test_blank_video_keeps_one_frame_in_flight(tmp_path):
+    render_at = BlankInFlight()
+    stats = render_blank(tmp_path / "blank.mkv", render_at, 0.4, 10, _lossless())
+    assert stats.frames == stats.i420_frames == 4 and render_at.log == IN_FLIGHT_LOG
+    for i, frame in enumerate(_planes(tmp_path / "blank.mkv")):
+        assert np.array_equal(frame, render_at.i420(i / 10, MATRICES[0]))
 
 
 class StartsBadly(PlanesBack):
     def i420_start(self, planes, t, src, dst):
         return self.i420(planes, t, src, dst)  # the frame, not a function
 
+    def rgba_start(self, rgba, t):
+        return rgba
 
-def test_an_i420_start_that_returns_no_function_is_refused(tmp_path):
+
+@pytest.mark.parametrize("kind", ["i420", "rgba"])
+def test_a_start_that_returns_no_function_is_refused(tmp_path, kind):
     clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=2, audio=False)
-    with pytest.raises(TypeError, match="i420_start must return a function"):
-        transcode(clip, tmp_path / "out.mp4", StartsBadly(), _lossless())
+    options = _lossless(pix_fmt="yuv444p") if kind == "rgba" else _lossless()
+    with pytest.raises(TypeError, match=f"{kind}_start must return a function"):
+        transcode(clip, tmp_path / "out.mp4", StartsBadly(), options)
     assert not (tmp_path / "out.mp4").exists()
 
 
