@@ -837,8 +837,8 @@ def render_blank(
     untagged (BT.601, limited range). For a yuv420p output, ``render_at.i420(t,
     matrix)``, where present, gives the frame as I420 in ``matrix`` (None where
     it cannot, e.g. odd sizes) and swscale is skipped; ``render_at.i420_start(t,
-    matrix)`` instead returns a function giving that frame (or None), and the
-    next frame is started before it is called.
+    matrix)``, where present, is used instead: it returns a function giving that
+    frame (or None where it cannot), called once the next frame is started.
     """
     options = options or VideoOptions()
     if duration <= 0 or fps <= 0:
