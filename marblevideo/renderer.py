@@ -337,12 +337,11 @@ class Renderer:
         """
         rgba = None if image is None else to_rgba(image)
         size = None if rgba is None else (rgba.shape[1], rgba.shape[0])
-        uploads: list = []
 
-        def put(kernels, padded) -> None:
+        def put(kernels, padded, uploads: list) -> None:
             uploads.append(self._put_rgba(rgba, padded))
 
-        def fetch(kernels, dst, w: int, h: int):
+        def fetch(kernels, dst, w: int, h: int, uploads: list):
             result = np.empty((h, w, 4), np.uint8) if out is None else out
             return self._download(result, dst, wait, uploads)
 
@@ -395,9 +394,7 @@ class Renderer:
             size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
         to_yuv = dst_matrix.kernel_args[1]
 
-        uploads: list = []
-
-        def put(kernels, padded) -> None:
+        def put(kernels, padded, uploads: list) -> None:
             staged = self._put_i420(planes, uploads)
             k = kernels["marble_from_i420"]
             k.set_args(
@@ -411,7 +408,7 @@ class Renderer:
             )
             self._launch(k, -(-sw // 16) * (sh // 2))
 
-        def fetch(kernels, dst, w: int, h: int):
+        def fetch(kernels, dst, w: int, h: int, uploads: list):
             result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
             staged = self._buffer("i420_out", result.nbytes)
             k = kernels["marble_to_i420"]
@@ -424,10 +421,13 @@ class Renderer:
     def _render(self, spec: FrameSpec, geom: Geometry, size, put, fetch, static: bool = False):
         """One frame over an input of ``size`` (w, h), or a blank sheet (None).
 
-        ``put(kernels, padded)`` writes the input's RGBA pixels inside the
-        one-pixel border of ``padded`` (rows of the input's width + 2 pixels,
-        the frame from pixel (1, 1) on); ``fetch(kernels, dst, w, h)`` turns
-        the RGBA result into the return value.
+        ``put(kernels, padded, uploads)`` writes the input's RGBA pixels inside
+        the one-pixel border of ``padded`` (rows of the input's width + 2
+        pixels, the frame from pixel (1, 1) on); ``fetch(kernels, dst, w, h,
+        uploads)`` turns the RGBA result into the return value (see
+        :meth:`_download`). ``uploads`` collects the events of the frame's
+        copies from the host, which hold their arrays until copied: dropping
+        one would wait for it, and so for every frame queued before it.
         """
         cl = self._cl
         w, h = geom.out_w, geom.out_h
@@ -447,10 +447,10 @@ class Renderer:
         self.last_reused = reuse
         with self._device_errors():
             pbuf = self._buffer("params", params.nbytes)
-            cl.enqueue_copy(queue, pbuf, params, is_blocking=False)
+            uploads = [cl.enqueue_copy(queue, pbuf, params, is_blocking=False)]
             if has_input:  # inside a border that marble_pad fills for the edges mode
                 src = self._buffer("padded", (sw + 2) * (sh + 2) * 4)
-                put(kernels, src)
+                put(kernels, src, uploads)
                 k = kernels["marble_pad"]
                 k.set_args(src, np.int32(sw), np.int32(sh), np.uint32(_packed(bg)))
                 self._launch(k, 2 * (sw + 2) + 2 * sh)
@@ -475,7 +475,7 @@ class Renderer:
                 k = kernels["marble"]
                 k.set_args(dst, np.int32(w), np.int32(h), *common)
                 self._launch(k, -(-w // self.lanes) * -(-h // rows))
-            return fetch(kernels, dst, w, h)
+            return fetch(kernels, dst, w, h, uploads)
 
     def _render_planes(
         self,
