@@ -678,8 +678,9 @@ def _run(
                 flight.clear()
 
             while (item := pipe.get(decoded)) is not _END:
-                finish = transform(item) if isinstance(item, VideoItem) else None
+                finish = None
                 if isinstance(item, VideoItem):
+                    finish = transform(item)  # started: now the frame before can land
                     land()
                 flight.append((item, finish))
             land()
