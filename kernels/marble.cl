@@ -5,7 +5,9 @@
  * input pixels likewise; images are packed RGBA8 (R in the low byte).
  *
  * One source serves every device through build-time defines (-D):
- *   LANES    pixels per work-item along x, as one vector (16 on CPU/PoCL, 1 on GPUs)
+ *   LANES    pixels per work-item along x, as one vector: on CPUs the device's
+ *            native float width (4 SSE, 8 AVX/AVX2, 16 AVX-512), 1 on GPUs
+ *   YLANES   pixels per work-item of the I420 and quad kernels (4, 8 or 16)
  *   CHAINS   independent (row, subsample) jobs evaluated side by side per work-item
  *   ROWS     output rows per work-item (> 1 only without antialiasing)
  *   NSAMPLES subsamples per pixel; offsets and weights arrive in `samples`
@@ -17,6 +19,11 @@
  * Per-frame values live in `params`: PSTRIDE floats per op, packed by
  * marblevideo/renderer.py (see pack_params there for the layout). Changing
  * them never rebuilds the program.
+ *
+ * No vector wider than the device's native width is passed by value to a
+ * function (an x86 ABI change that clang warns about): vectors are LANES or
+ * YLANES wide, both at most the native width on CPUs, and the wider kernel
+ * arguments (the I420 matrix) are read only in macros.
  */
 
 #define CAT_(a, b) a##b
@@ -290,15 +297,15 @@ inline void bilinear(__global const uint *src, int sw, int sh, vf ix, vf iy,
 }
 
 #define KPARAMS __global const uint *src, int sw, int sh, __constant const float *params, \
-                __constant const float *samples, float8 geo, float4 bgc
-#define KARGS src, sw, sh, params, samples, geo, bgc
+                __constant const float *samples, float4 gc, float4 gi, float4 bgc
+#define KARGS src, sw, sh, params, samples, gc, gi, bgc
 
 /* The colour of chain c after its walk: ink, else the input (bilinear) or background. */
 #if HAS_INPUT
 #define SHADE(c, cr, cg, cb, ca)                                                          \
     cr = cg = cb = (vf)0.0f; ca = (vf)255.0f;                                              \
     if (ANY(ink[c] < 0))                                                                   \
-        bilinear(src, sw, sh, px[c] * geo.s4 + geo.s6, py[c] * geo.s5 + geo.s7,        \
+        bilinear(src, sw, sh, px[c] * gi.s0 + gi.s2, py[c] * gi.s1 + gi.s3,        \
                  &cr, &cg, &cb, &ca);                                                      \
     ca = select(ca, (vf)255.0f, ink[c] >= 0);                                              \
     if (ANY(ink[c] >= 0)) { INK }
@@ -316,8 +323,8 @@ inline void bilinear(__global const uint *src, int sw, int sh, vf ix, vf iy,
     vi ink[CHAINS];                                                            \
     FOR_CHAINS {                                                               \
         int s_ = ((g) + c) % NSAMPLES;                                         \
-        px[c] = ((ox) + samples[3 * s_]) * geo.s0 + geo.s2;                    \
-        py[c] = ((oy) + (float)ROW_OF((g) + c) + samples[3 * s_ + 1]) * geo.s1 + geo.s3; \
+        px[c] = ((ox) + samples[3 * s_]) * gc.s0 + gc.s2;                    \
+        py[c] = ((oy) + (float)ROW_OF((g) + c) + samples[3 * s_ + 1]) * gc.s1 + gc.s3; \
         ink[c] = (vi)-1;                                                       \
     }
 
@@ -376,7 +383,7 @@ inline void store_row(__global uint *out, vu packed, int n) {
     }
 }
 
-/* geo: output -> canvas (sx, sy, ox, oy), canvas -> input pixels (sx, sy, ox, oy).
+/* gc: output -> canvas (sx, sy, ox, oy); gi: canvas -> input pixels (sx, sy, ox, oy).
  * bgc: background red, green, blue (0..255) and alpha 255.
  * Work-item: LANES pixels of ROWS rows; every subsample of the pattern. */
 __kernel void marble(__global uint *dst, int w, int h, KPARAMS) {
@@ -404,7 +411,8 @@ __kernel void marble(__global uint *dst, int w, int h, KPARAMS) {
 #endif
 
 __kernel void marble_centres(__global int *inkmap, __global float *sxmap, __global float *symap,
-                             int gstride, int gh, __constant const float *params, float8 geo) {
+                             int gstride, int gh, __constant const float *params, float4 gc,
+                             float4 gi) {
     const int nbx = gstride / LANES;
     const int gid = get_global_id(0);
     const int x0 = (gid % nbx) * LANES, y0 = (gid / nbx) * CHAINS;
@@ -414,8 +422,8 @@ __kernel void marble_centres(__global int *inkmap, __global float *sxmap, __glob
     vi ink[CHAINS];
     const vf ox = (vf)(float)x0 + IOTA - 0.5f;
     FOR_CHAINS {
-        px[c] = ox * geo.s0 + geo.s2;
-        py[c] = ((float)(y0 + c) - 0.5f) * geo.s1 + geo.s3;
+        px[c] = ox * gc.s0 + gc.s2;
+        py[c] = ((float)(y0 + c) - 0.5f) * gc.s1 + gc.s3;
         ink[c] = (vi)-1;
     }
 
@@ -427,14 +435,14 @@ __kernel void marble_centres(__global int *inkmap, __global float *sxmap, __glob
 #if LANES == 1
             inkmap[at] = ink[c];
 #if HAS_INPUT
-            sxmap[at] = px[c] * geo.s4 + geo.s6;
-            symap[at] = py[c] * geo.s5 + geo.s7;
+            sxmap[at] = px[c] * gi.s0 + gi.s2;
+            symap[at] = py[c] * gi.s1 + gi.s3;
 #endif
 #else
             CAT(vstore, LANES)(ink[c], 0, inkmap + at);
 #if HAS_INPUT
-            CAT(vstore, LANES)(px[c] * geo.s4 + geo.s6, 0, sxmap + at);
-            CAT(vstore, LANES)(py[c] * geo.s5 + geo.s7, 0, symap + at);
+            CAT(vstore, LANES)(px[c] * gi.s0 + gi.s2, 0, sxmap + at);
+            CAT(vstore, LANES)(py[c] * gi.s1 + gi.s3, 0, symap + at);
 #endif
 #endif
         }
@@ -604,7 +612,7 @@ __kernel void marble_table(__global uint *taps, __global uint *wts, int w, int h
             if (g + c < ROWS * NSAMPLES && y < h) {
                 vi i00;
                 vf wx, wy;
-                footprint(px[c] * geo.s4 + geo.s6, py[c] * geo.s5 + geo.s7, sw, sh, &i00, &wx, &wy);
+                footprint(px[c] * gi.s0 + gi.s2, py[c] * gi.s1 + gi.s3, sw, sh, &i00, &wx, &wy);
                 vu tap = CVT_U(i00);
                 vu q = min(CVT_U(wx * WSCALE + 0.5f), 32767u)
                      | (min(CVT_U(wy * WSCALE + 0.5f), 32767u) << 15);
@@ -696,93 +704,114 @@ __kernel void marble_pad(__global uint *src, int sw, int sh, uint bg) {
  * I420: Y (w x h), then U and V (w/2 x h/2), rows in order; w and h even.
  * m: a 3x4 affine matrix, row-major in m.s0..s3 (first output), s4..s7, s8..sb,
  * applied to (a, b, c, 1) in float32 (marblevideo/yuv.py is the reference).
- * Work-item: 16 pixels of two rows (one row of chroma); the vector part does
- * whole runs of 16, the last run of a row goes pixel by pixel. These kernels
- * do not depend on LANES. */
+ * Work-item: YLANES pixels of two rows (one row of chroma); the vector part
+ * does whole runs of YLANES, the last run of a row goes pixel by pixel. These
+ * kernels do not depend on LANES. The matrix is a float16 argument read only
+ * in macros (passing it to a function by value changes the ABI on AVX2). */
+#ifndef YLANES
+#define YLANES 16
+#endif
+/* YHALF: chroma samples of a run; TWICE: chroma sample k covers luma pixels 2k, 2k + 1 */
+#if YLANES == 4
+#define YHALF 2
+#define TWICE ((uchar4)(0, 0, 1, 1))
+#elif YLANES == 8
+#define YHALF 4
+#define TWICE ((uchar8)(0, 0, 1, 1, 2, 2, 3, 3))
+#elif YLANES == 16
+#define YHALF 8
+#define TWICE ((uchar16)(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7))
+#else
+#error "YLANES must be 4, 8 or 16"
+#endif
+typedef CAT(float, YLANES) yf;
+typedef CAT(uint, YLANES) yu;
+typedef CAT(float, YHALF) yhf;
+#define CVT_YF(v) CAT(convert_float, YLANES)(v)
+#define CVT_YU(v) CAT(convert_uint, YLANES)(v)
+#define CVT_YB(v) CAT(convert_uchar, YLANES)(v)
+#define CVT_YHB(v) CAT(convert_uchar, YHALF)(v)
+#define VLOAD_Y(p) CAT(vload, YLANES)(0, (p))
+#define VSTORE_Y(v, p) CAT(vstore, YLANES)((v), 0, (p))
+#define VLOAD_YH(p) CAT(vload, YHALF)(0, (p))
+#define VSTORE_YH(v, p) CAT(vstore, YHALF)((v), 0, (p))
+
 #define CODE8(v) clamp(floor((v) + 0.5f), 0.0f, 255.0f)
 #define ROW0(m, a, b, c) ((((m).s0 * (a) + (m).s1 * (b)) + (m).s2 * (c)) + (m).s3)
 #define ROW1(m, a, b, c) ((((m).s4 * (a) + (m).s5 * (b)) + (m).s6 * (c)) + (m).s7)
 #define ROW2(m, a, b, c) ((((m).s8 * (a) + (m).s9 * (b)) + (m).sa * (c)) + (m).sb)
 
-/* Work-item: columns x0 .. x0 + 15 of rows 2 cy and 2 cy + 1 of the frame, and
- * the row of each plane there (Q: the pointers' qualifiers). */
+/* Work-item: columns x0 .. x0 + YLANES - 1 of rows 2 cy and 2 cy + 1 of the
+ * frame, and the row of each plane there (Q: the pointers' qualifiers). */
 #define I420_ROWS(Q)                                                                 \
-    const int nbx = (w + 15) / 16, gid = get_global_id(0);                          \
-    const int x0 = (gid % nbx) * 16, cy = gid / nbx, cw = w / 2;                    \
+    const int nbx = (w + YLANES - 1) / YLANES, gid = get_global_id(0);              \
+    const int x0 = (gid % nbx) * YLANES, cy = gid / nbx, cw = w / 2;                \
     if (2 * cy >= h)                                                                \
         return;                                                                     \
     Q uchar *yrow = yuv + (size_t)(2 * cy) * w;                                     \
     Q uchar *urow = yuv + (size_t)w * h + (size_t)cy * cw;                          \
     Q uchar *vrow = urow + (size_t)cw * (h / 2);
 
-inline uint yuv_pixel(float y, float u, float v, float16 m) {
-    float r = ROW0(m, y, u, v), g = ROW1(m, y, u, v), b = ROW2(m, y, u, v);
-    return convert_uint(CODE8(r)) | (convert_uint(CODE8(g)) << 8) |
-           (convert_uint(CODE8(b)) << 16) | 0xff000000u;
-}
-
-inline uint16 yuv_pixels(float16 y, float16 u, float16 v, float16 m) {
-    float16 r = ROW0(m, y, u, v), g = ROW1(m, y, u, v), b = ROW2(m, y, u, v);
-    return convert_uint16(CODE8(r)) | (convert_uint16(CODE8(g)) << 8) |
-           (convert_uint16(CODE8(b)) << 16) | (uint16)0xff000000u;
-}
+/* Opaque RGBA pixels (packed, R in the low byte) from Y'CbCr (y, u, v) through m;
+ * CVT: convert_uint or its vector form. */
+#define YUV_RGBA(CVT, y, u, v, m)                                                    \
+    (CVT(CODE8(ROW0(m, y, u, v))) | (CVT(CODE8(ROW1(m, y, u, v))) << 8) |           \
+     (CVT(CODE8(ROW2(m, y, u, v))) << 16) | 0xff000000u)
 
 /* I420 frame -> RGBA pixels at dst[off + y * stride + x] (inside the padded input). */
 __kernel void marble_from_i420(__global uint *dst, int off, int stride,
                                __global const uchar *yuv, int w, int h, float16 m) {
     I420_ROWS(__global const)
     __global uint *out = dst + off + (size_t)(2 * cy) * stride;
-    if (x0 + 16 <= w) {
-        const uchar16 twice = (uchar16)(0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7);
-        float16 u = convert_float16(shuffle(vload8(0, urow + x0 / 2), twice));
-        float16 v = convert_float16(shuffle(vload8(0, vrow + x0 / 2), twice));
+    if (x0 + YLANES <= w) {
+        yf u = CVT_YF(shuffle(VLOAD_YH(urow + x0 / 2), TWICE));
+        yf v = CVT_YF(shuffle(VLOAD_YH(vrow + x0 / 2), TWICE));
         for (int r = 0; r < 2; r++) {
-            float16 y = convert_float16(vload16(0, yrow + (size_t)r * w + x0));
-            vstore16(yuv_pixels(y, u, v, m), 0, out + (size_t)r * stride + x0);
+            yf y = CVT_YF(VLOAD_Y(yrow + (size_t)r * w + x0));
+            VSTORE_Y(YUV_RGBA(CVT_YU, y, u, v, m), out + (size_t)r * stride + x0);
         }
     } else {
         for (int x = x0; x < w; x++) {
             float u = urow[x / 2], v = vrow[x / 2];
-            for (int r = 0; r < 2; r++)
-                out[(size_t)r * stride + x] = yuv_pixel(yrow[(size_t)r * w + x], u, v, m);
+            for (int r = 0; r < 2; r++) {
+                float y = yrow[(size_t)r * w + x];
+                out[(size_t)r * stride + x] = YUV_RGBA(convert_uint, y, u, v, m);
+            }
         }
     }
 }
 
-#define CHANNEL(p, k) convert_float16(((p) >> (8 * (k))) & 0xffu)
+#define CHANNEL(p, k) CVT_YF(((p) >> (8 * (k))) & 0xffu)
 #define CHANNEL1(p, k) (float)(((p) >> (8 * (k))) & 0xffu)
 /* the mean of a 2x2, summed in the vector part's order: rows, then columns */
 #define MEAN4(p00, p01, p10, p11, k) \
     (((CHANNEL1(p00, k) + CHANNEL1(p10, k)) + (CHANNEL1(p01, k) + CHANNEL1(p11, k))) * 0.25f)
-
-inline uchar luma(uint p, float16 m) {
-    return convert_uchar(
-        CODE8(ROW0(m, CHANNEL1(p, 0), CHANNEL1(p, 1), CHANNEL1(p, 2))));
-}
+#define LUMA(p, m) \
+    convert_uchar(CODE8(ROW0(m, CHANNEL1(p, 0), CHANNEL1(p, 1), CHANNEL1(p, 2))))
 
 /* RGBA w x h (rows of w pixels) -> I420; chroma from the mean RGB of each 2x2. */
 __kernel void marble_to_i420(__global uchar *yuv, __global const uint *src, int w, int h,
                              float16 m) {
     I420_ROWS(__global)
     __global const uint *in = src + (size_t)(2 * cy) * w;
-    if (x0 + 16 <= w) {
-        uint16 p0 = vload16(0, in + x0), p1 = vload16(0, in + w + x0);
-        float16 r0 = CHANNEL(p0, 0), g0 = CHANNEL(p0, 1), b0 = CHANNEL(p0, 2);
-        float16 r1 = CHANNEL(p1, 0), g1 = CHANNEL(p1, 1), b1 = CHANNEL(p1, 2);
-        vstore16(convert_uchar16(CODE8(ROW0(m, r0, g0, b0))), 0, yrow + x0);
-        vstore16(convert_uchar16(CODE8(ROW0(m, r1, g1, b1))), 0, yrow + w + x0);
-        float16 rs = r0 + r1, gs = g0 + g1, bs = b0 + b1;
-        float8 r = (rs.even + rs.odd) * 0.25f, g = (gs.even + gs.odd) * 0.25f;
-        float8 b = (bs.even + bs.odd) * 0.25f;
-        vstore8(convert_uchar8(CODE8(ROW1(m, r, g, b))), 0, urow + x0 / 2);
-        vstore8(convert_uchar8(CODE8(ROW2(m, r, g, b))), 0, vrow + x0 / 2);
+    if (x0 + YLANES <= w) {
+        yu p0 = VLOAD_Y(in + x0), p1 = VLOAD_Y(in + w + x0);
+        yf r0 = CHANNEL(p0, 0), g0 = CHANNEL(p0, 1), b0 = CHANNEL(p0, 2);
+        yf r1 = CHANNEL(p1, 0), g1 = CHANNEL(p1, 1), b1 = CHANNEL(p1, 2);
+        VSTORE_Y(CVT_YB(CODE8(ROW0(m, r0, g0, b0))), yrow + x0);
+        VSTORE_Y(CVT_YB(CODE8(ROW0(m, r1, g1, b1))), yrow + w + x0);
+        yf rs = r0 + r1, gs = g0 + g1, bs = b0 + b1;
+        yhf r = (rs.even + rs.odd) * 0.25f, g = (gs.even + gs.odd) * 0.25f;
+        yhf b = (bs.even + bs.odd) * 0.25f;
+        VSTORE_YH(CVT_YHB(CODE8(ROW1(m, r, g, b))), urow + x0 / 2);
+        VSTORE_YH(CVT_YHB(CODE8(ROW2(m, r, g, b))), vrow + x0 / 2);
     } else {
         for (int x = x0; x < w; x += 2) {
             const uint p00 = in[x], p01 = in[x + 1], p10 = in[w + x], p11 = in[w + x + 1];
-            yrow[x] = luma(p00, m);
-            yrow[x + 1] = luma(p01, m);
-            yrow[w + x] = luma(p10, m);
-            yrow[w + x + 1] = luma(p11, m);
+            yrow[x] = LUMA(p00, m);
+            yrow[x + 1] = LUMA(p01, m);
+            yrow[w + x] = LUMA(p10, m);
+            yrow[w + x + 1] = LUMA(p11, m);
             float r = MEAN4(p00, p01, p10, p11, 0), g = MEAN4(p00, p01, p10, p11, 1);
             float b = MEAN4(p00, p01, p10, p11, 2);
             urow[x / 2] = convert_uchar(CODE8(ROW1(m, r, g, b)));
@@ -813,24 +842,24 @@ inline uint padded_at(__global const uchar *plane, int pw, int ph, int px, int p
 }
 
 /* Quads (tx, ty), tx in 0..pw, ty in 0..ph, of the plane at yuv + off (pw x ph
- * bytes); bg: the background's code. Work-item: 16 quads of one row; inside
+ * bytes); bg: the background's code. Work-item: YLANES quads of one row; inside
  * the plane, four row loads; at the edges, sample by sample. Independent of LANES. */
 __kernel void marble_quads(__global uint *quads, __global const uchar *yuv, int off, int pw,
                            int ph, uint bg) {
-    const int psw = pw + 2, nbx = (pw + 16) / 16, gid = get_global_id(0);
-    const int x0 = (gid % nbx) * 16, ty = gid / nbx;
+    const int psw = pw + 2, nbx = (pw + YLANES) / YLANES, gid = get_global_id(0);
+    const int x0 = (gid % nbx) * YLANES, ty = gid / nbx;
     if (ty > ph)
         return;
     __global const uchar *plane = yuv + off;
     __global uint *out = quads + (size_t)ty * psw + x0;
-    if (x0 >= 1 && x0 + 16 <= pw && ty >= 1 && ty < ph) {
+    if (x0 >= 1 && x0 + YLANES <= pw && ty >= 1 && ty < ph) {
         __global const uchar *r0 = plane + (size_t)(ty - 1) * pw + x0 - 1;
-        uint16 a = convert_uint16(vload16(0, r0)), b = convert_uint16(vload16(0, r0 + 1));
-        uint16 c = convert_uint16(vload16(0, r0 + pw));
-        uint16 d = convert_uint16(vload16(0, r0 + pw + 1));
-        vstore16(a | (b << 8) | (c << 16) | (d << 24), 0, out);
+        yu a = CVT_YU(VLOAD_Y(r0)), b = CVT_YU(VLOAD_Y(r0 + 1));
+        yu c = CVT_YU(VLOAD_Y(r0 + pw));
+        yu d = CVT_YU(VLOAD_Y(r0 + pw + 1));
+        VSTORE_Y(a | (b << 8) | (c << 16) | (d << 24), out);
     } else {
-        for (int l = 0; l < 16 && x0 + l <= pw; l++) {
+        for (int l = 0; l < YLANES && x0 + l <= pw; l++) {
             const int tx = x0 + l;
             out[l] = padded_at(plane, pw, ph, tx, ty, bg) |
                      (padded_at(plane, pw, ph, tx + 1, ty, bg) << 8) |
@@ -845,9 +874,9 @@ __kernel void marble_quads(__global uint *quads, __global const uchar *yuv, int 
 
 /* Store LANES samples (rounded, clamped) at out[0..], or only the first n. */
 inline void store_codes(__global uchar *out, vf v, int n) {
-#if LANES == 16
-    if (n >= 16) {
-        vstore16(convert_uchar16(CODE8(v)), 0, out);
+#if LANES > 1
+    if (n >= LANES) {
+        CAT(vstore, LANES)(CAT(convert_uchar, LANES)(CODE8(v)), 0, out);
         return;
     }
 #endif
@@ -881,7 +910,7 @@ __kernel void marble_plane(__global uchar *dst, int off0, int off1, int w, int h
             if (ANY(hit == 0)) {
                 vi i;
                 vf wx, wy;
-                footprint(px[c] * geo.s4 + geo.s6, py[c] * geo.s5 + geo.s7, sw, sh, &i, &wx, &wy);
+                footprint(px[c] * gi.s0 + gi.s2, py[c] * gi.s1 + gi.s3, sw, sh, &i, &wx, &wy);
                 i = select(i, (vi)0, hit);
                 v0 = select(QUAD_LERP(GATHER_LANES(q0, i), wx, wy), v0, hit);
                 if (chroma)

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import logging
 import signal
 import sys
 from pathlib import Path
@@ -81,7 +82,7 @@ def _render_parser() -> argparse.ArgumentParser:
         help="render the design through a UV pass (.png 16-bit / .exr; R = u, G = v)",
     )
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
-    p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or notes")
+    add_log_arguments(p)
     p.add_argument("--version", action="version", version=f"marblevideo {__version__}")
     v = p.add_argument_group("video")
     v.add_argument("--start", type=float, metavar="S", help="render from S seconds of the input")
@@ -107,6 +108,34 @@ def _render_parser() -> argparse.ArgumentParser:
         help="progress on stderr: a bar on terminals (auto), JSON lines, or off",
     )
     return p
+
+
+def add_log_arguments(parser) -> None:
+    """-q and --verbose, shared by the commands."""
+    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar or notes")
+    parser.add_argument(
+        "--verbose",
+        action="store_true",
+        help="say which device and vector width render, and show OpenCL build logs",
+    )
+
+
+def configure_logging(verbose: bool) -> None:
+    """With ``verbose``, the ``marblevideo`` logger's DEBUG records go to stderr as
+    ``marblevideo: ...`` lines (the renderer then builds with compiler warnings
+    on and logs the build log); without, nothing is logged."""
+    logger = logging.getLogger("marblevideo")
+    for handler in list(logger.handlers):
+        if getattr(handler, "marblevideo_cli", False):
+            logger.removeHandler(handler)
+    if not verbose:
+        logger.setLevel(logging.NOTSET)
+        return
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(logging.Formatter("marblevideo: %(message)s"))
+    handler.marblevideo_cli = True
+    logger.addHandler(handler)
+    logger.setLevel(logging.DEBUG)
 
 
 def add_encoder_arguments(group, preset_default: str) -> None:
@@ -156,6 +185,7 @@ def _cmd_render(argv: list[str]) -> int:
     from marblevideo.images import is_image_path
 
     args = _render_parser().parse_args(argv)
+    configure_logging(args.verbose)
     recipe = as_recipe(args.ops)  # validated before any input is opened
     size = parse_size(args.size) if args.size else None
     out_ext = Path(args.output).suffix.lower()

@@ -39,7 +39,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from marblevideo.cli import add_encoder_arguments, parse_encoder_opts
+from marblevideo.cli import add_encoder_arguments, configure_logging, parse_encoder_opts
 from marblevideo.errors import MarbleError, RecipeError, UsageError
 from marblevideo.keyframes import Track
 from marblevideo.schema import PARAM_KINDS
@@ -555,6 +555,11 @@ def build_parser(parser_class=argparse.ArgumentParser) -> argparse.ArgumentParse
     )
     p.add_argument("--jpeg-quality", type=int, default=80, help="preview JPEG quality (80)")
     p.add_argument("-q", "--quiet", action="store_true", help="no notes on stderr")
+    p.add_argument(
+        "--verbose",
+        action="store_true",
+        help="say which device and vector width render, and show OpenCL build logs",
+    )
     v = p.add_argument_group("recording (as the file mode)")
     add_encoder_arguments(v, preset_default="here: veryfast, for real time")
     return p
@@ -593,6 +598,7 @@ def run_live(argv: list[str], parser_class=argparse.ArgumentParser) -> int:
     from marblevideo.recipe import load_recipe
 
     args = build_parser(parser_class).parse_args(argv)
+    configure_logging(args.verbose)
     if args.source and args.source_opt and args.source != args.source_opt:
         raise UsageError("give the source once: SOURCE or --source")
     spec = args.source_opt or args.source or "0"

@@ -11,15 +11,27 @@ grey inputs are widened to RGBA on upload. Video frames may instead come and
 go as I420 (:meth:`Renderer.render_i420`): warped plane by plane where input
 and output share a colour matrix, else converted on the device. An input is
 sampled inside a one-pixel border that the kernel fills for the edges mode.
-On CPU devices the kernel runs 16-lane vector code with several independent
-chains per work-item (see shared/PERF-NOTES.md); on GPUs one pixel per
-work-item.
+On CPU devices the kernel runs vector code as wide as the device's native
+float vectors (:func:`cpu_lanes`: 16 lanes on AVX-512, 8 on AVX2, 4 on SSE)
+with several independent chains per work-item (see shared/PERF-NOTES.md); on
+GPUs one pixel per work-item.
+
+Programs build silently: the OpenCL compiler's warnings are switched off
+(``-w``) and its log is kept, unless the ``marblevideo`` logger is enabled for
+DEBUG (the CLI's ``--verbose``), which builds with warnings and logs the build
+log; a failed build raises a one-line DeviceError naming a file that holds the
+whole log.
 """
 
 from __future__ import annotations
 
+import logging
 import math
+import os
+import tempfile
 import threading
+import time
+import warnings
 from contextlib import contextmanager, suppress
 from dataclasses import dataclass
 from importlib import resources
@@ -43,9 +55,35 @@ CLASSIFY_GROUP = 64
 CPU_GROUP = 128
 #: Largest output or input side accepted (OpenCL buffers and int indices).
 MAX_SIDE = 1 << 15
+#: Environment variable that overrides the vector width on CPU devices (4, 8 or 16).
+LANES_VARIABLE = "MARBLEVIDEO_LANES"
+#: Vector widths the kernel is written for.
+VECTOR_WIDTHS = (4, 8, 16)
 #: Largest table of reused maps (bytes: 8 per subsample per pixel; 1080p RGSS
 #: takes 66 MB). Frames needing more are walked afresh every time.
 TABLE_LIMIT = 512 << 20
+
+
+log = logging.getLogger("marblevideo.opencl")
+
+
+def cpu_lanes(native_width: int, override: str | None = None) -> int:
+    """Pixels per work-item on a CPU device whose native float vector width is
+    ``native_width`` (what ``CL_DEVICE_NATIVE_VECTOR_WIDTH_FLOAT`` reports: 16
+    with AVX-512, 8 with AVX/AVX2, 4 with SSE or NEON): that width, within 4..16.
+    A wider vector than the CPU's registers is split by the compiler and, on
+    x86, changes the calling convention (clang warns). ``override``: the value
+    of :data:`LANES_VARIABLE`, for measuring one width against another."""
+    if override:
+        try:
+            lanes = int(override)
+        except ValueError:
+            lanes = 0
+        if lanes not in VECTOR_WIDTHS:
+            widths = ", ".join(map(str, VECTOR_WIDTHS))
+            raise UsageError(f"{LANES_VARIABLE}: expected one of {widths}, got {override!r}")
+        return lanes
+    return max(w for w in VECTOR_WIDTHS if w <= max(native_width, VECTOR_WIDTHS[0]))
 
 
 def kernel_source(name: str = "marble.cl") -> str:
@@ -123,6 +161,14 @@ def _pad(n: int, multiple: int = 64) -> int:
     return max(multiple, -(-n // multiple) * multiple)
 
 
+def _maps(geo: np.ndarray) -> tuple:
+    """The kernel arguments of a packed geometry (8 float32: output -> canvas,
+    canvas -> input), as two float4 (no wider vectors: see marble.cl)."""
+    import pyopencl.cltypes as cltypes
+
+    return geo[:4].view(cltypes.float4)[0], geo[4:].view(cltypes.float4)[0]
+
+
 def _check_size(w: int, h: int) -> None:
     if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
         raise UsageError(f"output size {w}x{h} is outside 1..{MAX_SIDE} per side")
@@ -153,7 +199,8 @@ class Renderer:
 
     ``device``: a choice as in :func:`marblevideo.device.choose_device`.
     ``lanes`` and ``chains`` override the vector width and the independent
-    chains per work-item (defaults: 16 and 4 on CPUs, 1 and 1 on GPUs).
+    chains per work-item (defaults: :func:`cpu_lanes` and 4 on CPUs, 1 and 1
+    on GPUs). ``lanes`` is 1, 4, 8 or 16.
     ``adaptive`` samples the full antialiasing pattern only where a pixel's
     neighbourhood shows an ink edge or a strongly curved map, one walk
     elsewhere (see marble.cl); False evaluates the full pattern everywhere;
@@ -190,8 +237,27 @@ class Renderer:
         except cl.Error as exc:
             raise DeviceError(f"cannot open OpenCL device {self.info.name}: {exc}") from None
         is_cpu = bool(dev.type & cl.device_type.CPU)
-        self.lanes = lanes or (16 if is_cpu else 1)
+        native = max(int(dev.native_vector_width_float), int(dev.preferred_vector_width_float))
+        vectors = cpu_lanes(native, os.environ.get(LANES_VARIABLE)) if is_cpu else 16
+        lanes = lanes or (vectors if is_cpu else 1)
+        if lanes not in (1, *VECTOR_WIDTHS):
+            raise UsageError(f"lanes must be 1, 4, 8 or 16, got {lanes!r}")
+        self.lanes = lanes
+        #: the I420 and quad kernels' width: ``lanes``, else the CPU's vectors, 16 on GPUs
+        self.yuv_lanes = lanes if lanes > 1 else vectors
         self.chains = chains or (4 if is_cpu else 1)
+        log.debug(
+            "rendering on %s %s (%s): %d lane%s x %d chain%s per work-item "
+            "(native float vectors: %d)",
+            self.info.label,
+            self.info.name,
+            self.info.platform,
+            self.lanes,
+            "s" * (self.lanes != 1),
+            self.chains,
+            "s" * (self.chains != 1),
+            native,
+        )
         self.adaptive = adaptive
         self.reuse_maps = reuse_maps
         #: what the last frame over an input was walked for, and what the table holds
@@ -261,13 +327,9 @@ class Renderer:
             f"-DNSAMPLES={nsamples}",
             f"-DHAS_INPUT={int(structure.has_input)}",
             f"-DEDGES={EDGE_MODES.index(structure.edges)}",
+            f"-DYLANES={self.yuv_lanes}",
         ]
-        source = _walk_source(structure.types) + self._source
-        try:
-            program = cl.Program(self.context, source).build(options=options)
-        except cl.Error as exc:
-            first = str(exc).strip().splitlines()[0] if str(exc).strip() else repr(exc)
-            raise DeviceError(f"OpenCL build failed on {self.info.name}: {first}") from None
+        program = self.build_program(_walk_source(structure.types) + self._source, options)
         names = ("marble", "marble_centres", "marble_classify", "marble_list")
         names += (
             "marble_table",
@@ -282,6 +344,49 @@ class Renderer:
         kernel = ({n: cl.Kernel(program, n) for n in names}, rows)
         self._kernels[key] = kernel
         return kernel
+
+    def build_program(self, source: str, options: list[str]):
+        """A program of ``source`` built for this renderer's device with ``options``:
+        silently (``-w``; pyopencl's CompilerWarning dropped) unless the
+        ``marblevideo`` logger is enabled for DEBUG, which gets the build log. A
+        failed build raises DeviceError in one line (see the module)."""
+        cl = self._cl
+        verbose = log.isEnabledFor(logging.DEBUG)
+        began = time.perf_counter()
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", cl.CompilerWarning)
+                program = cl.Program(self.context, source).build(
+                    options=options if verbose else [*options, "-w"]
+                )
+        except cl.Error as exc:
+            raise DeviceError(self._build_failure(str(exc), source, options)) from None
+        if verbose:
+            text = program.get_build_info(self.info.device, cl.program_build_info.LOG)
+            log.debug(
+                "built the kernels for %s in %.2f s (%s)%s",
+                self.info.name,
+                time.perf_counter() - began,
+                " ".join(options),
+                f"; build log:\n{text.strip()}" if text.strip() else "; empty build log",
+            )
+        return program
+
+    def _build_failure(self, message: str, source: str, options: list[str]) -> str:
+        """The one-line error of a failed build; the whole log, the options and the
+        source go to a file it names."""
+        lines = [line.strip() for line in message.strip().splitlines() if line.strip()]
+        first = next((line for line in lines if "error" in line.lower() and ":" in line), None)
+        first = first or (lines[0] if lines else "no log")
+        try:
+            fd, path = tempfile.mkstemp(prefix="marblevideo-build-", suffix=".log")
+            with os.fdopen(fd, "w") as f:
+                f.write(f"{message}\n\noptions: {' '.join(options)}\n\n{source}")
+            where = f" (full log: {path})"
+        except OSError:
+            where = ""
+        log.debug("build log:\n%s", message)
+        return f"OpenCL build failed on {self.info.name}: {first[:300]}{where}"
 
     # -- buffers ----------------------------------------------------------
     def _buffer(self, name: str, nbytes: int):
@@ -406,14 +511,14 @@ class Renderer:
                 np.int32(sh),
                 to_rgb.view(cl.cltypes.float16)[0],
             )
-            self._launch(k, -(-sw // 16) * (sh // 2))
+            self._launch(k, -(-sw // self.yuv_lanes) * (sh // 2))
 
         def fetch(kernels, dst, w: int, h: int, uploads: list):
             result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
             staged = self._buffer("i420_out", result.nbytes)
             k = kernels["marble_to_i420"]
             k.set_args(staged, dst, np.int32(w), np.int32(h), to_yuv.view(cl.cltypes.float16)[0])
-            self._launch(k, -(-w // 16) * (h // 2))
+            self._launch(k, -(-w // self.yuv_lanes) * (h // 2))
             return self._download(result, staged, wait, uploads)
 
         return self._render(spec, geom, size, put, fetch, static)
@@ -463,7 +568,7 @@ class Renderer:
                 np.int32(sh),
                 pbuf,
                 self._sample_buffer(spec.antialias),
-                geo.view(cl.cltypes.float8)[0],
+                *_maps(geo),
                 np.array(bg + [255.0], dtype=np.float32).view(cl.cltypes.float4)[0],
             )
             adaptive = self.adaptive if self.adaptive is not None else not has_input
@@ -527,7 +632,7 @@ class Renderer:
             for name, off, pw, ph, code in planes_in:
                 buf = self._buffer(name, (pw + 2) * (ph + 2) * 4)
                 k.set_args(buf, staged, np.int32(off), np.int32(pw), np.int32(ph), np.uint32(code))
-                self._launch(k, (pw + 16) // 16 * (ph + 1))
+                self._launch(k, (pw + self.yuv_lanes) // self.yuv_lanes * (ph + 1))
                 quads.append(buf)
             # luma, then both chroma planes at the same points: (geometry, its packed
             # maps, output offsets, input plane size, quads, chroma flag, table names)
@@ -548,7 +653,7 @@ class Renderer:
                 head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q0, q1)
                 head += (np.int32(is_chroma),)
                 common = (q0, *map(np.int32, in_size), pbuf, samples)
-                common += (geo.view(cl.cltypes.float8)[0], bgc)
+                common += (*_maps(geo), bgc)
                 if not reuse:
                     k = kernels["marble_plane"]
                     k.set_args(*head, *common)
@@ -699,7 +804,7 @@ class Renderer:
             np.int32(gstride),
             np.int32(gh),
             pbuf,
-            geo.view(cl.cltypes.float8)[0],
+            *_maps(geo),
         )
         chains = self.chains if lanes > 1 else 1
         self._launch(centres, gstride // lanes * -(-gh // chains))
