@@ -14,6 +14,10 @@
 - numpy: our renderer against the same recipe computed per frame with NumPy
   float32 inverse maps and cv2.remap (one remap per RGSS subsample).
 - memory: peak RSS of the CLI marbling a 1080p clip of 10 s and of 10 minutes (--long).
+- lanes: the vector width on this CPU: 16 against 8 lanes (and 4), for the code
+  PoCL generates for this CPU and for an AVX2 CPU (POCL_KERNELLIB_NAME=avx2),
+  each in a process of its own: a blank-sheet frame, a 720p frame over an input
+  walked afresh and from reused maps, and a planar 720p frame.
 
 Timings are medians; the machine is shared, so treat differences under 1.3x as noise.
 """
@@ -120,6 +124,71 @@ def table1(device: str | None) -> None:
                 cell += f" [{1 / full_best:.0f}]"
             cells.append(f"{cell} \\| {ref}")
         print(f"| {size[0]}x{size[1]} | " + " | ".join(cells) + " |", flush=True)
+
+
+LANES_CASES = ("blank 1024^2 RGSS", "720p walk", "720p reused", "720p planar walk")
+
+
+def lanes_child(device: str | None) -> None:
+    """One process of ``lanes``: ms per frame (median of 21) of LANES_CASES, as JSON."""
+    import json
+
+    from marblevideo.yuv import YuvMatrix
+
+    renderer = Renderer(device)
+    blank = parse_recipe(recipe12("rgss"), "lanes.json")
+    over = parse_recipe({**recipe12("rgss"), "canvas": [1280, 720]}, "lanes.json")
+    image = np.random.default_rng(1).integers(0, 255, (720, 1280, 4), dtype=np.uint8)
+    planes = np.random.default_rng(2).integers(0, 255, (1080, 1280), dtype=np.uint8)
+    matrix = YuvMatrix.of(None, None)
+    geom_b = geometry(blank.canvas, (1024, 1024))
+    geom_o = geometry(over.canvas, (1280, 720), (1280, 720))
+    walk = Renderer(device, reuse_maps=False)
+    runs = {
+        LANES_CASES[0]: lambda: renderer.render(blank.at(0), geom_b),
+        LANES_CASES[1]: lambda: walk.render(over.at(0), geom_o, image),
+        LANES_CASES[2]: lambda: renderer.render(over.at(0), geom_o, image, static=True),
+        LANES_CASES[3]: lambda: walk.render_i420(over.at(0), geom_o, planes, matrix, matrix),
+    }
+    out = {"lanes": renderer.lanes, "device": renderer.info.name}
+    out.update({name: median_time(fn) * 1e3 for name, fn in runs.items()})
+    print(json.dumps(out))
+
+
+def lanes(device: str | None) -> None:
+    """16 against 8 (and 4) lanes for this CPU's code and for an AVX2 CPU's."""
+    import json
+
+    print("\n## Vector width: ms per frame, median of 21 (each width in its own process)")
+    print("| target (device name) | lanes | " + " | ".join(LANES_CASES) + " |")
+    print("|---|---|" + "---|" * len(LANES_CASES))
+    for target in (None, "avx2"):
+        for width in (16, 8, 4):
+            env = {**ENV, "MARBLEVIDEO_LANES": str(width)}
+            env.pop("POCL_KERNELLIB_NAME", None)
+            if target:
+                env["POCL_KERNELLIB_NAME"] = target
+            cmd = [sys.executable, __file__, "lanes-child"]
+            cmd += ["--device", device] if device else []
+            proc = subprocess.run(cmd, env=env, capture_output=True, text=True, check=True)
+            row = json.loads(proc.stdout.strip().splitlines()[-1])
+            cells = " | ".join(f"{row[name]:.2f}" for name in LANES_CASES)
+            name = f"{target or 'this CPU'} ({row['device']})"
+            print(f"| {name} | {row['lanes']} | {cells} |", flush=True)
+
+
+def cpu_summary() -> str:
+    """The CPU's model and vector instruction sets (from /proc/cpuinfo)."""
+    try:
+        text = Path("/proc/cpuinfo").read_text()
+    except OSError:
+        return platform.processor() or platform.machine()
+    info = dict(
+        (k.strip(), v.strip()) for k, _, v in (x.partition(":") for x in text.splitlines()) if v
+    )
+    flags = info.get("flags", "").split()
+    vector = [f for f in flags if f.startswith(("avx", "sse4", "fma"))]
+    return f"{info.get('model name', '?')}; flags: {' '.join(vector) or 'none of avx/sse4/fma'}"
 
 
 def make_clip(path: Path, size=(1280, 720), seconds=4, fps=30, audio=True) -> Path:
@@ -347,6 +416,7 @@ def memory(device: str | None, long_seconds: int = 600) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("parts", nargs="*", default=["table1", "e2e", "numpy", "memory"])
+    # lanes-child: one process of `lanes` (internal)
     parser.add_argument("--device", help="OpenCL device (see `marblevideo devices`)")
     parser.add_argument(
         "--long", type=int, default=600, help="seconds of the long memory clip (default 600)"
@@ -360,10 +430,10 @@ def main() -> None:
         help="lengths of the e2e clips in seconds (default 4 20)",
     )
     args = parser.parse_args()
-    print(
-        f"# {platform.node()} {platform.processor() or platform.machine()}, "
-        f"{os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M')}"
-    )
+    if args.parts == ["lanes-child"]:
+        return lanes_child(args.device)
+    print(f"# {platform.node()}, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M')}")
+    print(f"# CPU: {cpu_summary()}")
     for part in args.parts:
         if part == "memory":
             memory(args.device, args.long)
@@ -371,7 +441,8 @@ def main() -> None:
             for seconds in args.seconds:
                 e2e(args.device, seconds)
         else:
-            {"table1": table1, "e2e": e2e, "numpy": numpy_baseline}[part](args.device)
+            parts = {"table1": table1, "e2e": e2e, "numpy": numpy_baseline, "lanes": lanes}
+            parts[part](args.device)
 
 
 if __name__ == "__main__":
