@@ -6,6 +6,7 @@ way: recipe -> per-frame parameters (:mod:`marblevideo.frame`) -> renderer
 (OpenCL, with :mod:`marblevideo.reference` as the NumPy oracle) -> encoder.
 """
 
+from marblevideo.bundled import samples_path
 from marblevideo.errors import (
     DeviceError,
     MarbleError,
@@ -39,6 +40,7 @@ __all__ = [
     "render_image",
     "render_still",
     "render_video",
+    "samples_path",
     "MarbleError",
     "MediaError",
     "OutputExistsError",

@@ -4,6 +4,6 @@
 set -euo pipefail
 cd "$(dirname "$0")/.."
 bash scripts/setup.sh --test
-.venv/bin/ruff check marblevideo tests benchmarks samples
-.venv/bin/ruff format --check marblevideo tests benchmarks samples
+.venv/bin/ruff check marblevideo tests benchmarks samples scripts
+.venv/bin/ruff format --check marblevideo tests benchmarks samples scripts
 .venv/bin/python -m pytest -q "$@"

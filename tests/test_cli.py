@@ -13,6 +13,7 @@ import json
 import os
 import subprocess
 import sys
+import sysconfig
 import zipfile
 from pathlib import Path
 
@@ -265,6 +266,13 @@ def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
         names = zf.namelist()
         assert "marblevideo/kernels/marble.cl" in names
         shipped = zf.read("marblevideo/kernels/marble.cl").decode()
+        recipes = {p.name for p in (ROOT / "samples").glob("*.json")}
+        assert {f"marblevideo/samples/{n}" for n in recipes} <= set(names)
+        assert (
+            zf.read("marblevideo/samples/figure6.json")
+            == (ROOT / "samples" / "figure6.json").read_bytes()
+        )
+        assert "marblevideo/samples/coffee.mp4" not in names  # the wheel stays small
     assert shipped == (ROOT / "kernels" / "marble.cl").read_text()
 
     venv = tmp_path / "venv"
@@ -274,6 +282,17 @@ def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
         timeout=120,
     )
     py = venv / "bin" / "python"
+    # the dependencies installed for this interpreter (a venv's own are not the
+    # system's), after the new venv's site-packages, where the wheel goes
+    site = subprocess.run(
+        [str(py), "-c", "import sysconfig; print(sysconfig.get_paths()['purelib'])"],
+        check=True,
+        capture_output=True,
+        text=True,
+        timeout=60,
+    ).stdout.strip()
+    ours = {sysconfig.get_paths()[k] for k in ("purelib", "platlib")}
+    (Path(site) / "_test_dependencies.pth").write_text("\n".join(sorted(ours)) + "\n")
     subprocess.run(
         [str(py), "-m", "pip", "install", "--no-deps", "-q", str(wheel)],
         check=True,
@@ -309,6 +328,23 @@ def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
     )
     assert proc.returncode == 0, proc.stderr
     assert cv2.imread(str(outside / "o.png")).shape == (48, 64, 3)
+
+    # the gallery finds its recipe, the bundled figure6.json, in the installed package
+    proc = subprocess.run(
+        [str(py), "-m", "marblevideo.gallery", "-o", "steps.png", "--size", "48"],
+        cwd=outside,
+        env=env,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert cv2.imread(str(outside / "steps.png")).shape == (2 * 76 + 6, 5 * 54 + 6, 3)
+    probe = "import marblevideo; print(marblevideo.samples_path('sphere-uv.png'))"
+    proc = subprocess.run(
+        [str(py), "-c", probe], cwd=outside, env=env, capture_output=True, text=True, timeout=60
+    )
+    assert proc.stdout.startswith(str(venv)) and proc.stdout.strip().endswith(".png"), proc
 
 
 def test_python_dash_m_and_main_entry_agree(cli, tmp_path):

@@ -1,10 +1,17 @@
-"""The README's Python example runs as written (from the repository root)."""
+"""The README's Python example runs as written (from the repository root), and
+so does every marblevideo command of the ```sh blocks of README.md and
+docs/*.md, made small and quick (except the few in :data:`SKIPPED`)."""
 
 from __future__ import annotations
 
 import os
 import re
+import shlex
+import subprocess
+import sys
 from pathlib import Path
+
+import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -19,3 +26,96 @@ def test_readme_python_example_runs(monkeypatch, capsys):
     out = capsys.readouterr().out
     assert "frames, copy audio" in out
     assert (ROOT / "out" / "api-demo.mp4").stat().st_size > 0
+
+
+# ---------------------------------------------------------------------------- the ```sh commands
+
+#: README commands that cannot run in a test, with the reason; every other
+#: `marblevideo ...` or `python -m marblevideo...` line of a ```sh block runs
+SKIPPED = {
+    "marblevideo live 0 --ops samples/swirl.json --preview --vcam": (
+        "needs camera 0 and a v4l2loopback virtual camera"
+    ),
+}
+VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm")
+SMALL = 64  # the longest side of any output
+
+
+def readme_commands() -> list[str]:
+    """Every command of the ```sh blocks of README.md and docs/*.md that runs
+    marblevideo (``marblevideo ...``, ``python -m marblevideo[.x] ...``), comment dropped."""
+    found = []
+    for doc in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]:
+        for block in re.findall(r"```sh\n(.*?)```", doc.read_text(), re.S):
+            for line in block.replace("\\\n", " ").splitlines():
+                words = shlex.split(line, comments=True)
+                program = words[0] if words[:1] == ["marblevideo"] else None
+                if words[:2] == ["python", "-m"] and len(words) > 2:
+                    program = words[2]
+                if program and program.split(".")[0] == "marblevideo":
+                    found.append(shlex.join(words))
+    return list(dict.fromkeys(found))
+
+
+def setting(words: list[str], option: str, value: str) -> list[str]:
+    if option in words:
+        words[words.index(option) + 1] = value
+        return words
+    return [*words, option, value]
+
+
+def small_size(text: str | None) -> str:
+    """A WxH (default square) scaled so its longest side is :data:`SMALL`, even sides."""
+    w, h = (int(v) for v in (text or "1x1").lower().split("x"))
+    scale = SMALL / max(w, h)
+    return f"{max(2, round(w * scale / 2) * 2)}x{max(2, round(h * scale / 2) * 2)}"
+
+
+def quick(command: str) -> list[str]:
+    """The command made quick: small outputs, short videos, live runs of one second."""
+    words = shlex.split(command)
+    if words[0] == "marblevideo":
+        words = ["python", "-m", "marblevideo", *words[1:]]
+    module, args = words[2], words[3:]
+    if module == "marblevideo.gallery":
+        args = setting(args, "--size", "24")
+    elif args[:1] == ["live"]:
+        args = setting(args, "--duration", "1")
+        if "--preview" in args:
+            args = setting(args, "--port", "0")  # any free port
+        if args[1] == "test":
+            args = setting(args, "--size", "64x48")
+    elif args[:1] not in (["devices"], ["schema"]):
+        size = args[args.index("--size") + 1] if "--size" in args else None
+        if "--uv" not in args:  # a UV pass sets its own (small) size
+            args = setting(args, "--size", small_size(size))
+        if Path(args[args.index("-o") + 1]).suffix in VIDEO_EXTENSIONS:
+            video_in = args[0].endswith(VIDEO_EXTENSIONS)
+            args = setting(args, "--end" if video_in else "--duration", "0.3")
+    return [sys.executable, "-m", module, *args]
+
+
+def test_every_skipped_command_is_still_in_the_readme():
+    assert set(SKIPPED) <= set(readme_commands())
+
+
+@pytest.mark.parametrize("command", readme_commands())
+def test_readme_command_runs(command, tmp_path):
+    """Run from a folder with the samples at the README's relative paths."""
+    if command in SKIPPED:
+        pytest.skip(SKIPPED[command])
+    (tmp_path / "samples").symlink_to(ROOT / "samples")
+    argv = quick(command)
+    proc = subprocess.run(
+        argv,
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )
+    assert proc.returncode == 0, f"{shlex.join(argv[2:])}: {proc.stderr}"
+    if "-o" in argv:
+        assert (tmp_path / argv[argv.index("-o") + 1]).stat().st_size > 0
+    if argv[3:4] in (["devices"], ["schema"]):
+        assert proc.stdout.strip()
