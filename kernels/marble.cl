@@ -1,203 +1,26 @@
-/* marble.cl: the inverse walk of a marbling recipe, one pass per subsample.
+/* marble.cl: the inverse walk of a marbling recipe, one pass per subsample,
+ * the sampling of the input and every kernel (see prelude.cl for the defines).
  *
- * Conventions (shared/recipe-format.md): canvas units, origin top-left,
- * x right, y down; output pixel (i, j) has its centre at (i + 0.5, j + 0.5);
- * input pixels likewise; images are packed RGBA8 (R in the low byte).
- *
- * One source serves every device through build-time defines (-D):
- *   LANES    pixels per work-item along x, as one vector: on CPUs the device's
- *            native float width (4 SSE, 8 AVX/AVX2, 16 AVX-512), 1 on GPUs
- *   YLANES   pixels per work-item of the I420 and quad kernels (4, 8 or 16)
- *   CHAINS   independent (row, subsample) jobs evaluated side by side per work-item
- *   ROWS     output rows per work-item (> 1 only without antialiasing)
- *   NSAMPLES subsamples per pixel; offsets and weights arrive in `samples`
- *   HAS_INPUT 1: sample the input image where no ink is hit; 0: blank sheet
- *   EDGES    0 clamp, 1 repeat, 2 mirror, 3 background (what lies outside the input)
- *   WALK     the recipe's structure: OP_<TYPE>(i) for every op, last op first;
- *            or WALK_LOOP with NOPS for long recipes (types read from the params)
- *   INK      INK_COLOR(i) for every ink op (resolves a hit to its colour)
- * Per-frame values live in `params`: PSTRIDE floats per op, packed by
- * marblevideo/renderer.py (see pack_params there for the layout). Changing
- * them never rebuilds the program.
- *
- * No vector wider than the device's native width is passed by value to a
- * function (an x86 ABI change that clang warns about): vectors are LANES or
- * YLANES wide, both at most the native width on CPUs, and the wider kernel
- * arguments (the I420 matrix) are read only in macros.
+ * WALK (generated): op i of the recipe, last op first, as OP(i, type); or for
+ * long recipes a loop over NOPS ops whose switch has a case per op type.
+ * INK (generated): INK_COLOR(i) for every ink op (resolves a hit to its colour).
  */
-
-#define CAT_(a, b) a##b
-#define CAT(a, b) CAT_(a, b)
-#define PSTRIDE 12
-
-#if LANES == 1
-typedef float vf;
-typedef int vi;
-typedef uint vu;
-#define IOTA 0.0f
-#define ANY(m) ((m) != 0)
-#define VLOAD(arr) ((arr)[0])
-#define VSTORE(v, arr) ((arr)[0] = (v))
-#else
-typedef CAT(float, LANES) vf;
-typedef CAT(int, LANES) vi;
-typedef CAT(uint, LANES) vu;
-#define ANY(m) any(m)
-#define VLOAD(arr) CAT(vload, LANES)(0, (arr))
-#define VSTORE(v, arr) CAT(vstore, LANES)((v), 0, (arr))
-#if LANES == 4
-#define IOTA ((vf)(0, 1, 2, 3))
-#elif LANES == 8
-#define IOTA ((vf)(0, 1, 2, 3, 4, 5, 6, 7))
-#elif LANES == 16
-#define IOTA ((vf)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
-#else
-#error "LANES must be 1, 4, 8 or 16"
-#endif
-#endif
-
-#define CVT_F(v) CAT(convert_float, LANES)(v)
-#define CVT_I(v) CAT(convert_int, LANES)(v)
-#define CVT_U(v) CAT(convert_uint, LANES)(v)
-#if LANES == 1
-#undef CVT_F
-#undef CVT_I
-#undef CVT_U
-#define CVT_F(v) convert_float(v)
-#define CVT_I(v) convert_int(v)
-#define CVT_U(v) convert_uint(v)
-#endif
-
-/* sin(2*pi*t) without the library sin: exact range reduction in turns, a
- * fold to [-1/4, 1/4] turn and an odd Taylor polynomial (error < 1e-7). */
-inline vf sin_turns(vf t) {
-    vf u = t - floor(t + 0.5f);                        /* [-0.5, 0.5) */
-    vf f = select(u, copysign((vf)0.5f, u) - u, fabs(u) > 0.25f);
-    vf x = f * 6.28318530718f;
-    vf x2 = x * x;
-    return x * (1.0f + x2 * (-1.6666667e-1f + x2 * (8.3333333e-3f + x2 * (-1.9841270e-4f
-               + x2 * (2.7557319e-6f + x2 * -2.5052108e-8f)))));
-}
-
-/* sin and cos of 2*pi*t from one range reduction: the half angle h = pi*u,
- * u in [-1/2, 1/2), has Taylor polynomials good to 6e-8 on [-pi/2, pi/2];
- * then sin = 2 sin(h) cos(h), cos = 1 - 2 sin(h)^2. Fewer live values than two
- * sin_turns calls, which spilled registers with 4 chains of 16 lanes. */
-inline void sincos_turns(vf t, vf *sn, vf *cs) {
-    vf h = (t - floor(t + 0.5f)) * 3.14159265359f;
-    vf h2 = h * h;
-    vf s = h * (1.0f + h2 * (-1.6666667e-1f + h2 * (8.3333333e-3f + h2 * (-1.9841270e-4f
-               + h2 * (2.7557319e-6f + h2 * -2.5052108e-8f)))));
-    vf c = 1.0f + h2 * (-0.5f + h2 * (4.1666667e-2f + h2 * (-1.3888889e-3f + h2 * (2.4801587e-5f
-               + h2 * (-2.7557319e-7f + h2 * 2.0876757e-9f)))));
-    *sn = 2.0f * s * c;
-    *cs = 1.0f - 2.0f * s * s;
-}
-
-/* 1/x for x > 0: the device's fast reciprocal and one Newton step (full float
- * precision from an estimate of 12+ bits; 12% faster walks on PoCL than a
- * division). x is capped at 1e30 so that an infinite x gives ~0, not NaN. */
-inline vf recip(vf x) {
-    x = fmin(x, 1e30f);
-    vf y = native_recip(x);
-    return y * (2.0f - x * y);
-}
-
-/* Ink: a point strictly inside the (progress-scaled) circle is ink of op i.
- * Only the first hit of the walk counts, so later ops stay on top. */
-inline void hit_ink(vf x, vf y, vi *ink, __constant const float *p, int i) {
-    vf qx = x - p[0], qy = y - p[1];
-    vi inside = (qx * qx + qy * qy) < p[2];
-    *ink = select(*ink, (vi)i, inside & (*ink < 0));
-}
-
-/* drop: P = C + (P' - C) * sqrt(1 - r^2 / |P' - C|^2) outside the drop.
- * p: cx, cy, r^2, red, green, blue */
-inline void inv_drop(vf *x, vf *y, vi *ink, __constant const float *p, int i) {
-    vf qx = *x - p[0], qy = *y - p[1];
-    vf d2 = qx * qx + qy * qy;
-    *ink = select(*ink, (vi)i, (d2 < p[2]) & (*ink < 0));
-    vf k = sqrt(fmax(1.0f - p[2] * recip(fmax(d2, 1e-30f)), 0.0f));
-    *x = p[0] + qx * k;
-    *y = p[1] + qy * k;
-}
-
-/* tine and comb: P = P' - alpha*lambda / (d + lambda) * M, d the distance to
- * the (nearest) tine line. p: ax, ay, mx, my, nx, ny, alpha*lambda, lambda,
- * spacing, 1/spacing, spacing/2 */
-inline void inv_tine(vf *x, vf *y, __constant const float *p) {
-    vf d = fabs((*x - p[0]) * p[4] + (*y - p[1]) * p[5]);
-    vf s = p[6] * recip(d + p[7]);
-    *x -= s * p[2];
-    *y -= s * p[3];
-}
-
-inline void inv_comb(vf *x, vf *y, __constant const float *p) {
-    vf d = fabs((*x - p[0]) * p[4] + (*y - p[1]) * p[5]);
-    d = d - p[8] * floor(d * p[9]);                   /* fmod(d, spacing), d >= 0 */
-    d = p[10] - fabs(d - p[10]);
-    vf s = p[6] * recip(d + p[7]);
-    *x -= s * p[2];
-    *y -= s * p[3];
-}
-
-/* wave: v = P . (sin t, -cos t); shift = amplitude * sin(2 pi v / wavelength + phase)
- * along (cos t, sin t). p: amplitude, 1/wavelength, phase in turns, cos t, sin t */
-inline void inv_wave(vf *x, vf *y, __constant const float *p) {
-    vf v = *x * p[4] - *y * p[3];
-    vf s = p[0] * sin_turns(v * p[1] + p[2]);
-    *x -= s * p[3];
-    *y -= s * p[4];
-}
-
-/* circle and vortex: rotate P' - C by -theta, theta = alpha*lambda/(d + lambda)/R,
- * d = |R - r| (circle) or R (vortex: r = 0 and R >= 0 make them one formula).
- * p: cx, cy, r, alpha*lambda / (2 pi), lambda  (theta in turns) */
-inline void inv_circle(vf *x, vf *y, __constant const float *p) {
-    vf qx = *x - p[0], qy = *y - p[1];
-    vf R = sqrt(qx * qx + qy * qy);
-    vf turns = -p[3] * recip((fabs(R - p[2]) + p[4]) * fmax(R, 1e-30f));
-    /* From 2^23 turns up (R -> 0 included: inf) float32 holds whole turns only:
-     * no rotation (theta = 0 at R = 0 as the contract says). */
-    vf sn, cs;
-    sincos_turns(clamp(turns, -8388608.0f, 8388608.0f), &sn, &cs);
-    *x = p[0] + qx * cs - qy * sn;
-    *y = p[1] + qx * sn + qy * cs;
-}
 
 /* Row of job j; constant-folds to 0 whenever ROWS == 1. */
 #define ROW_OF(j) (ROWS == 1 ? 0 : (j) / NSAMPLES)
 #define FOR_CHAINS for (int c = 0; c < CHAINS; c++)
 #define PARAMS(i) (params + (i) * PSTRIDE)
-#define OP_DROP(i) FOR_CHAINS inv_drop(&px[c], &py[c], &ink[c], PARAMS(i), i);
-#define OP_SPRAY(i) FOR_CHAINS hit_ink(px[c], py[c], &ink[c], PARAMS(i), i);
-#define OP_TINE(i) FOR_CHAINS inv_tine(&px[c], &py[c], PARAMS(i));
-#define OP_COMB(i) FOR_CHAINS inv_comb(&px[c], &py[c], PARAMS(i));
-#define OP_WAVE(i) FOR_CHAINS inv_wave(&px[c], &py[c], PARAMS(i));
-#define OP_CIRCLE(i) FOR_CHAINS inv_circle(&px[c], &py[c], PARAMS(i));
-#define OP_VORTEX(i) OP_CIRCLE(i)
-
-/* Long recipes: one loop over the ops, the type code in the op's last slot. */
-#define WALK_LOOP                                                              \
-    for (int i = NOPS - 1; i >= 0; i--) {                                      \
-        switch ((int)PARAMS(i)[PSTRIDE - 1]) {                                 \
-        case 0: OP_DROP(i) break;                                              \
-        case 1: OP_SPRAY(i) break;                                             \
-        case 2: OP_TINE(i) break;                                              \
-        case 3: OP_COMB(i) break;                                              \
-        case 4: OP_WAVE(i) break;                                              \
-        default: OP_CIRCLE(i) break;                                           \
-        }                                                                      \
-    }
+/* Op i of type `name` in every chain (the generated WALK is a list of these, or
+ * a loop whose switch has one case per op type). */
+#define OP(i, name) FOR_CHAINS CAT(op_, name)(&px[c], &py[c], &ink[c], PARAMS(i), i);
+/* The colour of ink op i for the lanes whose walk ended there (INK lists these). */
 #define INK_COLOR(i)                                                           \
     { vi m = ink[c] == i;                                                      \
-      float r_ = PARAMS(i)[3], g_ = PARAMS(i)[4], b_ = PARAMS(i)[5];           \
+      float r_ = PARAMS(i)[COLOR_SLOT], g_ = PARAMS(i)[COLOR_SLOT + 1];        \
+      float b_ = PARAMS(i)[COLOR_SLOT + 2];                                    \
       cr = select(cr, (vf)r_, m);                                              \
       cg = select(cg, (vf)g_, m);                                              \
       cb = select(cb, (vf)b_, m); }
-#define INK_LOOP                                                               \
-    for (int i = 0; i < NOPS; i++)                                             \
-        if ((int)PARAMS(i)[PSTRIDE - 1] <= 1) INK_COLOR(i)
 
 /* Map an integer-valued float tap index into 0..n-1 by the `edges` mode;
  * with EDGES == 3 (background) an index outside gives -1. */

@@ -21,25 +21,14 @@ from dataclasses import dataclass, field
 
 Value = float | tuple[float, ...]
 
-#: Parameter names of each op type, in the order the kernel packs them.
-OP_PARAMS: dict[str, tuple[str, ...]] = {
-    "drop": ("center", "radius", "color"),
-    "spray": ("center", "radius", "color"),
-    "tine": ("point", "angle", "alpha", "lambda"),
-    "comb": ("point", "angle", "spacing", "alpha", "lambda"),
-    "wave": ("amplitude", "wavelength", "phase", "angle"),
-    "circle": ("center", "radius", "alpha", "lambda"),
-    "vortex": ("center", "alpha", "lambda"),
-}
-
-INK_OPS = frozenset({"drop", "spray"})
 EDGE_MODES = ("clamp", "repeat", "mirror", "background")
 
 
 @dataclass(frozen=True)
 class OpState:
-    """One op at one instant: ``values`` maps each parameter name of
-    ``OP_PARAMS[type]`` to a float (numbers) or a tuple (points, colors)."""
+    """One op at one instant: ``values`` maps each parameter name of the op's
+    definition (:mod:`marblevideo.ops`) to a float (numbers) or a tuple (points,
+    colors)."""
 
     type: str
     values: dict[str, Value] = field(hash=False)

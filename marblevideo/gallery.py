@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import MarbleError, MediaError, UsageError
-from marblevideo.frame import INK_OPS
+from marblevideo.ops import is_ink
 from marblevideo.recipe import Recipe
 
 PROG = "python -m marblevideo.gallery"
@@ -78,12 +78,12 @@ def stages(recipe: Recipe) -> list[Stage]:
             begin, finish = min(op.times), max(op.times)
         else:
             begin = finish = done
-        ink = op.type in INK_OPS
+        ink = is_ink(op.type)
         center = tuple(op.params["center"].at(begin)) if ink else None
         new = (
             not groups
             or begin >= done
-            or ink != (previous.type in INK_OPS)
+            or ink != is_ink(previous.type)
             or (ink and center in inked and center != previous_center)
         )
         if new:

@@ -42,12 +42,11 @@ import numpy as np
 from marblevideo.cli import add_encoder_arguments, configure_logging, parse_encoder_opts
 from marblevideo.errors import MarbleError, RecipeError, UsageError
 from marblevideo.keyframes import Track
-from marblevideo.schema import PARAM_KINDS
+from marblevideo.ops import NUMERIC_KINDS, op_def, slider_range
 from marblevideo.sources import Latest, Source, open_source
 
 DEFAULT_PORT = 8765
 RELOAD_POLL = 0.5
-NUMERIC_KINDS = ("number", "positive", "nonnegative")
 VCAM_HELP = (
     "pip install 'marblevideo[vcam]' (pyvirtualcam), and on Linux a v4l2loopback device: "
     "sudo apt-get install v4l2loopback-dkms && "
@@ -91,36 +90,22 @@ class Clock:
 # ---------------------------------------------------------------------------- sliders
 
 
-def _slider_range(name: str, kind: str, v: float, size: float) -> tuple[float, float, float]:
-    """(min, max, step) for a constant parameter of value ``v`` on a canvas of side ``size``."""
-    if name in ("angle", "phase"):
-        m = 180.0 if name == "angle" else 360.0
-        m = max(m, math.ceil(abs(v)))
-        return -m, m, 1.0
-    if kind == "number":  # alpha, amplitude
-        floor = size / 4 if name == "alpha" else size / 40
-        m = max(abs(v) * 2, floor)
-        return -m, m, m / 500
-    hi = max(v * 4, size / 10)  # lambda, radius, spacing, wavelength
-    lo = 0.0 if kind == "nonnegative" else hi / 1000
-    return lo, hi, hi / 1000
-
-
 def sliders(recipe, canvas: tuple[float, float] | None) -> list[dict]:
     """What the preview shows per op: each numeric parameter, adjustable if constant."""
     size = max(recipe.canvas or canvas or (1000.0, 1000.0))
     ops = []
     for op in recipe.ops:
         params = []
-        for name, kind in PARAM_KINDS[op.type].items():
-            if kind not in NUMERIC_KINDS:
+        for param in op_def(op.type).params:
+            if param.kind not in NUMERIC_KINDS:
                 continue
+            name = param.name
             track = op.params[name]
             if track.keyed:
                 params.append({"name": name, "animated": True})
                 continue
             v = float(track.keys[0].v[0])
-            lo, hi, step = _slider_range(name, kind, v, size)
+            lo, hi, step = slider_range(param, v, size)
             params.append(
                 {"name": name, "value": v, "min": lo, "max": hi, "step": step, "animated": False}
             )
@@ -335,7 +320,7 @@ class LiveSession:
             ops = self.recipe.ops
         if not isinstance(i, int) or isinstance(i, bool) or not 0 <= i < len(ops):
             raise UsageError(f"control: param.op must be an op index 0..{len(ops) - 1}, got {i!r}")
-        kind = PARAM_KINDS[ops[i].type].get(name)
+        kind = op_def(ops[i].type).kinds.get(name)
         if kind not in NUMERIC_KINDS:
             raise UsageError(f"control: ops[{i}] ({ops[i].type}) has no numeric {name!r}")
         if ops[i].params[name].keyed:

@@ -34,9 +34,10 @@ from typing import Any
 from jsonschema import Draft202012Validator, ValidationError
 
 from marblevideo.errors import RecipeError, UsageError
-from marblevideo.frame import INK_OPS, OP_PARAMS, FrameSpec, OpState
+from marblevideo.frame import FrameSpec, OpState
 from marblevideo.keyframes import Key, Track
-from marblevideo.schema import LIMIT, PARAM_KINDS, schema
+from marblevideo.ops import op_def
+from marblevideo.schema import LIMIT, schema
 
 DEFAULT_BACKGROUND = "#ffffff"
 DEFAULT_ANTIALIAS = "rgss"
@@ -71,17 +72,10 @@ class Op:
         return (t - self.start) / (self.end - self.start)
 
     def at(self, t: float) -> OpState:
-        """The op at time ``t``: tracks resolved, progress applied (ink radius * sqrt(p),
-        alpha * p, wave amplitude * p)."""
+        """The op at time ``t``: tracks resolved, its definition's progress laws
+        applied (e.g. ink radius * sqrt(p), alpha * p; see :mod:`marblevideo.ops`)."""
         values = {name: track.at(t) for name, track in self.params.items()}
-        p = self.progress(t)
-        if self.type in INK_OPS:
-            values["radius"] *= math.sqrt(p)
-        elif self.type == "wave":
-            values["amplitude"] *= p
-        else:
-            values["alpha"] *= p
-        return OpState(self.type, values)
+        return OpState(self.type, op_def(self.type).at_progress(values, self.progress(t)))
 
     @property
     def times(self) -> tuple[float, ...]:
@@ -244,7 +238,7 @@ def _normalize(data: Any) -> Any:
 def _build(doc: dict, source: str) -> Recipe:
     ops = []
     for index, op in enumerate(doc["ops"]):
-        kinds = PARAM_KINDS[op["type"]]
+        kinds = op_def(op["type"]).kinds
         params = {name: _track(op[name], kind) for name, kind in kinds.items()}
         start, end = op.get("start"), op.get("end")
         ops.append(
@@ -313,7 +307,7 @@ def _semantic_faults(doc: dict) -> list[_Fault]:
     faults = []
     tracks: list[tuple[list, Any]] = [(["background"], doc.get("background"))]
     for i, op in enumerate(doc["ops"]):
-        tracks += [(["ops", i, name], op[name]) for name in OP_PARAMS[op["type"]]]
+        tracks += [(["ops", i, name], op[name]) for name in op_def(op["type"]).kinds]
         if "end" in op and op["end"] <= op["start"]:
             message = f"must be > start ({_describe(op['start'])}), got {_describe(op['end'])}"
             faults.append(_make_fault(doc, ["ops", i, "end"], message))

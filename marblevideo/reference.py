@@ -13,27 +13,21 @@ Conventions, shared with the contract and :mod:`marblevideo.frame`:
 - Every function takes arrays of points (any broadcastable shapes) and is
   vectorised; there is no per-pixel Python loop.
 
-Where the contract is silent this module chooses, and the kernel must match:
-
-- ``forward`` of a drop at its very centre (undefined: the paint at C is torn
-  open) returns C + (r, 0), the limit approached along +x.
-- ``inverse`` of a drop at a point inside the drop (which is ink, not a
-  transformed point) returns C.
-- Drop and spray with radius 0 (progress 0) are absent: identity, and no ink.
-- In :func:`inverse_walk` a point that hits ink keeps the coordinates it had
-  when it reached that ink op (the inverses of the later ops applied, not of
-  the ink op itself).
+Each op's maps are its definition's (:mod:`marblevideo.ops`, where the choices
+the contract leaves open are stated); this module walks them. Where the
+contract is silent it chooses, and the kernel must match: in
+:func:`inverse_walk` a point that hits ink keeps the coordinates it had when it
+reached that ink op (the inverses of the later ops applied, not of the ink op
+itself).
 """
 
 from __future__ import annotations
 
-import math
-from collections.abc import Callable
-
 import numpy as np
 
 from marblevideo.antialias import PATTERNS, pattern
-from marblevideo.frame import EDGE_MODES, INK_OPS, FrameSpec, Geometry, OpState
+from marblevideo.frame import EDGE_MODES, FrameSpec, Geometry, OpState
+from marblevideo.ops import is_ink, op_def
 
 ArrayLike = np.ndarray | float
 Points = tuple[np.ndarray, np.ndarray]
@@ -47,134 +41,26 @@ def _points(x: ArrayLike, y: ArrayLike) -> Points:
     return x, y
 
 
-def _direction(degrees: float) -> tuple[float, float]:
-    """(cos a, sin a) of an angle in degrees: M of the contract (N is (-sin a, cos a))."""
-    a = math.radians(degrees)
-    return math.cos(a), math.sin(a)
-
-
-# --- the shear ops: tine, comb, wave move P along a fixed direction by a shift that
-# --- depends only on the coordinate across that direction, so shift(P') = shift(P).
-
-
-def _tine_shift(op: OpState, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float, float]:
-    """Shift along M and M itself for tine and comb (d replaced by d' for a comb)."""
-    mx, my = _direction(op["angle"])
-    ax, ay = op["point"]
-    d = np.abs((x - ax) * -my + (y - ay) * mx)  # |(P - A) . N|
-    if op.type == "comb":
-        s = op["spacing"]
-        m = d - s * np.floor(d / s)  # floor-based mod, in [0, s)
-        d = s / 2 - np.abs(m - s / 2)  # distance to the nearest tine
-    lam = op["lambda"]
-    return op["alpha"] * lam / (d + lam), mx, my
-
-
-def _wave_shift(op: OpState, x: np.ndarray, y: np.ndarray) -> tuple[np.ndarray, float, float]:
-    """Shift along (cos t, sin t) of a wave: amplitude * sin(2 pi v / wavelength + phase)."""
-    mx, my = _direction(op["angle"])
-    v = x * my - y * mx  # P . (sin t, -cos t)
-    phase = math.radians(op["phase"])
-    return op["amplitude"] * np.sin(2 * math.pi * v / op["wavelength"] + phase), mx, my
-
-
-def _shear(op: OpState, x: np.ndarray, y: np.ndarray, sign: float) -> Points:
-    shift_fn = _wave_shift if op.type == "wave" else _tine_shift
-    shift, mx, my = shift_fn(op, x, y)
-    return x + sign * shift * mx, y + sign * shift * my
-
-
-# --- the rotations: circle, vortex turn P about C by an angle that depends only on R.
-
-
-def _rotate(op: OpState, x: np.ndarray, y: np.ndarray, sign: float) -> Points:
-    cx, cy = op["center"]
-    qx, qy = x - cx, y - cy
-    big_r = np.hypot(qx, qy)
-    d = big_r if op.type == "vortex" else np.abs(big_r - op["radius"])
-    lam = op["lambda"]
-    arc = op["alpha"] * lam / (d + lam)
-    theta = sign * np.divide(arc, big_r, out=np.zeros_like(big_r), where=big_r > 0)
-    c, s = np.cos(theta), np.sin(theta)
-    return cx + (qx * c - qy * s), cy + (qx * s + qy * c)
-
-
-# --- ink ops.
-
-
-def _drop_forward(op: OpState, x: np.ndarray, y: np.ndarray) -> Points:
-    cx, cy = op["center"]
-    r = float(op["radius"])
-    qx, qy = x - cx, y - cy
-    r2 = qx * qx + qy * qy
-    at_c = r2 == 0
-    k = np.sqrt(1 + np.divide(r * r, r2, out=np.zeros_like(r2), where=~at_c))
-    return np.where(at_c, cx + r, cx + qx * k), np.where(at_c, cy, cy + qy * k)
-
-
-def _drop_inverse(op: OpState, x: np.ndarray, y: np.ndarray) -> Points:
-    cx, cy = op["center"]
-    r = float(op["radius"])
-    qx, qy = x - cx, y - cy
-    big_r = np.hypot(qx, qy)
-    # sqrt(1 - r^2 / R^2) written as sqrt((R - r)(R + r)) / R: no cancellation near R = r.
-    root = np.sqrt(np.maximum((big_r - r) * (big_r + r), 0.0))
-    k = np.divide(root, big_r, out=np.zeros_like(big_r), where=big_r > 0)
-    return cx + qx * k, cy + qy * k
-
-
 def contains(op: OpState, x: ArrayLike, y: ArrayLike) -> np.ndarray:
-    """Whether the ink op ``op`` (drop or spray) holds each point: |P - C| < r, strictly.
+    """Whether the ink op ``op`` holds each point (see :mod:`marblevideo.ops.ink`).
 
-    False everywhere for a radius of 0 (an op at progress 0) and for non-ink ops.
+    False everywhere for an ink op at progress 0 and for ops that are not ink.
     """
     x, y = _points(x, y)
-    if op.type not in INK_OPS or op["radius"] <= 0:
+    definition = op_def(op.type)
+    if not definition.ink:
         return np.zeros(x.shape, dtype=bool)
-    cx, cy = op["center"]
-    return np.hypot(x - cx, y - cy) < op["radius"]
-
-
-def _identity(op: OpState, x: np.ndarray, y: np.ndarray) -> Points:
-    return x.copy(), y.copy()
-
-
-_FORWARD: dict[str, Callable[[OpState, np.ndarray, np.ndarray], Points]] = {
-    "drop": _drop_forward,
-    "spray": _identity,
-    "tine": lambda op, x, y: _shear(op, x, y, 1.0),
-    "comb": lambda op, x, y: _shear(op, x, y, 1.0),
-    "wave": lambda op, x, y: _shear(op, x, y, 1.0),
-    "circle": lambda op, x, y: _rotate(op, x, y, 1.0),
-    "vortex": lambda op, x, y: _rotate(op, x, y, 1.0),
-}
-
-_INVERSE: dict[str, Callable[[OpState, np.ndarray, np.ndarray], Points]] = {
-    "drop": _drop_inverse,
-    "spray": _identity,
-    "tine": lambda op, x, y: _shear(op, x, y, -1.0),
-    "comb": lambda op, x, y: _shear(op, x, y, -1.0),
-    "wave": lambda op, x, y: _shear(op, x, y, -1.0),
-    "circle": lambda op, x, y: _rotate(op, x, y, -1.0),
-    "vortex": lambda op, x, y: _rotate(op, x, y, -1.0),
-}
-
-
-def _lookup(table: dict, op: OpState) -> Callable:
-    try:
-        return table[op.type]
-    except KeyError:
-        raise ValueError(f"unknown op type {op.type!r}") from None
+    return definition.contains(op.values, x, y)
 
 
 def forward(op: OpState, x: ArrayLike, y: ArrayLike) -> Points:
     """Where paint at canvas point (x, y) moves under ``op``: P -> P'.
 
     For a drop this is meant for points outside the new drop (every P != C);
-    see the module docstring for P = C. Spray is the identity.
+    see :mod:`marblevideo.ops.ink` for P = C. Spray is the identity.
     """
     x, y = _points(x, y)
-    return _lookup(_FORWARD, op)(op, x, y)
+    return op_def(op.type).forward(op.values, x, y)
 
 
 def inverse(op: OpState, x: ArrayLike, y: ArrayLike) -> Points:
@@ -184,7 +70,7 @@ def inverse(op: OpState, x: ArrayLike, y: ArrayLike) -> Points:
     (points inside are ink and map to C). Spray is the identity.
     """
     x, y = _points(x, y)
-    return _lookup(_INVERSE, op)(op, x, y)
+    return op_def(op.type).inverse(op.values, x, y)
 
 
 def jacobian(op: OpState, x: ArrayLike, y: ArrayLike, h: ArrayLike = 1e-6) -> np.ndarray:
@@ -224,14 +110,15 @@ def inverse_walk(
     ink = np.full(x.shape, -1, dtype=np.int64)
     for k in range(len(spec.ops) - 1, -1, -1):
         op = spec.ops[k]
+        definition = op_def(op.type)
         live = ink < 0
-        if op.type in INK_OPS:
-            hit = live & contains(op, x, y)
+        if definition.ink:
+            hit = live & definition.contains(op.values, x, y)
             ink[hit] = k
             live &= ~hit
         if not live.any():
             break
-        x[live], y[live] = inverse(op, x[live], y[live])
+        x[live], y[live] = definition.inverse(op.values, x[live], y[live])
     return x, y, ink
 
 
@@ -299,18 +186,52 @@ def _as_rgba(image: np.ndarray) -> np.ndarray:
     return np.concatenate([image, alpha], axis=2)
 
 
+def ink_colors(spec: FrameSpec) -> np.ndarray:
+    """(n ops, 4) float64: each ink op's colour with alpha 255, zeros for other ops."""
+    rows = [(*op["color"], 255.0) if is_ink(op.type) else (0.0,) * 4 for op in spec.ops]
+    return np.array(rows, dtype=np.float64).reshape(-1, 4)
+
+
+def shade(
+    spec: FrameSpec,
+    cx: np.ndarray,
+    cy: np.ndarray,
+    image: np.ndarray | None = None,
+    to_input: tuple[float, float, float, float] | None = None,
+    colors: np.ndarray | None = None,
+) -> np.ndarray:
+    """The colours of canvas points (cx, cy): float64 RGBA 0..255 of shape
+    cx.shape + (4,). A point the :func:`inverse_walk` ends on ink takes that op's
+    colour; one that reaches the start takes ``spec.background`` on a blank
+    sheet (``image`` None), else the :func:`sample_bilinear` of the RGBA
+    ``image`` at input pixel coordinates c * to_input[:2] + to_input[2:] with
+    ``spec.edges``. Ink and background have alpha 255. ``colors``: the
+    :func:`ink_colors` of ``spec``, when the caller has them."""
+    px, py, ink = inverse_walk(spec, cx, cy)
+    colors = ink_colors(spec) if colors is None else colors
+    value = np.empty(px.shape + (4,))
+    hit = ink >= 0
+    value[hit] = colors[ink[hit]]
+    miss = ~hit
+    if image is None:
+        value[miss] = np.array([*spec.background, 255.0])
+    else:
+        kx, ky, tx, ty = to_input
+        value[miss] = sample_bilinear(
+            image, px[miss] * kx + tx, py[miss] * ky + ty, spec.edges, spec.background
+        )
+    return value
+
+
 def render(spec: FrameSpec, geom: Geometry, image: np.ndarray | None = None) -> np.ndarray:
     """Render one frame: uint8 array (geom.out_h, geom.out_w, 4) RGBA.
 
     For each output pixel (i, j) and subsample (dx, dy, weight) of
     ``pattern(spec.antialias)``: output point o = (i + 0.5 + dx, j + 0.5 + dy),
     canvas point c = o * to_canvas[:2] + to_canvas[2:] per axis, then
-    :func:`inverse_walk`. Ink gives the op's color; a point that reaches the
-    start gives ``spec.background`` on a blank sheet (``image`` None), else the
-    :func:`sample_bilinear` of ``image`` at input pixel coordinates
-    c * to_input[:2] + to_input[2:] with ``spec.edges``. Ink and background have
-    alpha 255. The pixel is the weighted sum of its subsamples, rounded as
-    floor(v + 0.5) and clipped to 0..255.
+    :func:`shade` (the walk, then ink, the input or the background). The pixel
+    is the weighted sum of its subsamples, rounded as floor(v + 0.5) and
+    clipped to 0..255.
 
     ``image`` is uint8 (H, W, 4) RGBA, or (H, W, 3) RGB: then alpha 255 is added
     for sampling and the result is (out_h, out_w, 3) RGB.
@@ -321,13 +242,8 @@ def render(spec: FrameSpec, geom: Geometry, image: np.ndarray | None = None) -> 
         raise ValueError(f"unknown edges mode {spec.edges!r}")
     rgba = None if image is None else _as_rgba(image)
     subsamples = pattern(spec.antialias)
-    ink_colors = np.array(
-        [(*op["color"], 255.0) if op.type in INK_OPS else (0.0, 0.0, 0.0, 0.0) for op in spec.ops]
-    ).reshape(-1, 4)
-    bg = np.array([*spec.background, 255.0])
+    colors = ink_colors(spec)
     kx, ky, tx, ty = geom.to_canvas
-    ix_scale, iy_scale, ix_off, iy_off = geom.to_input
-
     out_w, out_h = geom.out_w, geom.out_h
     out = np.empty((out_h, out_w, 4), dtype=np.uint8)
     rows = max(1, CHUNK_POINTS // max(1, out_w * len(subsamples)))
@@ -338,22 +254,7 @@ def render(spec: FrameSpec, geom: Geometry, image: np.ndarray | None = None) -> 
         for dx, dy, weight in subsamples:
             cx = (ox[None, :] + dx) * kx + tx
             cy = (oy[:, None] + dy) * ky + ty
-            px, py, ink = inverse_walk(spec, cx, cy)
-            value = np.empty(px.shape + (4,))
-            hit = ink >= 0
-            value[hit] = ink_colors[ink[hit]]
-            miss = ~hit
-            if rgba is None:
-                value[miss] = bg
-            else:
-                value[miss] = sample_bilinear(
-                    rgba,
-                    px[miss] * ix_scale + ix_off,
-                    py[miss] * iy_scale + iy_off,
-                    spec.edges,
-                    spec.background,
-                )
-            acc += weight * value
+            acc += weight * shade(spec, cx, cy, rgba, geom.to_input, colors)
         out[j0 : j0 + oy.size] = np.clip(np.floor(acc + 0.5), 0, 255).astype(np.uint8)
     if image is not None and image.shape[2] == 3:
         return out[..., :3].copy()

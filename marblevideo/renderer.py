@@ -26,7 +26,6 @@ whole log.
 from __future__ import annotations
 
 import logging
-import math
 import os
 import tempfile
 import threading
@@ -43,10 +42,9 @@ from marblevideo.antialias import pattern
 from marblevideo.device import DeviceInfo, choose_device
 from marblevideo.errors import DeviceError, UsageError
 from marblevideo.frame import EDGE_MODES, FrameSpec, Geometry
+from marblevideo.ops import COLOR_SLOTS, PSTRIDE, REGISTRY, is_ink, op_def
 from marblevideo.yuv import YuvMatrix, chroma_geometry, coded_spec, split_i420
 
-PSTRIDE = 12  # floats per op in the parameter buffer; the last holds the type code
-TYPE_CODES = {"drop": 0, "spray": 1, "tine": 2, "comb": 3, "wave": 4, "circle": 5, "vortex": 6}
 #: Recipes longer than this walk their ops in a loop instead of unrolled code.
 UNROLL_LIMIT = 48
 #: Work-group size of marble_classify (its list takes one global atomic per group).
@@ -87,44 +85,33 @@ def cpu_lanes(native_width: int, override: str | None = None) -> int:
 
 
 def kernel_source(name: str = "marble.cl") -> str:
-    """An OpenCL source from the installed package, or from the repository's kernels/."""
+    """An OpenCL source (a path under kernels/) from the installed package, or from
+    the repository's kernels/."""
     packaged = resources.files("marblevideo") / "kernels" / name
     if packaged.is_file():
         return packaged.read_text()
     return (Path(__file__).resolve().parent.parent / "kernels" / name).read_text()
 
 
-def pack_params(spec: FrameSpec) -> np.ndarray:
-    """Per-frame op values as float32, PSTRIDE per op (layout documented in marble.cl).
+def program_source() -> str:
+    """The program's source without its generated header: the prelude, each op
+    family's sections (kernels/ops/<family>.cl, in registry order) and marble.cl."""
+    families = dict.fromkeys(d.family for d in REGISTRY.values())
+    parts = ["prelude.cl", *(f"ops/{family}.cl" for family in families), "marble.cl"]
+    return "\n".join(kernel_source(name) for name in parts)
 
-    Angles become direction cosines, wave phase and circle rotation become
-    turns, so the kernel needs no library trigonometry.
-    """
+
+def pack_params(spec: FrameSpec) -> np.ndarray:
+    """Per-frame op values as float32, PSTRIDE per op: each op's definition packs
+    its floats (:attr:`marblevideo.ops.OpDef.pack`; no library trigonometry is
+    left for the kernel), the last float is its type code."""
     out = np.zeros((max(len(spec.ops), 1), PSTRIDE), dtype=np.float64)
+    lists: list[float] = []
     for i, op in enumerate(spec.ops):
-        v, row = op.values, out[i]
-        row[PSTRIDE - 1] = TYPE_CODES[op.type]
-        if op.type in ("drop", "spray"):
-            row[:6] = (*v["center"], v["radius"] ** 2, *v["color"])
-        elif op.type in ("tine", "comb"):
-            a = math.radians(v["angle"])
-            ca, sa = math.cos(a), math.sin(a)
-            row[:8] = (*v["point"], ca, sa, -sa, ca, v["alpha"] * v["lambda"], v["lambda"])
-            if op.type == "comb":
-                s = v["spacing"]
-                row[8:11] = (s, 1.0 / s, s / 2.0)
-        elif op.type == "wave":
-            t = math.radians(v["angle"])
-            row[:5] = (
-                v["amplitude"],
-                1.0 / v["wavelength"],
-                v["phase"] / 360.0,
-                math.cos(t),
-                math.sin(t),
-            )
-        else:  # circle, vortex
-            radius = v["radius"] if op.type == "circle" else 0.0
-            row[:5] = (*v["center"], radius, v["alpha"] * v["lambda"] / (2 * math.pi), v["lambda"])
+        definition = op_def(op.type)
+        row = definition.packed(op.values, lists)
+        out[i, : len(row)] = row
+        out[i, PSTRIDE - 1] = definition.code
     # Products of valid values (radius**2, alpha * lambda) can pass float32's range:
     # saturate them rather than hand the kernel inf (and inf * 0 = NaN).
     f32 = float(np.finfo(np.float32).max)
@@ -147,12 +134,23 @@ class Structure:
         return cls(tuple(op.type for op in spec.ops), spec.antialias, spec.edges, has_input)
 
 
-def _walk_source(types: tuple[str, ...]) -> str:
-    """The generated header that bakes a recipe's structure into the program."""
+def walk_source(types: tuple[str, ...]) -> str:
+    """The generated header that bakes a recipe's structure into the program: WALK
+    calls every op's section, last op first, and INK resolves the ink ops' hits
+    (see kernels/marble.cl); above UNROLL_LIMIT ops both loop over the ops and
+    switch on the type code, with one case per registered op type."""
     if len(types) > UNROLL_LIMIT:
-        return f"#define NOPS {len(types)}\n#define WALK WALK_LOOP\n#define INK INK_LOOP\n"
-    walk = " ".join(f"OP_{t.upper()}({i})" for i, t in reversed(list(enumerate(types))))
-    ink = " ".join(f"INK_COLOR({i})" for i, t in enumerate(types) if t in ("drop", "spray"))
+        cases = " ".join(f"case {d.code}: OP(i, {d.type}) break;" for d in REGISTRY.values())
+        ink = " || ".join(f"code_ == {d.code}" for d in REGISTRY.values() if d.ink)
+        return (
+            f"#define NOPS {len(types)}\n"
+            "#define WALK for (int i = NOPS - 1; i >= 0; i--) "
+            f"{{ switch ((int)PARAMS(i)[PSTRIDE - 1]) {{ {cases} }} }}\n"
+            "#define INK for (int i = 0; i < NOPS; i++) "
+            f"{{ const int code_ = (int)PARAMS(i)[PSTRIDE - 1]; if ({ink}) INK_COLOR(i) }}\n"
+        )
+    walk = " ".join(f"OP({i}, {op_def(t).type})" for i, t in reversed(list(enumerate(types))))
+    ink = " ".join(f"INK_COLOR({i})" for i, t in enumerate(types) if is_ink(t))
     return f"#define WALK {walk}\n#define INK {ink}\n"
 
 
@@ -272,7 +270,7 @@ class Renderer:
         self._group = min(CPU_GROUP, dev.max_work_group_size) if is_cpu else None
         #: pixels rendered with the full pattern by the last adaptive render
         self.last_full_pixels: int | None = None
-        self._source = kernel_source()
+        self._source = program_source()
         self._kernels: dict[tuple, object] = {}
         self._build_lock = threading.Lock()
         self._buffers: dict[str, tuple[int, object]] = {}
@@ -328,8 +326,10 @@ class Renderer:
             f"-DHAS_INPUT={int(structure.has_input)}",
             f"-DEDGES={EDGE_MODES.index(structure.edges)}",
             f"-DYLANES={self.yuv_lanes}",
+            f"-DPSTRIDE={PSTRIDE}",
+            f"-DCOLOR_SLOT={COLOR_SLOTS[0]}",
         ]
-        program = self.build_program(_walk_source(structure.types) + self._source, options)
+        program = self.build_program(walk_source(structure.types) + self._source, options)
         names = ("marble", "marble_centres", "marble_classify", "marble_list")
         names += (
             "marble_table",

@@ -7,8 +7,9 @@ so an editor that uses it agrees with the loader. What a schema cannot say
 
 Each op is dispatched on its ``type`` with ``if``/``then``, so editors complete
 the fields of the op being written and errors name that op's own fields. Every
-numeric parameter, point and color may be a keyframe track; ``PARAM_KINDS``
-names the value kind of each op parameter (``$defs`` entries).
+numeric parameter, point and color may be a keyframe track. The ops, their
+parameters' kinds (``$defs`` entries) and help texts come from the op registry
+(:mod:`marblevideo.ops`).
 """
 
 from __future__ import annotations
@@ -17,8 +18,9 @@ import copy
 from functools import lru_cache
 
 from marblevideo.antialias import PATTERNS
-from marblevideo.frame import EDGE_MODES, OP_PARAMS
+from marblevideo.frame import EDGE_MODES
 from marblevideo.keyframes import EASE_NAMES
+from marblevideo.ops import REGISTRY
 
 SCHEMA_ID = "urn:marblevideo:recipe:1"
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
@@ -26,53 +28,8 @@ DRAFT = "https://json-schema.org/draft/2020-12/schema"
 #: Largest magnitude of any number: values must stay well inside float32.
 LIMIT = 1e30
 
-#: Value kind of every op parameter, in ``OP_PARAMS`` order.
-PARAM_KINDS: dict[str, dict[str, str]] = {
-    "drop": {"center": "point", "radius": "positive", "color": "color"},
-    "spray": {"center": "point", "radius": "positive", "color": "color"},
-    "tine": {"point": "point", "angle": "number", "alpha": "number", "lambda": "positive"},
-    "comb": {
-        "point": "point",
-        "angle": "number",
-        "spacing": "positive",
-        "alpha": "number",
-        "lambda": "positive",
-    },
-    "wave": {"amplitude": "number", "wavelength": "positive", "phase": "number", "angle": "number"},
-    "circle": {"center": "point", "radius": "nonnegative", "alpha": "number", "lambda": "positive"},
-    "vortex": {"center": "point", "alpha": "number", "lambda": "positive"},
-}
-assert {op: tuple(kinds) for op, kinds in PARAM_KINDS.items()} == OP_PARAMS
-
-OP_HELP = {
-    "drop": "Ink drop: paint outside is pushed away, its area preserved.",
-    "spray": "A droplet of ink that does not deform the pattern.",
-    "tine": "One tine drawn along a straight line.",
-    "comb": "A rigid comb of parallel tines, `spacing` apart.",
-    "wave": "Sinusoidal displacement along `angle`.",
-    "circle": "A tine moved along a circle around `center`.",
-    "vortex": "A swirl that winds tighter towards its centre.",
-}
-
-PARAM_HELP = {
-    "center": "Centre [x, y] in canvas units (origin top-left, y down).",
-    "point": "A point [x, y] on the line, in canvas units (origin top-left, y down).",
-    "radius": "Radius in canvas units.",
-    "color": 'Ink color, "#rrggbb" or [r, g, b] with 0..255 integers.',
-    "angle": "Direction in degrees: 0 points to +x, 90 to +y (down).",
-    "alpha": "Maximum shift in canvas units; negative reverses the motion.",
-    "lambda": "Sharpness, > 0: the shift falls to half at distance lambda.",
-    "spacing": "Distance between tines in canvas units, > 0.",
-    "amplitude": "Amplitude of the displacement in canvas units.",
-    "wavelength": "Wavelength in canvas units, > 0.",
-    "phase": "Phase in degrees.",
-}
-_PARAM_HELP_BY_OP = {
-    ("circle", "alpha"): "Arc length of the motion; positive turns clockwise on screen.",
-    ("vortex", "alpha"): "Arc length of the motion; positive turns clockwise on screen.",
-    ("circle", "radius"): "Radius of the circle in canvas units, >= 0.",
-    ("wave", "angle"): "Direction of the displacement in degrees: 0 is +x, 90 is +y (down).",
-}
+#: Value kind of every op parameter, by op type (from the op registry).
+PARAM_KINDS: dict[str, dict[str, str]] = {name: d.kinds for name, d in REGISTRY.items()}
 
 _TIME_HELP = {
     "start": "Seconds: the op appears (progress p goes 0 -> 1) from here.",
@@ -111,18 +68,18 @@ def _track(kind: str) -> dict:
 
 
 def _op(op: str) -> dict:
+    definition = REGISTRY[op]
     props: dict = {"type": {"const": op}}
-    for name, kind in PARAM_KINDS[op].items():
-        help_ = _PARAM_HELP_BY_OP.get((op, name), PARAM_HELP[name])
-        props[name] = {**_ref(f"{kind}Param"), "description": help_}
+    for param in definition.params:
+        props[param.name] = {**_ref(f"{param.kind}Param"), "description": param.help}
     for name, help_ in _TIME_HELP.items():
         props[name] = {**_ref("time"), "description": help_}
     return {
         "title": f"{op} op",
-        "description": OP_HELP[op],
+        "description": definition.help,
         "type": "object",
         "properties": props,
-        "required": ["type", *PARAM_KINDS[op]],
+        "required": ["type", *definition.kinds],
         "additionalProperties": False,
         "dependentRequired": {"end": ["start"]},
     }
@@ -173,19 +130,19 @@ def _build() -> dict:
                 },
             ],
         },
-        **{op: _op(op) for op in OP_PARAMS},
+        **{op: _op(op) for op in REGISTRY},
         "op": {
             "type": "object",
             "required": ["type"],
             "properties": {
-                "type": {"title": "op type", "type": "string", "enum": list(OP_PARAMS)},
+                "type": {"title": "op type", "type": "string", "enum": list(REGISTRY)},
             },
             "allOf": [
                 {
                     "if": {"properties": {"type": {"const": op}}, "required": ["type"]},
                     "then": _ref(op),
                 }
-                for op in OP_PARAMS
+                for op in REGISTRY
             ],
         },
     }

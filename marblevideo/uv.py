@@ -33,8 +33,8 @@ import numpy as np
 
 from marblevideo.antialias import pattern
 from marblevideo.errors import MediaError, UsageError
-from marblevideo.frame import INK_OPS, FrameSpec, geometry
-from marblevideo.reference import inverse_walk, sample_bilinear
+from marblevideo.frame import FrameSpec, geometry
+from marblevideo.reference import ink_colors, shade
 
 #: Subsample points walked at once.
 CHUNK = 1 << 19
@@ -155,10 +155,7 @@ def render_uv(
     dxx, dyx = _derivative(cx, surface, 1, cw / 2), _derivative(cy, surface, 1, ch / 2)
     dxy, dyy = _derivative(cx, surface, 0, cw / 2), _derivative(cy, surface, 0, ch / 2)
     idx = np.flatnonzero(surface.ravel())
-    colors = np.array(
-        [(*op["color"], 255.0) if op.type in INK_OPS else (0.0,) * 4 for op in spec.ops]
-    ).reshape(-1, 4)
-    bg = np.array([*spec.background, 255.0])
+    colors = ink_colors(spec)
     to_input = None
     if image is not None:
         size = (image.shape[1], image.shape[0])
@@ -175,21 +172,7 @@ def render_uv(
         ax, ay = dxx.ravel()[sel], dyx.ravel()[sel]
         bx, by = dxy.ravel()[sel], dyy.ravel()[sel]
         for ox, oy, weight in subs:
-            x0, y0, ink = inverse_walk(spec, px + ox * ax + oy * bx, py + ox * ay + oy * by)
-            value = np.empty((sel.size, 4))
-            hit = ink >= 0
-            value[hit] = colors[ink[hit]]
-            if image is None:
-                value[~hit] = bg
-            else:
-                kx, ky, tx, ty = to_input
-                value[~hit] = sample_bilinear(
-                    image,
-                    x0[~hit] * kx + tx,
-                    y0[~hit] * ky + ty,
-                    spec.edges,
-                    spec.background,
-                )
-            acc += weight * value
+            points = (px + ox * ax + oy * bx, py + ox * ay + oy * by)
+            acc += weight * shade(spec, *points, image, to_input, colors)
         flat_out[sel] = np.clip(np.floor(acc + 0.5), 0, 255).astype(np.uint8)
     return out

@@ -3,7 +3,7 @@
 Every drop and spray of a :class:`~marblevideo.frame.FrameSpec` is a circle
 whose paint is carried by the *later* ops only: its boundary is sampled on the
 original circle and pushed through the float64 forward maps of
-:mod:`marblevideo.reference` (a later drop pushes earlier paint outward, a
+the later ops' definitions (:mod:`marblevideo.ops`; a later drop pushes earlier paint outward, a
 spray does not move anything). Refinement is adaptive, as in the paper: while
 the images of two neighbouring samples lie farther apart than the tolerance,
 a sample is inserted on the original circle at their mid-angle. An edge
@@ -34,8 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marblevideo.frame import INK_OPS, FrameSpec, fit
-from marblevideo.reference import forward
+from marblevideo.frame import FrameSpec, fit
+from marblevideo.ops import identity, op_def
 
 #: Default tolerance, output pixels.
 DEFAULT_TOLERANCE = 0.5
@@ -74,11 +74,10 @@ class VectorStats:
 def push_forward(spec: FrameSpec, first: int, x: np.ndarray, y: np.ndarray):
     """Carry canvas points through ``spec.ops[first:]`` by their forward maps."""
     for op in spec.ops[first:]:
-        if op.type == "spray":
+        definition = op_def(op.type)
+        if definition.forward is identity or definition.absent(op.values):
             continue
-        if op.type == "drop" and op["radius"] <= 0:
-            continue
-        x, y = forward(op, x, y)
+        x, y = definition.forward(op.values, x, y)
     return x, y
 
 
@@ -86,7 +85,8 @@ def _outlines(spec: FrameSpec, tol: float, stats: VectorStats) -> list[tuple[int
     """(op index, (n, 2) refined outline in canvas units) for every ink op present."""
     shapes = []  # per shape: [index, theta, x, y]
     for k, op in enumerate(spec.ops):
-        if op.type not in INK_OPS or op["radius"] <= 0:
+        definition = op_def(op.type)
+        if not definition.ink or definition.absent(op.values):
             continue
         r = float(op["radius"])
         # start with edges about 8 tolerances long on the original circle (at least 64)

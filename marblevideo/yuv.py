@@ -37,7 +37,8 @@ from functools import cache, cached_property
 
 import numpy as np
 
-from marblevideo.frame import INK_OPS, FrameSpec, Geometry, OpState
+from marblevideo.frame import FrameSpec, Geometry, OpState
+from marblevideo.ops import is_ink
 from marblevideo.reference import render as reference_render
 
 # AVColorSpace -> (name, Kr, Kb); 2 is "unspecified", taken as BT.601 like swscale
@@ -204,7 +205,7 @@ def coded_spec(spec: FrameSpec, matrix: YuvMatrix) -> FrameSpec:
     codes (Y, Cb, Cr) in place of (r, g, b): what planar rendering blends."""
     ops = tuple(
         OpState(op.type, {**op.values, "color": _codes(matrix, tuple(op["color"]))})
-        if op.type in INK_OPS
+        if is_ink(op.type)
         else op
         for op in spec.ops
     )

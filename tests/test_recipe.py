@@ -11,8 +11,9 @@ import numpy as np
 import pytest
 
 from marblevideo.errors import RecipeError, UsageError
-from marblevideo.frame import OP_PARAMS, FrameSpec
+from marblevideo.frame import FrameSpec
 from marblevideo.keyframes import EASE_NAMES
+from marblevideo.ops import REGISTRY
 from marblevideo.recipe import Op, Recipe, load_recipe, parse_recipe
 from marblevideo.schema import schema
 
@@ -50,9 +51,9 @@ def test_every_op_parses_with_the_contract_param_names(name):
     recipe = parse_recipe(recipe_with(OPS[name]), "x.json")
     (op,) = recipe.ops
     assert op.type == name and op.index == 0 and op.start is None and op.end is None
-    assert tuple(op.params) == OP_PARAMS[name]
+    assert tuple(op.params) == tuple(REGISTRY[name].kinds)
     state = recipe.at(0.0).ops[0]
-    assert tuple(state.values) == OP_PARAMS[name]
+    assert tuple(state.values) == tuple(REGISTRY[name].kinds)
     for param, value in OPS[name].items():
         if param == "type":
             continue
@@ -280,7 +281,7 @@ def test_unknown_fields_suggest():
 
 @pytest.mark.parametrize("name", list(OPS))
 def test_missing_required_fields(name):
-    for param in OP_PARAMS[name]:
+    for param in REGISTRY[name].kinds:
         op = {k: v for k, v in OPS[name].items() if k != param}
         assert op_fault(op) == f"swirl.json: ops[1]: missing required field '{param}'"
     assert fault({"canvas": [1, 1]}) == "swirl.json: missing required field 'ops'"
@@ -480,8 +481,8 @@ def test_schema_is_a_valid_draft_2020_12_schema():
     doc = schema()
     jsonschema.Draft202012Validator.check_schema(doc)
     assert doc["$schema"] == "https://json-schema.org/draft/2020-12/schema" and doc["$id"]
-    assert set(OP_PARAMS) <= set(doc["$defs"])
-    for name, params in OP_PARAMS.items():
+    assert set(REGISTRY) <= set(doc["$defs"])
+    for name, params in ((n, tuple(d.kinds)) for n, d in REGISTRY.items()):
         props = doc["$defs"][name]["properties"]
         assert set(props) == {"type", "start", "end", *params}
         assert all(props[p]["description"] for p in params)

@@ -1,0 +1,110 @@
+/* prelude.cl: what every part of the program shares: build-time defines,
+ * the vector types and the math helpers of the op sections.
+ *
+ * Conventions (shared/recipe-format.md): canvas units, origin top-left,
+ * x right, y down; output pixel (i, j) has its centre at (i + 0.5, j + 0.5);
+ * input pixels likewise; images are packed RGBA8 (R in the low byte).
+ *
+ * The program is this prelude, one file of op sections per op family
+ * (kernels/ops/<family>.cl, one `op_<type>(OP_ARGS)` each) and marble.cl (the
+ * walk, sampling and the kernels), after a header that marblevideo/opencl
+ * generates from the op registry (WALK, INK). Build-time defines (-D):
+ *   LANES    pixels per work-item along x, as one vector: on CPUs the device's
+ *            native float width (4 SSE, 8 AVX/AVX2, 16 AVX-512), 1 on GPUs
+ *   YLANES   pixels per work-item of the I420 and quad kernels (4, 8 or 16)
+ *   CHAINS   independent (row, subsample) jobs evaluated side by side per work-item
+ *   ROWS     output rows per work-item (> 1 only without antialiasing)
+ *   NSAMPLES subsamples per pixel; offsets and weights arrive in `samples`
+ *   HAS_INPUT 1: sample the input image where no ink is hit; 0: blank sheet
+ *   EDGES    0 clamp, 1 repeat, 2 mirror, 3 background (what lies outside the input)
+ *   PSTRIDE  floats per op in `params` (the last holds the op's type code)
+ *   COLOR_SLOT where an ink op's red, green, blue start in its floats
+ * Per-frame values live in `params`, packed by each op's definition
+ * (marblevideo/ops: its `pack`). Changing them never rebuilds the program.
+ *
+ * No vector wider than the device's native width is passed by value to a
+ * function (an x86 ABI change that clang warns about): vectors are LANES or
+ * YLANES wide, both at most the native width on CPUs, and the wider kernel
+ * arguments (the I420 matrix) are read only in macros.
+ */
+
+#define CAT_(a, b) a##b
+#define CAT(a, b) CAT_(a, b)
+
+#if LANES == 1
+typedef float vf;
+typedef int vi;
+typedef uint vu;
+#define IOTA 0.0f
+#define ANY(m) ((m) != 0)
+#define VLOAD(arr) ((arr)[0])
+#define VSTORE(v, arr) ((arr)[0] = (v))
+#else
+typedef CAT(float, LANES) vf;
+typedef CAT(int, LANES) vi;
+typedef CAT(uint, LANES) vu;
+#define ANY(m) any(m)
+#define VLOAD(arr) CAT(vload, LANES)(0, (arr))
+#define VSTORE(v, arr) CAT(vstore, LANES)((v), 0, (arr))
+#if LANES == 4
+#define IOTA ((vf)(0, 1, 2, 3))
+#elif LANES == 8
+#define IOTA ((vf)(0, 1, 2, 3, 4, 5, 6, 7))
+#elif LANES == 16
+#define IOTA ((vf)(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15))
+#else
+#error "LANES must be 1, 4, 8 or 16"
+#endif
+#endif
+
+#define CVT_F(v) CAT(convert_float, LANES)(v)
+#define CVT_I(v) CAT(convert_int, LANES)(v)
+#define CVT_U(v) CAT(convert_uint, LANES)(v)
+#if LANES == 1
+#undef CVT_F
+#undef CVT_I
+#undef CVT_U
+#define CVT_F(v) convert_float(v)
+#define CVT_I(v) convert_int(v)
+#define CVT_U(v) convert_uint(v)
+#endif
+
+/* sin(2*pi*t) without the library sin: exact range reduction in turns, a
+ * fold to [-1/4, 1/4] turn and an odd Taylor polynomial (error < 1e-7). */
+inline vf sin_turns(vf t) {
+    vf u = t - floor(t + 0.5f);                        /* [-0.5, 0.5) */
+    vf f = select(u, copysign((vf)0.5f, u) - u, fabs(u) > 0.25f);
+    vf x = f * 6.28318530718f;
+    vf x2 = x * x;
+    return x * (1.0f + x2 * (-1.6666667e-1f + x2 * (8.3333333e-3f + x2 * (-1.9841270e-4f
+               + x2 * (2.7557319e-6f + x2 * -2.5052108e-8f)))));
+}
+
+/* sin and cos of 2*pi*t from one range reduction: the half angle h = pi*u,
+ * u in [-1/2, 1/2), has Taylor polynomials good to 6e-8 on [-pi/2, pi/2];
+ * then sin = 2 sin(h) cos(h), cos = 1 - 2 sin(h)^2. Fewer live values than two
+ * sin_turns calls, which spilled registers with 4 chains of 16 lanes. */
+inline void sincos_turns(vf t, vf *sn, vf *cs) {
+    vf h = (t - floor(t + 0.5f)) * 3.14159265359f;
+    vf h2 = h * h;
+    vf s = h * (1.0f + h2 * (-1.6666667e-1f + h2 * (8.3333333e-3f + h2 * (-1.9841270e-4f
+               + h2 * (2.7557319e-6f + h2 * -2.5052108e-8f)))));
+    vf c = 1.0f + h2 * (-0.5f + h2 * (4.1666667e-2f + h2 * (-1.3888889e-3f + h2 * (2.4801587e-5f
+               + h2 * (-2.7557319e-7f + h2 * 2.0876757e-9f)))));
+    *sn = 2.0f * s * c;
+    *cs = 1.0f - 2.0f * s * s;
+}
+
+/* 1/x for x > 0: the device's fast reciprocal and one Newton step (full float
+ * precision from an estimate of 12+ bits; 12% faster walks on PoCL than a
+ * division). x is capped at 1e30 so that an infinite x gives ~0, not NaN. */
+inline vf recip(vf x) {
+    x = fmin(x, 1e30f);
+    vf y = native_recip(x);
+    return y * (2.0f - x * y);
+}
+
+/* The fixed signature of an op section: the point (x, y) of each lane walked
+ * back through op i (P' -> P, in place), `ink` set to i where the point is ink
+ * of op i and no later op's (ink < 0 so far), `p` the op's packed floats. */
+#define OP_ARGS vf *x, vf *y, vi *ink, __constant const float *p, int i

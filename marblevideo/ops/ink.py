@@ -1,0 +1,78 @@
+"""Ink: ``drop`` (incompressible: the paint outside is pushed away, its area
+preserved) and ``spray`` (a droplet that deforms nothing).
+
+Where the contract is silent: the forward map of a drop at its very centre
+(the paint at C is torn open) is C + (r, 0), the limit approached along +x;
+its inverse at a point inside the drop (ink, not a moved point) is C; an ink
+op of radius 0 (progress 0) is absent: identity, and no ink. An ink op holds
+the points *strictly* inside its circle.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from marblevideo.ops.base import CENTER, COLOR, RADIUS, OpDef, Points, Values, identity
+
+
+def contains(v: Values, x: np.ndarray, y: np.ndarray) -> np.ndarray:
+    """|P - C| < r, strictly; nowhere for a radius of 0."""
+    if v["radius"] <= 0:
+        return np.zeros(np.shape(x), dtype=bool)
+    cx, cy = v["center"]
+    return np.hypot(x - cx, y - cy) < v["radius"]
+
+
+def pack_circle(v: Values, lists: list) -> tuple[float, ...]:
+    """cx, cy, r^2, red, green, blue (the colour at COLOR_SLOTS)."""
+    return (*v["center"], v["radius"] ** 2, *v["color"])
+
+
+def drop_forward(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
+    """P' = C + (P - C) sqrt(1 + r^2 / |P - C|^2); C + (r, 0) at P = C."""
+    cx, cy = v["center"]
+    r = float(v["radius"])
+    qx, qy = x - cx, y - cy
+    r2 = qx * qx + qy * qy
+    at_c = r2 == 0
+    k = np.sqrt(1 + np.divide(r * r, r2, out=np.zeros_like(r2), where=~at_c))
+    return np.where(at_c, cx + r, cx + qx * k), np.where(at_c, cy, cy + qy * k)
+
+
+def drop_inverse(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
+    """P = C + (P' - C) sqrt(1 - r^2 / |P' - C|^2) outside the drop; C inside."""
+    cx, cy = v["center"]
+    r = float(v["radius"])
+    qx, qy = x - cx, y - cy
+    big_r = np.hypot(qx, qy)
+    # sqrt(1 - r^2 / R^2) written as sqrt((R - r)(R + r)) / R: no cancellation near R = r.
+    root = np.sqrt(np.maximum((big_r - r) * (big_r + r), 0.0))
+    k = np.divide(root, big_r, out=np.zeros_like(big_r), where=big_r > 0)
+    return cx + qx * k, cy + qy * k
+
+
+DROP = OpDef(
+    type="drop",
+    help="Ink drop: paint outside is pushed away, its area preserved.",
+    params=(CENTER, RADIUS, COLOR),
+    progress=(("radius", "sqrt"),),
+    pack=pack_circle,
+    inverse=drop_inverse,
+    forward=drop_forward,
+    contains=contains,
+    example={"type": "drop", "center": [40, 30], "radius": 18, "color": "#1d3557"},
+)
+
+SPRAY = OpDef(
+    type="spray",
+    help="A droplet of ink that does not deform the pattern.",
+    params=(CENTER, RADIUS, COLOR),
+    progress=(("radius", "sqrt"),),
+    pack=pack_circle,
+    inverse=identity,
+    forward=identity,
+    contains=contains,
+    example={"type": "spray", "center": [60, 20], "radius": 9, "color": [233, 196, 106]},
+)
+
+OPS = (DROP, SPRAY)
