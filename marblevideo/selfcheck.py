@@ -246,8 +246,9 @@ class CaseResult:
 @dataclass
 class DeviceReport:
     """The check of one device: its results in case order, and ``error``: the one
-    line of a failure that stopped it (the device could not be opened, a program
-    failed to build, an OpenCL call failed); the cases after it did not run."""
+    line of a failure that stopped it (the device could not be opened, or in the
+    case named ``stopped_in`` a program failed to build or an OpenCL call
+    failed); the cases after it did not run."""
 
     label: str
     name: str
@@ -255,6 +256,7 @@ class DeviceReport:
     kind: str
     results: list[CaseResult] = field(default_factory=list)
     error: str | None = None
+    stopped_in: str | None = None
     seconds: float = 0.0
 
     @property
@@ -335,14 +337,15 @@ def check_device(
     try:
         for case in cases() if renderer else ():
             _check_case(renderer, case, image, reference, expected, report.results)
-    except _Stopped as stop:
-        report.error = str(stop)
+    except _Stopped:
+        failed = report.results[-1]
+        report.error, report.stopped_in = failed.error, failed.name
     report.seconds = time.perf_counter() - started
     return report
 
 
 class _Stopped(Exception):
-    """A case that failed to run: the message is the device's one-line error."""
+    """The last result failed to run (its ``error`` says why): the device fails."""
 
 
 def _check_case(renderer, case: Case, image, reference, expected: dict, results: list) -> None:
@@ -362,7 +365,7 @@ def _check_case(renderer, case: Case, image, reference, expected: dict, results:
             got = _run(renderer, case, spec, geom, image)
         except Exception as exc:  # a build or OpenCL failure: the device fails
             result.error = _one_line(exc)
-            raise _Stopped(f"in {result.name}: {result.error}") from None
+            raise _Stopped from None
         result.reused = bool(renderer.last_reused)
         result.path = _path(renderer, case, spec, *out_size)
         if got.shape != want.shape:
@@ -390,7 +393,8 @@ def verdict_line(report: DeviceReport) -> str:
     head = f"{report.label} {report.name}"
     good = sum(r.agrees for r in report.results)
     if report.error:
-        return f"{head}: FAILED {report.error} ({good} cases agreed before)"
+        where = f" in {report.stopped_in} ({good} cases agreed before it)"
+        return f"{head}: FAILED{where if report.stopped_in else ''}: {report.error}"
     verdict = "" if report.agrees else "DISAGREES: "
     return (
         f"{head}: {verdict}{good}/{len(report.results)} cases agree (worst "
