@@ -25,6 +25,7 @@ examples:
   marblevideo photo.jpg --ops samples/comb-wave.json -o out.png --time 2
   marblevideo --ops samples/figure6.json -o design.png --size 2048x2048
   marblevideo devices            list OpenCL devices
+  marblevideo devices --check    test each device against the NumPy reference
   marblevideo schema             print the recipe's JSON Schema
   marblevideo live test --ops samples/swirl.json --preview   live (see live --help)
 
@@ -167,9 +168,29 @@ def parse_encoder_opts(items: list[str]) -> dict[str, str]:
 def _cmd_devices(argv: list[str]) -> int:
     from marblevideo.device import describe_devices, list_devices
 
-    _Parser(prog="marblevideo devices", description="List OpenCL devices.").parse_args(argv)
-    print(describe_devices())
-    return 0 if list_devices() else 1
+    p = _Parser(
+        prog="marblevideo devices",
+        description="List OpenCL devices; with --check, test each one against the NumPy reference.",
+        epilog="--check renders a fixed set of small recipes (every op type, "
+        "antialiasing pattern and edges mode, over an input and on a blank sheet, a "
+        "long recipe, I420 frames, reused maps) on each device and compares them with "
+        "the NumPy reference. Exit status: 0 every checked device agrees, 1 one "
+        "disagrees or fails, 2 usage error.",
+    )
+    p.add_argument(
+        "--check", action="store_true", help="render test recipes on each device and compare"
+    )
+    p.add_argument("--device", help="check only this device: P:D or a name (with --check)")
+    p.add_argument("-v", "--verbose", action="store_true", help="--check: every case's detail")
+    args = p.parse_args(argv)
+    if not args.check:
+        if args.device or args.verbose:
+            raise UsageError(f"{'--device' if args.device else '--verbose'} goes with --check")
+        print(describe_devices())
+        return 0 if list_devices() else 1
+    from marblevideo.selfcheck import run_check
+
+    return run_check(args.device, verbose=args.verbose)
 
 
 def _cmd_schema(argv: list[str]) -> int:

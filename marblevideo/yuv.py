@@ -225,20 +225,23 @@ def chroma_geometry(geom: Geometry) -> Geometry:
     )
 
 
-def render_planes(spec: FrameSpec, geom: Geometry, planes, matrix: YuvMatrix) -> np.ndarray:
+def render_planes(
+    spec: FrameSpec, geom: Geometry, planes, matrix: YuvMatrix, render=reference_render
+) -> np.ndarray:
     """Reference of planar rendering: the I420 ``planes`` (colours in ``matrix``)
     marbled by ``spec`` at ``geom`` (even output), as I420 in the same matrix.
 
-    Each plane is rendered by :func:`marblevideo.reference.render` as one channel
-    of an RGBA image, with :func:`coded_spec`'s colours: luma with ``geom``,
-    chroma with :func:`chroma_geometry`."""
+    Each plane is rendered by ``render`` (:func:`marblevideo.reference.render`,
+    or a stand-in with its signature) as one channel of an RGBA image, with
+    :func:`coded_spec`'s colours: luma with ``geom``, chroma with
+    :func:`chroma_geometry`."""
     if geom.out_w % 2 or geom.out_h % 2:
         raise ValueError(f"I420 needs even sizes, got {geom.out_w}x{geom.out_h}")
     coded = coded_spec(spec, matrix)
     y, u, v = split_i420(planes)
     opaque = np.full(y.shape, 255, np.uint8)
-    luma = reference_render(coded, geom, np.dstack([y, y, y, opaque]))
+    luma = render(coded, geom, np.dstack([y, y, y, opaque]))
     half = opaque[: u.shape[0], : u.shape[1]]
-    chroma = reference_render(coded, chroma_geometry(geom), np.dstack([u, u, v, half]))
+    chroma = render(coded, chroma_geometry(geom), np.dstack([u, u, v, half]))
     codes = (luma[..., 0], chroma[..., 1], chroma[..., 2])
     return packed_i420(tuple(np.ascontiguousarray(c) for c in codes))

@@ -36,6 +36,7 @@ from marblevideo.images import MAX_PIXELS
 from marblevideo.recipe import parse_recipe
 from marblevideo.reference import render as reference_render
 from marblevideo.renderer import MAX_SIDE, Renderer, Structure
+from marblevideo.selfcheck import agreement
 
 CANVAS = {"canvas": [64, 48], "antialias": "none"}
 
@@ -74,11 +75,6 @@ def blank(tmp_path) -> Path:
 
 
 # ---------------------------------------------------------------------------- extreme values
-
-
-def agreement(a: np.ndarray, b: np.ndarray, levels: int = 4) -> float:
-    diff = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(axis=2)
-    return float((diff <= levels).mean())
 
 
 def against_reference(renderer, doc: dict, size=(32, 24), image=None, share=0.97):

@@ -12,15 +12,7 @@ from recipes import EDGES, PATTERNS, make_image, random_recipe
 from marblevideo.frame import geometry
 from marblevideo.recipe import parse_recipe
 from marblevideo.reference import render as reference_render
-
-LEVELS = 4  # "within a few levels" of 255
-SHARE = 0.99  # of pixels, per case
-
-
-def agreement(a: np.ndarray, b: np.ndarray) -> float:
-    """Share of pixels whose every channel is within LEVELS."""
-    diff = np.abs(a.astype(np.int16) - b.astype(np.int16)).max(axis=2)
-    return float((diff <= LEVELS).mean())
+from marblevideo.selfcheck import SHARE, agreement  # the tolerances `devices --check` uses
 
 
 def check(renderer, recipe_dict, size, image=None, t=None):

@@ -9,12 +9,12 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from recipes import EDGES, PATTERNS, make_image, random_recipe
-from test_kernel import SHARE, agreement
 
 from marblevideo.frame import geometry
 from marblevideo.recipe import parse_recipe
 from marblevideo.reference import render as reference_render
 from marblevideo.renderer import Renderer
+from marblevideo.selfcheck import SHARE, agreement
 
 
 @pytest.fixture(scope="module")

@@ -11,6 +11,7 @@ from dataclasses import replace
 from marblevideo.ops import ink, rotation, shear
 from marblevideo.ops.base import (
     COLOR_SLOTS,
+    EXAMPLE_CANVAS,
     KINDS,
     NUMERIC_KINDS,
     PSTRIDE,
@@ -58,6 +59,7 @@ def is_ink(type_: str) -> bool:
 
 __all__ = [
     "COLOR_SLOTS",
+    "EXAMPLE_CANVAS",
     "FAMILIES",
     "KINDS",
     "NUMERIC_KINDS",

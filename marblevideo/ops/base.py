@@ -41,6 +41,8 @@ PROGRESS_LAWS = {
     "linear": lambda value, p: value * p,
     "sqrt": lambda value, p: value * math.sqrt(p),  # a poured area growing linearly
 }
+#: The canvas every op definition's ``example`` is drawn for.
+EXAMPLE_CANVAS = (80.0, 60.0)
 #: Slider laws of the live page: (min, max, step) for a value v on a canvas of side size.
 SLIDER_LAWS = ("angle", "phase", "shift", "amplitude", "length")
 
@@ -88,7 +90,8 @@ class OpDef:
     - ``inverse``, ``forward``: the NumPy float64 maps P' -> P and P -> P'.
     - ``contains(v, x, y)``: for ink ops, whether each point is ink (ends the
       walk with the op's ``color``); None for ops that are not ink.
-    - ``example``: a valid op of this type as JSON, for tests and docs.
+    - ``example``: a valid op of this type as JSON, drawn for :data:`EXAMPLE_CANVAS`
+      (for tests, the device check and docs).
     - ``family``: the module that defines it, and so the kernel file
       ``kernels/ops/<family>.cl`` that holds its ``op_<type>`` section.
     """

@@ -1,0 +1,120 @@
+"""Every op is complete: a definition, a kernel section, a reference, forward and
+inverse maps that undo each other, a docs paragraph and an example that renders
+on the device as the reference does. Adding an op without one of them fails here."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from marblevideo.frame import geometry
+from marblevideo.ops import COLOR_SLOTS, PSTRIDE, REGISTRY, identity, op_def
+from marblevideo.ops.base import PROGRESS_LAWS, slider_range
+from marblevideo.recipe import parse_recipe
+from marblevideo.reference import render as reference_render
+from marblevideo.renderer import UNROLL_LIMIT, kernel_source, pack_params, walk_source
+from marblevideo.selfcheck import LEVELS, SHARE, agreement
+
+ROOT = Path(__file__).resolve().parent.parent
+OPS = list(REGISTRY.values())
+IDS = [d.type for d in OPS]
+SECTION = re.compile(r"^inline void (op_\w+)\(OP_ARGS\)", re.M)
+
+
+def test_type_codes_follow_the_registry():
+    assert [d.code for d in OPS] == list(range(len(OPS)))
+    with pytest.raises(ValueError, match="unknown op type 'nope'"):
+        op_def("nope")
+
+
+def test_every_kernel_section_belongs_to_a_registered_op():
+    families = {d.family for d in OPS}
+    sections = {
+        name
+        for family in families
+        for name in SECTION.findall(kernel_source(f"ops/{family}.cl"))
+    }
+    assert sections == {d.kernel_function for d in OPS}
+    assert sorted(p.stem for p in (ROOT / "kernels" / "ops").glob("*.cl")) == sorted(families)
+
+
+@pytest.mark.parametrize("definition", OPS, ids=IDS)
+def test_the_op_has_its_kernel_section(definition):
+    source = kernel_source(f"ops/{definition.family}.cl")
+    assert definition.kernel_function in SECTION.findall(source)
+
+
+@pytest.mark.parametrize("definition", OPS, ids=IDS)
+def test_the_op_has_its_docs_paragraph(definition):
+    docs = (ROOT / "docs" / "recipe-format.md").read_text()
+    assert re.search(rf"^### `{definition.type}`", docs, re.M), definition.type
+    assert definition.help and all(p.help for p in definition.params)
+
+
+@pytest.mark.parametrize("definition", OPS, ids=IDS)
+def test_the_example_is_a_valid_op_of_its_type(definition):
+    recipe = parse_recipe({"canvas": [80, 60], "ops": [dict(definition.example)]}, "ex.json")
+    assert recipe.ops[0].type == definition.type
+    assert set(recipe.ops[0].params) == set(definition.kinds)
+
+
+@pytest.mark.parametrize("definition", OPS, ids=IDS)
+def test_progress_laws_and_sliders_are_well_formed(definition):
+    for name, law in definition.progress:
+        assert name in definition.kinds and law in PROGRESS_LAWS
+    for param in definition.params:
+        if param.slider is not None:
+            lo, hi, step = slider_range(param, 1.0, 500.0)
+            assert lo < hi and step > 0
+
+
+@pytest.mark.parametrize("definition", OPS, ids=IDS)
+def test_packing_fits_and_ink_colours_sit_where_the_kernel_reads_them(definition):
+    recipe = parse_recipe({"canvas": [80, 60], "ops": [dict(definition.example)]}, "ex.json")
+    spec = recipe.at(recipe.end_time())
+    row = pack_params(spec)
+    assert row.shape == (PSTRIDE,) and row[-1] == definition.code
+    if definition.ink:
+        assert tuple(row[list(COLOR_SLOTS)]) == spec.ops[0]["color"]
+
+
+@pytest.mark.parametrize("definition", OPS, ids=IDS)
+def test_forward_then_inverse_is_the_identity(definition):
+    """On points where the op is not ink, in float64: the contract's exact inverses."""
+    recipe = parse_recipe({"canvas": [80, 60], "ops": [dict(definition.example)]}, "ex.json")
+    values = recipe.at(recipe.end_time()).ops[0].values
+    rng = np.random.default_rng(definition.code)
+    x, y = rng.uniform(-40, 120, 4000), rng.uniform(-40, 100, 4000)
+    fx, fy = definition.forward(values, x, y)
+    if definition.ink and definition.forward is not identity:  # a drop pushes paint out
+        assert not definition.contains(values, fx, fy).any()
+    bx, by = definition.inverse(values, fx, fy)
+    assert np.allclose(bx, x, atol=1e-9) and np.allclose(by, y, atol=1e-9)
+
+
+@pytest.mark.parametrize("definition", OPS, ids=IDS)
+def test_the_example_renders_on_the_device_as_the_reference_does(renderer, definition):
+    """Over a picture and on a blank sheet, unrolled and in the loop walk."""
+    picture = np.random.default_rng(3).integers(0, 256, (60, 80, 4), dtype=np.uint8)
+    picture[..., 3] = 255
+    base = {"canvas": [80, 60], "antialias": "rgss", "ops": [dict(definition.example)]}
+    looped = {**base, "ops": [dict(definition.example)] * (UNROLL_LIMIT + 1)}
+    for doc, image in ((base, picture), (base, None), (looped, None)):
+        recipe = parse_recipe(doc, "ex.json")
+        spec = recipe.at(recipe.end_time())
+        geom = geometry(recipe.canvas, (80, 60), None if image is None else (80, 60))
+        ours = renderer.render(spec, geom, image)
+        share = agreement(ours, reference_render(spec, geom, image))
+        assert share >= SHARE, (definition.type, share, LEVELS)
+
+
+def test_the_loop_walk_has_one_case_per_op_type_and_no_default():
+    header = walk_source(("drop",) * (UNROLL_LIMIT + 1))
+    cases = re.findall(r"case (\d+): OP\(i, (\w+)\)", header)
+    assert cases == [(str(d.code), d.type) for d in OPS]
+    assert "default" not in header
+    inks = re.findall(r"code_ == (\d+)", header)
+    assert inks == [str(d.code) for d in OPS if d.ink]
