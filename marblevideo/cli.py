@@ -82,6 +82,7 @@ def _render_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
     p.add_argument("-q", "--quiet", action="store_true", help="no progress bar or notes")
+    p.add_argument("--verbose", action="store_true", help="show encoder and OpenCL build logs")
     p.add_argument("--version", action="version", version=f"marblevideo {__version__}")
     v = p.add_argument_group("video")
     v.add_argument("--start", type=float, metavar="S", help="render from S seconds of the input")
@@ -217,6 +218,7 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         overwrite=args.overwrite,
         quiet=args.quiet,
         progress=args.progress,
+        verbose=args.verbose,
     )
 
 

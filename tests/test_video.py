@@ -232,6 +232,10 @@ def test_faststart_moov_before_mdat(cfr, tmp_path):
         ("out.webm", {"codec": "libx264"}, "cannot hold h264"),
         ("out.mp4", {"pix_fmt": "yuv999p"}, "unknown pixel format"),
         ("out.mp4", {"preset": "fast", "codec": "libvpx-vp9"}, "--preset"),
+        ("out.mp4", {"preset": "superfast2"}, "no preset 'superfast2'"),
+        ("out.mp4", {"crf": 99}, "--crf"),
+        ("out.mp4", {"encoder_opts": {"nosuchkey": "1"}}, "no option 'nosuchkey'"),
+        ("out.mp4", {"encoder_opts": {"crf": "banana"}}, "crf=banana"),
         ("out.webm", {"audio": "aac"}, "cannot hold AAC"),
         ("out.mp4", {"audio": "mp3"}, "audio must be"),
         ("out.mp4", {"start": 2.0, "end": 1.0}, "must be after start"),
@@ -340,10 +344,16 @@ def test_bad_transform_result(cfr, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_encoder_failure_is_media_error(cfr, tmp_path):
-    with pytest.raises(MediaError):
-        transcode(cfr, tmp_path / "out.mp4", invert, quiet(encoder_opts={"crf": "banana"}))
-    assert list(tmp_path.iterdir()) == []
+def test_encoder_failure_is_media_error(tmp_path):
+    """What the settings check cannot see: MPEG-4 part 2 takes no time base
+    finer than 1/65535, and the output keeps the input's 1/90000."""
+    tb = Fraction(1, 90000)
+    src = write_clip(tmp_path / "in.mp4", size=(64, 48), frames=3, audio=False, time_base=tb)
+    out = tmp_path / "out"
+    out.mkdir()
+    with pytest.raises(MediaError, match="mpeg4 encoding failed"):
+        transcode(src, out / "out.mp4", invert, quiet(codec="mpeg4"))
+    assert list(out.iterdir()) == []
 
 
 def test_corrupt_packet_skipped_with_count(tmp_path):
