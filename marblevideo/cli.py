@@ -186,7 +186,7 @@ def _cmd_render(argv: list[str]) -> int:
     if out_ext in VIDEO_EXTENSIONS:
         from marblevideo.api import render_video
 
-        render_video(
+        stats = render_video(
             args.input,
             recipe,
             args.output,
@@ -195,6 +195,8 @@ def _cmd_render(argv: list[str]) -> int:
             fps=args.fps,
             **_video_options(args, size),
         )
+        if not args.quiet:
+            print(f"marblevideo: {stats.summary(args.output)}", file=sys.stderr)
         return 0
     raise UsageError(f"{args.output}: unknown output extension {out_ext or '(none)'!r}")
 

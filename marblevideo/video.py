@@ -51,7 +51,7 @@ Conventions
   one-line notice at the end (decoders that conceal damage, like H.264, report
   nothing, as in ffmpeg).
 - Notices (one line each) go to ``options.notify``, else to stderr prefixed by
-  ``marblevideo:``; they are also listed in :attr:`Stats.notes`.
+  ``marblevideo:`` (not when ``quiet``); they are also listed in :attr:`Stats.notes`.
 - Encoder settings are tried in :func:`plan_output`, before any input is opened
   (:mod:`marblevideo.encoders`); the encoder libraries' own log lines are off
   unless ``verbose``.
@@ -127,7 +127,7 @@ class VideoOptions:
     end: float | None = None  # --end: seconds on the input's clock (exclusive)
     size: tuple[int, int] | None = None  # --size W H: what the transform produces
     overwrite: bool = False  # -y
-    quiet: bool = False  # --quiet: no progress bar
+    quiet: bool = False  # --quiet: no progress bar, no notices on stderr
     progress: str = "auto"  # --progress auto|bar|json|off
     notify: Callable[[str], None] | None = None  # one-line notices; default stderr
     verbose: bool = False  # --verbose: the encoder libraries' and FFmpeg's own log lines
@@ -144,11 +144,20 @@ class Stats:
     corrupt_packets: int = 0  # input packets skipped as undecodable
     i420_frames: int = 0  # frames the transform took and gave as I420 (no swscale)
     seconds: float = 0.0  # wall time
+    duration: float = 0.0  # seconds of video written: first frame's start to last one's end
     notes: list[str] = field(default_factory=list)
 
     @property
     def fps(self) -> float:
         return self.frames / self.seconds if self.seconds > 0 else 0.0
+
+    def summary(self, path: str | os.PathLike) -> str:
+        """One line for the end of a job: ``wrote PATH: N frames, D s, WxH, F fps``
+        (the size as encoded; fps: frames per second of wall time)."""
+        size = "x".join(map(str, self.size)) if self.size else "no size"
+        return (
+            f"wrote {path}: {self.frames} frames, {self.duration:.2f} s, {size}, {self.fps:.1f} fps"
+        )
 
 
 @dataclass
@@ -205,7 +214,7 @@ def _say(options: VideoOptions, stats: Stats, message: str) -> None:
     stats.notes.append(message)
     if options.notify is not None:
         options.notify(message)
-    else:
+    elif not options.quiet:
         print(f"marblevideo: {message}", file=sys.stderr, flush=True)
 
 
@@ -477,6 +486,7 @@ class Encoder:
         self.colors: dict[str, int] = {}
         self.audio_out: dict[int, av.stream.Stream] = {}
         self.held: list[_Audio] = []  # audio that arrived before the first frame
+        self.span: list[int] = []  # first pts, last pts, end of the last frame
 
     def open_video(self, width: int, height: int, time_base: Fraction, rate, colors: dict) -> None:
         """Add the video stream (then the audio ones, so video is stream 0)."""
@@ -539,6 +549,16 @@ class Encoder:
             frame.duration = item.duration
         self.out.mux(self.stream.encode(frame))
         self.stats.frames += 1
+        self._extend(item)
+
+    def _extend(self, item: VideoItem) -> None:
+        """Track the span of the frames written (a frame without a duration lasts
+        as long as the gap before it)."""
+        if not self.span:
+            self.span = [item.pts, item.pts, item.pts + item.duration]
+            return
+        step = item.duration or item.pts - self.span[1]
+        self.span[1:] = [item.pts, max(self.span[2], item.pts + step)]
 
     def audio(self, item: _Audio) -> None:
         stream = self.audio_out[item.index]
@@ -555,6 +575,9 @@ class Encoder:
     def flush(self) -> None:
         if self.stream is not None:
             self.out.mux(self.stream.encode(None))
+        if self.span:
+            time_base = self.stream.codec_context.time_base
+            self.stats.duration = float((self.span[2] - self.span[0]) * time_base)
         for stream in self.audio_out.values():
             if stream.codec_context.is_encoder:
                 packets = stream.encode(None)

@@ -4,13 +4,14 @@
 A bad --codec/--crf/--preset/--pix-fmt/--encoder-opt is exit status 2 with one
 stderr line naming the flag, before the input is opened or OpenCL starts, with
 nothing written. x265, SVT-AV1 and FFmpeg print nothing of their own unless
---verbose.
+--verbose; -q prints nothing at all; a video render ends with a summary line.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import re
 from pathlib import Path
 
 import av
@@ -28,6 +29,9 @@ RECIPE = {
         {"type": "vortex", "center": [32, 24], "alpha": 90, "lambda": 20},
     ],
 }
+SUMMARY = re.compile(
+    r"marblevideo: wrote (\S+): (\d+) frames, (\d+\.\d\d) s, (\d+)x(\d+), \d+\.\d fps"
+)
 
 
 def has_encoder(name: str) -> bool:
@@ -216,10 +220,11 @@ QUIET_CASES = [
 
 @pytest.mark.parametrize("codec, out, decoded", QUIET_CASES)
 def test_encoder_libraries_print_nothing(cli, work, codec, out, decoded):
-    """-q and by default: none of x265's or SVT-AV1's own lines on stderr."""
+    """-q: stderr stays empty (the .webm's Opus re-encode note included); by default
+    only marblevideo's own lines, ending with the summary."""
     proc = cli("in.mp4", "--ops", "r.json", "-o", out, "--codec", codec, "-q")
     assert proc.returncode == 0, proc.stderr
-    assert "x265 [" not in proc.stderr and "Svt[" not in proc.stderr, proc.stderr
+    assert proc.stderr == ""
     with av.open(str(work / out)) as got:
         stream = got.streams.video[0]
         assert stream.codec_context.codec.canonical_name == decoded
@@ -227,7 +232,9 @@ def test_encoder_libraries_print_nothing(cli, work, codec, out, decoded):
     proc = cli("in.mp4", "--ops", "r.json", "-o", out, "--codec", codec, "-y")
     assert proc.returncode == 0, proc.stderr
     assert "x265 [" not in proc.stderr and "Svt[" not in proc.stderr, proc.stderr
-    assert all(line.startswith("marblevideo: ") for line in proc.stderr.splitlines())
+    lines = proc.stderr.splitlines()
+    assert lines and all(line.startswith("marblevideo: ") for line in lines), proc.stderr
+    assert SUMMARY.fullmatch(lines[-1]), lines[-1]
 
 
 @pytest.mark.parametrize(
@@ -243,3 +250,28 @@ def test_verbose_lets_the_library_lines_through(cli, work, codec, out, marker):
     proc = cli("in.mp4", "--ops", "r.json", "-o", out, "--codec", codec, "-q", "--verbose")
     assert proc.returncode == 0, proc.stderr
     assert marker in proc.stderr
+
+
+# ---------------------------------------------------------------------------- summary
+
+
+def test_summary_line_for_a_video_input(cli, work):
+    proc = cli("in.mp4", "--ops", "r.json", "-o", "out.mkv", "--progress", "off")
+    assert proc.returncode == 0, proc.stderr
+    match = SUMMARY.fullmatch(proc.stderr.splitlines()[-1])
+    assert match, proc.stderr
+    assert match.groups()[:5] == ("out.mkv", "5", "0.20", "64", "48")
+    proc = cli("in.mp4", "--ops", "r.json", "-o", "quiet.mkv", "-q")
+    assert proc.returncode == 0 and proc.stderr == ""
+
+
+def test_summary_line_for_a_blank_sheet(cli, work):
+    args = ("--ops", "r.json", "--duration", "0.5", "--fps", "10", "--size", "63x47")
+    proc = cli(*args, "-o", "sheet.mp4")
+    assert proc.returncode == 0, proc.stderr
+    lines = proc.stderr.splitlines()
+    assert lines[0].startswith("marblevideo: 63x47 padded to 64x48")  # a note, then the summary
+    match = SUMMARY.fullmatch(lines[-1])
+    assert match and match.groups()[:5] == ("sheet.mp4", "5", "0.50", "64", "48"), proc.stderr
+    proc = cli(*args, "-o", "quiet.mp4", "-q")
+    assert proc.returncode == 0 and proc.stderr == ""

@@ -81,6 +81,8 @@ def test_cfr_timing_and_audio_copied_bit_exact(cfr, tmp_path):
     assert out.audio_times == src.audio_times
     assert out.duration == pytest.approx(src.duration, abs=1e-3)
     assert stats.audio == "copy" and stats.audio_packets == len(src.audio_packets)
+    assert stats.duration == pytest.approx(1.0)  # 25 frames of 1/25 s
+    assert stats.summary("out.mp4").startswith("wrote out.mp4: 25 frames, 1.00 s, 96x64, ")
     # the picture is the inverted input (lossy codec: loose tolerance)
     diff = np.abs(out.frames[5].astype(int) - (255 - src.frames[5].astype(int)))
     assert diff.mean() < 4
@@ -287,6 +289,7 @@ def test_render_blank(tmp_path):
     stats = render_blank(tmp_path / "blank.webm", render_at, 0.5, 24, quiet())
     out = probe(tmp_path / "blank.webm")
     assert seen == [i / 24 for i in range(12)] and stats.frames == 12
+    assert stats.duration == pytest.approx(0.5) and stats.size == (64, 48)
     assert out.times == pytest.approx([i / 24 for i in range(12)], abs=1e-3)
     assert out.audio_codec is None
 
