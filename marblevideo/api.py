@@ -372,25 +372,27 @@ def render_video(
     for ``duration`` seconds (default: the whole animation plus one second) at ``fps``.
     ``options`` are the fields of :class:`marblevideo.video.VideoOptions`
     (codec, crf, preset, pix_fmt, encoder_opts, audio, start, end, size, overwrite,
-    quiet, progress). Returns the job's :class:`marblevideo.video.Stats`."""
+    quiet, progress, verbose). Returns the job's :class:`marblevideo.video.Stats`."""
+    from marblevideo.video import plan_output, render_blank, transcode
+
     recipe = as_recipe(recipe)
     if src is None:
         blank_canvas(recipe)
-    # the cheap checks first: an exit during the build below waits for it
-    check_output(dst, bool(options.get("overwrite")), [] if src is None else [src])
+    opts = _video_options(options)
+    # the cheap checks first (the encoder is tried too): an exit during the build
+    # below waits for it
+    plan = plan_output(dst, opts)
+    check_output(dst, opts.overwrite, [] if src is None else [src])
     if src is not None:
         check_input(src, "a video")
     marbler = Marbler(recipe, device=device)
-    # the program builds (without the GIL) while PyAV loads and the video opens
+    # the program builds (without the GIL) while the video opens
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))
-    from marblevideo.video import render_blank, transcode
-
-    opts = _video_options(options)
     if src is None:
         duration = recipe.end_time() + 1.0 if duration is None else duration
         size = opts.size or blank_size(recipe)
-        return render_blank(dst, BlankFrames(marbler, size), duration, fps, opts)
-    return transcode(src, dst, marbler.transform(opts.size), opts)
+        return render_blank(dst, BlankFrames(marbler, size), duration, fps, opts, plan=plan)
+    return transcode(src, dst, marbler.transform(opts.size), opts, plan=plan)
 
 
 def marbled_frames(

@@ -117,7 +117,7 @@ def add_log_arguments(parser) -> None:
     parser.add_argument(
         "--verbose",
         action="store_true",
-        help="say which device and vector width render, and show OpenCL build logs",
+        help="say which device and vector width render; show OpenCL build and encoder logs",
     )
 
 
@@ -236,7 +236,7 @@ def _cmd_render(argv: list[str]) -> int:
     if out_ext in VIDEO_EXTENSIONS:
         from marblevideo.api import render_video
 
-        render_video(
+        stats = render_video(
             args.input,
             recipe,
             args.output,
@@ -245,6 +245,8 @@ def _cmd_render(argv: list[str]) -> int:
             fps=args.fps,
             **_video_options(args, size),
         )
+        if not args.quiet:
+            print(f"marblevideo: {stats.summary(args.output)}", file=sys.stderr)
         return 0
     raise UsageError(f"{args.output}: unknown output extension {out_ext or '(none)'!r}")
 
@@ -268,6 +270,7 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         overwrite=args.overwrite,
         quiet=args.quiet,
         progress=args.progress,
+        verbose=args.verbose,
     )
 
 

@@ -572,6 +572,7 @@ def _recorder(args):
         audio="none",
         overwrite=args.overwrite,
         quiet=args.quiet,
+        verbose=args.verbose,
         progress="off",
     )
     return Recorder(args.output, options)

@@ -51,7 +51,10 @@ Conventions
   one-line notice at the end (decoders that conceal damage, like H.264, report
   nothing, as in ffmpeg).
 - Notices (one line each) go to ``options.notify``, else to stderr prefixed by
-  ``marblevideo:``; they are also listed in :attr:`Stats.notes`.
+  ``marblevideo:`` (not when ``quiet``); they are also listed in :attr:`Stats.notes`.
+- Encoder settings are tried in :func:`plan_output`, before any input is opened
+  (:mod:`marblevideo.encoders`); the encoder libraries' own log lines are off
+  unless ``verbose``.
 - Decode, transform and encode run in three threads joined by bounded queues
   (``QUEUE_FRAMES`` frames each), so memory stays flat; the transform runs in
   the calling thread. An error in any stage stops the others and is re-raised;
@@ -75,6 +78,13 @@ from pathlib import Path
 import av
 import numpy as np
 
+from marblevideo.encoders import (
+    check_encoder,
+    library_logs,
+    option_table,
+    quiet_environment,
+    quiet_options,
+)
 from marblevideo.errors import MediaError, UsageError
 from marblevideo.inputs import check_input
 from marblevideo.output import atomic_output, check_output
@@ -117,9 +127,10 @@ class VideoOptions:
     end: float | None = None  # --end: seconds on the input's clock (exclusive)
     size: tuple[int, int] | None = None  # --size W H: what the transform produces
     overwrite: bool = False  # -y
-    quiet: bool = False  # --quiet: no progress bar
+    quiet: bool = False  # --quiet: no progress bar, no notices on stderr
     progress: str = "auto"  # --progress auto|bar|json|off
     notify: Callable[[str], None] | None = None  # one-line notices; default stderr
+    verbose: bool = False  # --verbose: the encoder libraries' and FFmpeg's own log lines
 
 
 @dataclass
@@ -133,11 +144,20 @@ class Stats:
     corrupt_packets: int = 0  # input packets skipped as undecodable
     i420_frames: int = 0  # frames the transform took and gave as I420 (no swscale)
     seconds: float = 0.0  # wall time
+    duration: float = 0.0  # seconds of video written: first frame's start to last one's end
     notes: list[str] = field(default_factory=list)
 
     @property
     def fps(self) -> float:
         return self.frames / self.seconds if self.seconds > 0 else 0.0
+
+    def summary(self, path: str | os.PathLike) -> str:
+        """One line for the end of a job: ``wrote PATH: N frames, D s, WxH, F fps``
+        (the size as encoded; fps: frames per second of wall time)."""
+        size = "x".join(map(str, self.size)) if self.size else "no size"
+        return (
+            f"wrote {path}: {self.frames} frames, {self.duration:.2f} s, {size}, {self.fps:.1f} fps"
+        )
 
 
 @dataclass
@@ -194,7 +214,7 @@ def _say(options: VideoOptions, stats: Stats, message: str) -> None:
     stats.notes.append(message)
     if options.notify is not None:
         options.notify(message)
-    else:
+    elif not options.quiet:
         print(f"marblevideo: {message}", file=sys.stderr, flush=True)
 
 
@@ -223,8 +243,10 @@ def plan_output(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
     formats = [f.name for f in codec.video_formats or ()]
     if formats and options.pix_fmt not in formats:
         raise UsageError(f"{name} cannot encode {options.pix_fmt}; it takes {', '.join(formats)}")
-    if options.preset is not None and name not in PRESET_CODECS:
-        raise UsageError(f"--preset applies to {', '.join(PRESET_CODECS)}; use --encoder-opt")
+    table = option_table(name)
+    has_preset = name in PRESET_CODECS if table is None else "preset" in table
+    if options.preset is not None and not has_preset:
+        raise UsageError(f"--preset: {name} has no presets; use --encoder-opt")
     if options.audio not in AUDIO_MODES:
         raise UsageError(f"audio must be one of {', '.join(AUDIO_MODES)}, got {options.audio!r}")
     if options.audio == "aac" and "aac" not in supported:
@@ -235,11 +257,17 @@ def plan_output(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
     if options.size is not None and (len(options.size) != 2 or min(options.size) < 1):
         raise UsageError(f"size must be two positive integers, got {options.size!r}")
     codec_options = dict(ENCODER_DEFAULTS.get(name, {}))
+    given: dict[str, tuple[str, str]] = {}  # option -> (the flag that set it, its value)
     if options.crf is not None:
-        codec_options["crf"] = str(options.crf)
+        given["crf"] = ("--crf", str(options.crf))
     if options.preset is not None:
-        codec_options["preset"] = options.preset
-    codec_options.update({str(k): str(v) for k, v in options.encoder_opts.items()})
+        given["preset"] = ("--preset", options.preset)
+    for key, value in options.encoder_opts.items():
+        given[str(key)] = ("--encoder-opt", str(value))
+    codec_options.update({key: value for key, (_, value) in given.items()})
+    codec_options = quiet_options(name, codec_options, options.verbose)
+    quiet_environment(name, options.verbose)  # before the probe: SVT-AV1 reads it once
+    check_encoder(name, options.pix_fmt, codec_options, given, table)
     container_options = {"movflags": "+faststart"} if fmt in ("mp4", "mov") else {}
     even = (pix.chroma_width(2) < 2, pix.chroma_height(2) < 2)
     return OutputPlan(
@@ -458,6 +486,7 @@ class Encoder:
         self.colors: dict[str, int] = {}
         self.audio_out: dict[int, av.stream.Stream] = {}
         self.held: list[_Audio] = []  # audio that arrived before the first frame
+        self.span: list[int] = []  # first pts, last pts, end of the last frame
 
     def open_video(self, width: int, height: int, time_base: Fraction, rate, colors: dict) -> None:
         """Add the video stream (then the audio ones, so video is stream 0)."""
@@ -520,6 +549,16 @@ class Encoder:
             frame.duration = item.duration
         self.out.mux(self.stream.encode(frame))
         self.stats.frames += 1
+        self._extend(item)
+
+    def _extend(self, item: VideoItem) -> None:
+        """Track the span of the frames written (a frame without a duration lasts
+        as long as the gap before it)."""
+        if not self.span:
+            self.span = [item.pts, item.pts, item.pts + item.duration]
+            return
+        step = item.duration or item.pts - self.span[1]
+        self.span[1:] = [item.pts, max(self.span[2], item.pts + step)]
 
     def audio(self, item: _Audio) -> None:
         stream = self.audio_out[item.index]
@@ -536,6 +575,9 @@ class Encoder:
     def flush(self) -> None:
         if self.stream is not None:
             self.out.mux(self.stream.encode(None))
+        if self.span:
+            time_base = self.stream.codec_context.time_base
+            self.stats.duration = float((self.span[2] - self.span[0]) * time_base)
         for stream in self.audio_out.values():
             if stream.codec_context.is_encoder:
                 packets = stream.encode(None)
@@ -717,16 +759,20 @@ def transcode(
     dst: str | os.PathLike,
     transform: Transform,
     options: VideoOptions | None = None,
+    *,
+    plan: OutputPlan | None = None,
 ) -> Stats:
     """Write ``dst``: every frame of ``src`` (in ``start``..``end``) through ``transform``.
 
     Raises UsageError (bad options, output = input), OutputExistsError,
     MediaError (unreadable input, encoder failure); exceptions from
     ``transform`` and KeyboardInterrupt propagate, leaving no output file.
+    ``plan`` is :func:`plan_output`'s for ``dst`` and ``options``, where the
+    caller has checked them already.
     """
     options = options or VideoOptions()
     began = time.monotonic()
-    plan = plan_output(dst, options)
+    plan = plan or plan_output(dst, options)
     check_output(dst, options.overwrite, [src])
     stats = Stats()
     with _open_input(src) as container:
@@ -770,7 +816,7 @@ def transcode(
             writer.open_video(width, height, vin.time_base, rate, colors)
             writer.open_audio({i: (container.streams[i], how) for i, how in audio.items()})
 
-        with atomic_output(dst, options.overwrite, [src]) as tmp:
+        with atomic_output(dst, options.overwrite, [src]) as tmp, library_logs(options.verbose):
             _run(
                 tmp,
                 plan,
@@ -831,6 +877,8 @@ def render_blank(
     duration: float,
     fps: float,
     options: VideoOptions | None = None,
+    *,
+    plan: OutputPlan | None = None,
 ) -> Stats:
     """Write ``dst`` from frames ``render_at(i / fps)``, ``i = 0 .. ceil(duration * fps) - 1``.
 
@@ -840,12 +888,13 @@ def render_blank(
     it cannot, e.g. odd sizes) and swscale is skipped; ``render_at.i420_start(t,
     matrix)``, where present, is used instead: it returns a function giving that
     frame (or None where it cannot), called once the next frame is started.
+    ``plan`` as for :func:`transcode`.
     """
     options = options or VideoOptions()
     if duration <= 0 or fps <= 0:
         raise UsageError(f"duration and fps must be positive, got {duration} s at {fps} fps")
     began = time.monotonic()
-    plan = plan_output(dst, options)
+    plan = plan or plan_output(dst, options)
     stats = Stats()
     rate = Fraction(fps).limit_denominator(1001)
     count = int(np.ceil(duration * fps - 1e-9))
@@ -873,7 +922,7 @@ def render_blank(
         height, width = first.shape
         writer.open_video(width, height, 1 / rate, rate, {})
 
-    with atomic_output(dst, options.overwrite) as tmp:
+    with atomic_output(dst, options.overwrite) as tmp, library_logs(options.verbose):
         _run(tmp, plan, options, stats, produce, render, setup, count)
     stats.seconds = time.monotonic() - began
     return stats

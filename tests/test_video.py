@@ -81,6 +81,8 @@ def test_cfr_timing_and_audio_copied_bit_exact(cfr, tmp_path):
     assert out.audio_times == src.audio_times
     assert out.duration == pytest.approx(src.duration, abs=1e-3)
     assert stats.audio == "copy" and stats.audio_packets == len(src.audio_packets)
+    assert stats.duration == pytest.approx(1.0)  # 25 frames of 1/25 s
+    assert stats.summary("out.mp4").startswith("wrote out.mp4: 25 frames, 1.00 s, 96x64, ")
     # the picture is the inverted input (lossy codec: loose tolerance)
     diff = np.abs(out.frames[5].astype(int) - (255 - src.frames[5].astype(int)))
     assert diff.mean() < 4
@@ -232,6 +234,10 @@ def test_faststart_moov_before_mdat(cfr, tmp_path):
         ("out.webm", {"codec": "libx264"}, "cannot hold h264"),
         ("out.mp4", {"pix_fmt": "yuv999p"}, "unknown pixel format"),
         ("out.mp4", {"preset": "fast", "codec": "libvpx-vp9"}, "--preset"),
+        ("out.mp4", {"preset": "superfast2"}, "no preset 'superfast2'"),
+        ("out.mp4", {"crf": 99}, "--crf"),
+        ("out.mp4", {"encoder_opts": {"nosuchkey": "1"}}, "no option 'nosuchkey'"),
+        ("out.mp4", {"encoder_opts": {"crf": "banana"}}, "crf=banana"),
         ("out.webm", {"audio": "aac"}, "cannot hold AAC"),
         ("out.mp4", {"audio": "mp3"}, "audio must be"),
         ("out.mp4", {"start": 2.0, "end": 1.0}, "must be after start"),
@@ -283,6 +289,7 @@ def test_render_blank(tmp_path):
     stats = render_blank(tmp_path / "blank.webm", render_at, 0.5, 24, quiet())
     out = probe(tmp_path / "blank.webm")
     assert seen == [i / 24 for i in range(12)] and stats.frames == 12
+    assert stats.duration == pytest.approx(0.5) and stats.size == (64, 48)
     assert out.times == pytest.approx([i / 24 for i in range(12)], abs=1e-3)
     assert out.audio_codec is None
 
@@ -340,10 +347,16 @@ def test_bad_transform_result(cfr, tmp_path):
     assert list(tmp_path.iterdir()) == []
 
 
-def test_encoder_failure_is_media_error(cfr, tmp_path):
-    with pytest.raises(MediaError):
-        transcode(cfr, tmp_path / "out.mp4", invert, quiet(encoder_opts={"crf": "banana"}))
-    assert list(tmp_path.iterdir()) == []
+def test_encoder_failure_is_media_error(tmp_path):
+    """What the settings check cannot see: MPEG-4 part 2 takes no time base
+    finer than 1/65535, and the output keeps the input's 1/90000."""
+    tb = Fraction(1, 90000)
+    src = write_clip(tmp_path / "in.mp4", size=(64, 48), frames=3, audio=False, time_base=tb)
+    out = tmp_path / "out"
+    out.mkdir()
+    with pytest.raises(MediaError, match="mpeg4 encoding failed"):
+        transcode(src, out / "out.mp4", invert, quiet(codec="mpeg4"))
+    assert list(out.iterdir()) == []
 
 
 def test_corrupt_packet_skipped_with_count(tmp_path):
