@@ -33,9 +33,7 @@ def test_type_codes_follow_the_registry():
 def test_every_kernel_section_belongs_to_a_registered_op():
     families = {d.family for d in OPS}
     sections = {
-        name
-        for family in families
-        for name in SECTION.findall(kernel_source(f"ops/{family}.cl"))
+        name for family in families for name in SECTION.findall(kernel_source(f"ops/{family}.cl"))
     }
     assert sections == {d.kernel_function for d in OPS}
     assert sorted(p.stem for p in (ROOT / "kernels" / "ops").glob("*.cl")) == sorted(families)
