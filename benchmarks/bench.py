@@ -150,7 +150,7 @@ def lanes_child(device: str | None) -> None:
         LANES_CASES[2]: lambda: renderer.render(over.at(0), geom_o, image, static=True),
         LANES_CASES[3]: lambda: walk.render_i420(over.at(0), geom_o, planes, matrix, matrix),
     }
-    out = {"lanes": renderer.lanes, "device": renderer.info.name}
+    out = {"lanes": f"{renderer.lanes} x {renderer.chains}", "device": renderer.info.name}
     out.update({name: median_time(fn) * 1e3 for name, fn in runs.items()})
     print(json.dumps(out))
 
@@ -160,7 +160,7 @@ def lanes(device: str | None) -> None:
     import json
 
     print("\n## Vector width: ms per frame, median of 21 (each width in its own process)")
-    print("| target (device name) | lanes | " + " | ".join(LANES_CASES) + " |")
+    print("| target (device name) | lanes x chains | " + " | ".join(LANES_CASES) + " |")
     print("|---|---|" + "---|" * len(LANES_CASES))
     for target in (None, "avx2"):
         for width in (16, 8, 4):

@@ -138,31 +138,35 @@ inline void bilinear(__global const uint *src, int sw, int sh, vf ix, vf iy,
     if (ANY(ink[c] >= 0)) { INK }
 #endif
 
-/* Jobs g .. g + CHAINS - 1 of a block whose first-row centres are (ox, oy):
- * chain c walks subsample (g + c) % NSAMPLES of row ROW_OF(g + c), from canvas
- * point (px[c], py[c]), no ink hit yet. */
+/* Jobs g .. g + CHAINS - 1 of a work-item whose ROWS rows of LANES pixels have
+ * their centres at (ox[r], oy[r]): chain c walks subsample (g + c) % NSAMPLES
+ * of row ROW_OF(g + c), from canvas point (px[c], py[c]), no ink hit yet. */
 #define START_JOBS(g, ox, oy)                                                  \
     vf px[CHAINS], py[CHAINS];                                                 \
     vi ink[CHAINS];                                                            \
     FOR_CHAINS {                                                               \
-        int s_ = ((g) + c) % NSAMPLES;                                         \
-        px[c] = ((ox) + samples[3 * s_]) * gc.s0 + gc.s2;                    \
-        py[c] = ((oy) + (float)ROW_OF((g) + c) + samples[3 * s_ + 1]) * gc.s1 + gc.s3; \
+        int s_ = ((g) + c) % NSAMPLES, r_ = ROW_OF((g) + c);                   \
+        px[c] = ((ox)[r_] + samples[3 * s_]) * gc.s0 + gc.s2;                \
+        py[c] = ((oy)[r_] + samples[3 * s_ + 1]) * gc.s1 + gc.s3;            \
         ink[c] = (vi)-1;                                                       \
     }
 
 /* The work-item's block of a w x h output: LANES pixels from column x0 of ROWS
- * rows from y0, whose first-row centres are (ox, oy); past the last row it returns. */
+ * rows from y0, whose centres are (ox[r], oy[r]); past the last row it returns. */
 #define WALKED_BLOCK                                                           \
     const int nbx = (w + LANES - 1) / LANES, gid = get_global_id(0);          \
     const int x0 = (gid % nbx) * LANES, y0 = (gid / nbx) * ROWS;               \
     if (y0 >= h)                                                               \
         return;                                                                \
-    const vf ox = (vf)(float)x0 + IOTA + 0.5f, oy = (vf)((float)y0 + 0.5f);
+    vf ox[ROWS], oy[ROWS];                                                     \
+    for (int r = 0; r < ROWS; r++) {                                           \
+        ox[r] = (vf)(float)x0 + IOTA + 0.5f;                                   \
+        oy[r] = (vf)((float)y0 + 0.5f) + (float)r;                             \
+    }
 
-/* Every subsample of ROWS x LANES pixels whose first-row centres are (ox, oy):
- * the full pattern, walked in CHAINS independent chains; weighted sums in acc. */
-inline void shade_block(vf ox, vf oy, vf acc[ROWS][4], KPARAMS) {
+/* Every subsample of ROWS x LANES pixels centred at (ox[r], oy[r]): the full
+ * pattern, walked in CHAINS independent chains; weighted sums in acc. */
+inline void shade_block(vf ox[ROWS], vf oy[ROWS], vf acc[ROWS][4], KPARAMS) {
     for (int r = 0; r < ROWS; r++)
         for (int k = 0; k < 4; k++)
             acc[r][k] = (vf)0.0f;
@@ -370,23 +374,31 @@ __kernel void marble_classify(__global uint *dst, int w, int h,
             list[at++] = y * w + x0 + l;
 }
 
+/* Work-item: ROWS groups of LANES listed pixels (wherever they are), each group
+ * in the place of a row of shade_block. */
 __kernel void marble_list(__global uint *dst, int w, __global const int *list, int count,
                           KPARAMS) {
-    const int first = get_global_id(0) * LANES;
+    const int first = get_global_id(0) * LANES * ROWS;
     if (first >= count)
         return;
-    int at[LANES];
-    for (int l = 0; l < LANES; l++)
-        at[l] = list[min(first + l, count - 1)];
-    vi idx = VLOAD(at);
-    vi yi = idx / w;
-    vi xi = idx - yi * w;
+    int at[ROWS][LANES];
+    vf ox[ROWS], oy[ROWS];
+    for (int r = 0; r < ROWS; r++) {
+        for (int l = 0; l < LANES; l++)
+            at[r][l] = list[min(first + r * LANES + l, count - 1)];
+        vi idx = VLOAD(at[r]);
+        vi yi = idx / w;
+        ox[r] = CVT_F(idx - yi * w) + 0.5f;
+        oy[r] = CVT_F(yi) + 0.5f;
+    }
     vf acc[ROWS][4];
-    shade_block(CVT_F(xi) + 0.5f, CVT_F(yi) + 0.5f, acc, KARGS);
-    uint tmp[LANES];
-    VSTORE(pack_rgba(acc[0][0], acc[0][1], acc[0][2], acc[0][3]), tmp);
-    for (int l = 0; l < LANES && first + l < count; l++)
-        dst[at[l]] = tmp[l];
+    shade_block(ox, oy, acc, KARGS);
+    for (int r = 0; r < ROWS; r++) {
+        uint tmp[LANES];
+        VSTORE(pack_rgba(acc[r][0], acc[r][1], acc[r][2], acc[r][3]), tmp);
+        for (int l = 0; l < LANES && first + r * LANES + l < count; l++)
+            dst[at[r][l]] = tmp[l];
+    }
 }
 
 /* ---- Reused maps: a table of where every subsample lands ------------------

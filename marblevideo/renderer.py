@@ -53,6 +53,10 @@ CLASSIFY_GROUP = 64
 CPU_GROUP = 128
 #: Largest output or input side accepted (OpenCL buffers and int indices).
 MAX_SIDE = 1 << 15
+#: Pixels whose walks a CPU work-item keeps in flight (lanes x chains): 4 chains
+#: of 16 lanes with AVX-512; with 8 lanes, 8 chains did as well as 16 lanes
+#: (BENCHMARKS.md, vector width).
+CPU_PIXELS_IN_FLIGHT = 64
 #: Environment variable that overrides the vector width on CPU devices (4, 8 or 16).
 LANES_VARIABLE = "MARBLEVIDEO_LANES"
 #: Vector widths the kernel is written for.
@@ -82,6 +86,13 @@ def cpu_lanes(native_width: int, override: str | None = None) -> int:
             raise UsageError(f"{LANES_VARIABLE}: expected one of {widths}, got {override!r}")
         return lanes
     return max(w for w in VECTOR_WIDTHS if w <= max(native_width, VECTOR_WIDTHS[0]))
+
+
+def cpu_chains(lanes: int) -> int:
+    """Independent chains per work-item on a CPU for vectors of ``lanes``: enough
+    for CPU_PIXELS_IN_FLIGHT pixels (4 chains of 16 lanes, 8 of 8), at most 8
+    (more spill the 16 vector registers of AVX2 and SSE)."""
+    return max(1, min(8, CPU_PIXELS_IN_FLIGHT // max(lanes, 1)))
 
 
 def kernel_source(name: str = "marble.cl") -> str:
@@ -197,7 +208,7 @@ class Renderer:
 
     ``device``: a choice as in :func:`marblevideo.device.choose_device`.
     ``lanes`` and ``chains`` override the vector width and the independent
-    chains per work-item (defaults: :func:`cpu_lanes` and 4 on CPUs, 1 and 1
+    chains per work-item (defaults: :func:`cpu_lanes` and :func:`cpu_chains` on CPUs, 1 and 1
     on GPUs). ``lanes`` is 1, 4, 8 or 16.
     ``adaptive`` samples the full antialiasing pattern only where a pixel's
     neighbourhood shows an ink edge or a strongly curved map, one walk
@@ -243,7 +254,9 @@ class Renderer:
         self.lanes = lanes
         #: the I420 and quad kernels' width: ``lanes``, else the CPU's vectors, 16 on GPUs
         self.yuv_lanes = lanes if lanes > 1 else vectors
-        self.chains = chains or (4 if is_cpu else 1)
+        #: independent chains per work-item: CPU_PIXELS_IN_FLIGHT pixels' walks
+        #: side by side (a walk is a chain of dependent operations)
+        self.chains = chains or (cpu_chains(lanes) if is_cpu else 1)
         log.debug(
             "rendering on %s %s (%s): %d lane%s x %d chain%s per work-item "
             "(native float vectors: %d)",
@@ -278,11 +291,15 @@ class Renderer:
 
     # -- programs ---------------------------------------------------------
     def _layout(self, nsamples: int) -> tuple[int, int]:
-        """(rows per work-item, chains) for a pattern of ``nsamples``."""
+        """(rows per work-item, chains) for a pattern of ``nsamples``: every chain
+        busy, a subsample of a row each (several rows where the pattern has
+        fewer subsamples than the chains)."""
         if self.lanes == 1 or self.chains == 1:
             return 1, 1
         if nsamples == 1:
             return self.chains, self.chains
+        if nsamples < self.chains and self.chains % nsamples == 0:
+            return self.chains // nsamples, self.chains
         if nsamples <= 5 or nsamples % self.chains:
             return 1, nsamples
         return 1, self.chains
@@ -341,7 +358,7 @@ class Renderer:
             "marble_plane",
             "marble_apply_plane",
         )
-        kernel = ({n: cl.Kernel(program, n) for n in names}, rows)
+        kernel = ({n: cl.Kernel(program, n) for n in names}, rows, chains)
         self._kernels[key] = kernel
         return kernel
 
@@ -539,7 +556,7 @@ class Renderer:
         _check_size(w, h)
         has_input = size is not None
         structure = Structure.of(spec, has_input)
-        kernels, rows = self.kernel_for(structure)
+        kernels, rows, chains = self.kernel_for(structure)
         queue = self.queue
         params = pack_params(spec)
         geo = np.array([*geom.to_canvas, *geom.to_input], dtype=np.float32)
@@ -575,7 +592,9 @@ class Renderer:
             if reuse:
                 self._render_from_table(kernels, rows, dst, w, h, common, key)
             elif adaptive and len(pattern(spec.antialias)) > 1:
-                self._render_adaptive(kernels, dst, w, h, common, pbuf, geo, has_input)
+                self._render_adaptive(
+                    kernels, (rows, chains), dst, w, h, common, pbuf, geo, has_input
+                )
             else:
                 k = kernels["marble"]
                 k.set_args(dst, np.int32(w), np.int32(h), *common)
@@ -599,7 +618,7 @@ class Renderer:
         _check_size(w, h)
         coded = coded_spec(spec, matrix)
         structure = Structure.of(coded, True)
-        kernels, rows = self.kernel_for(structure)
+        kernels, rows, chains = self.kernel_for(structure)
         params = pack_params(coded)
         luma, chroma = geom, chroma_geometry(geom)
         geos = [np.array([*g.to_canvas, *g.to_input], np.float32) for g in (luma, chroma)]
@@ -783,7 +802,7 @@ class Renderer:
         k.set_args(dst, np.int32(w), np.int32(h), taps, wts, stride, src, sw, samples)
         self._launch(k, -(-w // self.lanes) * h)
 
-    def _render_adaptive(self, kernels, dst, w, h, common, pbuf, geo, has_input) -> None:
+    def _render_adaptive(self, kernels, layout, dst, w, h, common, pbuf, geo, has_input) -> None:
         """The three passes of adaptive antialiasing (see marble.cl)."""
         cl, queue, lanes = self._cl, self.queue, self.lanes
         nbx = -(-w // lanes)
@@ -806,7 +825,7 @@ class Renderer:
             pbuf,
             *_maps(geo),
         )
-        chains = self.chains if lanes > 1 else 1
+        rows, chains = layout  # the program's
         self._launch(centres, gstride // lanes * -(-gh // chains))
         classify = kernels["marble_classify"]
         classify.set_args(
@@ -830,4 +849,4 @@ class Renderer:
         if n:
             full = kernels["marble_list"]
             full.set_args(dst, np.int32(w), listing, np.int32(n), *common)
-            self._launch(full, -(-n // lanes))
+            self._launch(full, -(-n // (lanes * rows)))
