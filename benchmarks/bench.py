@@ -44,10 +44,10 @@ sys.path.insert(0, str(ROOT))
 
 from plain_transcode import plain_transcode  # noqa: E402
 
-from marblevideo.frame import geometry  # noqa: E402
+from marblevideo.opencl.renderer import Renderer  # noqa: E402
 from marblevideo.recipe import parse_recipe  # noqa: E402
+from marblevideo.recipe.frame import geometry  # noqa: E402
 from marblevideo.reference import inverse_walk  # noqa: E402
-from marblevideo.renderer import Renderer  # noqa: E402
 
 PAPER = {  # Table 1 of Lu et al. 2012: GeForce 8800GTS, frames per second
     (512, 512): (1560, 732, 250, 239),
@@ -133,7 +133,7 @@ def lanes_child(device: str | None) -> None:
     """One process of ``lanes``: ms per frame (median of 21) of LANES_CASES, as JSON."""
     import json
 
-    from marblevideo.yuv import YuvMatrix
+    from marblevideo.media.yuv import YuvMatrix
 
     renderer = Renderer(device)
     blank = parse_recipe(recipe12("rgss"), "lanes.json")

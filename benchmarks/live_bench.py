@@ -69,9 +69,9 @@ def _reader(url: str, stop: threading.Event, counter: list[int]) -> None:
 
 def bench(size, seconds, warmup, preview_width, record, device, fps):
     from marblevideo.api import parse_size
-    from marblevideo.live import LiveSession
-    from marblevideo.preview import PreviewServer
-    from marblevideo.sources import TestPattern
+    from marblevideo.live.preview import PreviewServer
+    from marblevideo.live.session import LiveSession
+    from marblevideo.live.sources import TestPattern
 
     w, h = parse_size(size)
     with tempfile.TemporaryDirectory() as tmp:
@@ -83,7 +83,7 @@ def bench(size, seconds, warmup, preview_width, record, device, fps):
         )
         recorder = None
         if record:
-            from marblevideo.live import _recorder, build_parser
+            from marblevideo.live.session import _recorder, build_parser
 
             args = build_parser().parse_args(["--ops", str(recipe), "-o", record, "-y"])
             recorder = _recorder(args)

@@ -2,7 +2,7 @@
 
 Implements the transforms of Lu, Jaffer, Jin, Zhao and Mao, "Mathematical
 Marbling" (IEEE TVCG 2012) following shared/recipe-format.md. Data flows one
-way: recipe -> per-frame parameters (:mod:`marblevideo.frame`) -> renderer
+way: recipe -> per-frame parameters (:mod:`marblevideo.recipe.frame`) -> renderer
 (OpenCL, with :mod:`marblevideo.reference` as the NumPy oracle) -> encoder.
 """
 

@@ -13,17 +13,17 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import RecipeError, UsageError
-from marblevideo.frame import Geometry, geometry
-from marblevideo.images import read_image, write_image
-from marblevideo.inputs import check_input
-from marblevideo.output import atomic_output, check_output
-from marblevideo.progress import Progress
+from marblevideo.media.images import read_image, write_image
+from marblevideo.media.inputs import check_input
+from marblevideo.media.output import atomic_output, check_output
+from marblevideo.media.progress import Progress
+from marblevideo.media.tiled import TILED_ABOVE, can_stream, write_bands
+from marblevideo.media.tiled import band_rows as tiled_rows
+from marblevideo.media.yuv import YuvMatrix, split_i420
+from marblevideo.opencl.renderer import Renderer, Structure
+from marblevideo.outputs.svg import DEFAULT_TOLERANCE, VectorStats, design_svg
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
-from marblevideo.renderer import Renderer, Structure
-from marblevideo.tiled import TILED_ABOVE, can_stream, write_bands
-from marblevideo.tiled import band_rows as tiled_rows
-from marblevideo.vector import DEFAULT_TOLERANCE, VectorStats, design_svg
-from marblevideo.yuv import YuvMatrix, split_i420
+from marblevideo.recipe.frame import Geometry, geometry
 
 RecipeLike = Recipe | dict | str | os.PathLike
 
@@ -118,8 +118,8 @@ class Marbler:
         rows: int | None = None,
     ):
         """Iterate the frame of :meth:`render` as bands of ``rows`` rows, top to bottom
-        (see :mod:`marblevideo.tiled`); each band is (n, w, 4) RGBA uint8."""
-        from marblevideo.tiled import bands
+        (see :mod:`marblevideo.media.tiled`); each band is (n, w, 4) RGBA uint8."""
+        from marblevideo.media.tiled import bands
 
         spec, geom = self._frame(image, time, size, view)
         for _, band in bands(lambda g: self.renderer.render(spec, g, image), geom, rows):
@@ -136,13 +136,13 @@ class VideoTransform:
 
     Called as ``(rgba, t) -> rgba``; :meth:`i420` takes and gives 8-bit 4:2:0
     frames and converts on the device, which the pipeline prefers when the
-    input and output are both yuv420p (see :mod:`marblevideo.video`).
+    input and output are both yuv420p (see :mod:`marblevideo.media.pipeline`).
     """
 
     def __init__(self, marbler: Marbler, size: tuple[int, int] | None = None):
         self.marbler, self.size = marbler, size
         #: a static recipe lands every frame where the first did: its maps are kept
-        #: from the first frame on (see :class:`~marblevideo.renderer.Renderer`)
+        #: from the first frame on (see :class:`~marblevideo.opencl.renderer.Renderer`)
         self.static = not marbler.recipe.is_animated
 
     def __call__(self, frame: np.ndarray, t: float) -> np.ndarray:
@@ -225,10 +225,10 @@ def render_still(
 ) -> Path:
     """Render an image file (or a blank sheet) to an image file, atomically.
 
-    PNG and TIFF outputs over :data:`marblevideo.tiled.TILED_ABOVE` pixels (or any,
+    PNG and TIFF outputs over :data:`marblevideo.media.tiled.TILED_ABOVE` pixels (or any,
     given ``band_rows``) are rendered in bands and written progressively, so
     their size is not bounded by memory; ``progress`` (a
-    :class:`~marblevideo.progress.Progress` mode) reports the bands."""
+    :class:`~marblevideo.media.progress.Progress` mode) reports the bands."""
     recipe = as_recipe(recipe)
     dst = Path(dst)
     inputs = [src] if src is not None else []
@@ -274,9 +274,9 @@ def render_svg(
     tolerance: float = DEFAULT_TOLERANCE,
     overwrite: bool = False,
 ) -> VectorStats:
-    """Write a blank-sheet design as SVG (:mod:`marblevideo.vector`), atomically.
+    """Write a blank-sheet design as SVG (:mod:`marblevideo.outputs.svg`), atomically.
     ``size`` is the SVG's width and height (default: the canvas); ``tolerance``
-    is in output pixels. Returns the :class:`~marblevideo.vector.VectorStats`."""
+    is in output pixels. Returns the :class:`~marblevideo.outputs.svg.VectorStats`."""
     recipe = as_recipe(recipe)
     dst = Path(dst)
     canvas = blank_canvas(recipe)
@@ -300,9 +300,9 @@ def render_uv_pass(
     overwrite: bool = False,
 ) -> Path:
     """Render the design as seen through the UV pass file ``uv`` (see
-    :mod:`marblevideo.uv`) to an image of the pass's size, atomically; pixels
+    :mod:`marblevideo.outputs.uv`) to an image of the pass's size, atomically; pixels
     without surface are transparent where the format holds alpha."""
-    from marblevideo.uv import read_uv, render_uv
+    from marblevideo.outputs.uv import read_uv, render_uv
 
     recipe = as_recipe(recipe)
     dst = Path(dst)
@@ -349,7 +349,7 @@ def parse_size(text: str) -> tuple[int, int]:
 
 
 def _video_options(options: dict):
-    from marblevideo.video import VideoOptions
+    from marblevideo.media.pipeline import VideoOptions
 
     try:
         return VideoOptions(**options)
@@ -370,10 +370,10 @@ def render_video(
     """Marble every frame of the video ``src`` into ``dst`` at its own time, keeping
     audio and timing; with ``src=None`` render the recipe's process on a blank sheet
     for ``duration`` seconds (default: the whole animation plus one second) at ``fps``.
-    ``options`` are the fields of :class:`marblevideo.video.VideoOptions`
+    ``options`` are the fields of :class:`marblevideo.media.pipeline.VideoOptions`
     (codec, crf, preset, pix_fmt, encoder_opts, audio, start, end, size, overwrite,
-    quiet, progress, verbose). Returns the job's :class:`marblevideo.video.Stats`."""
-    from marblevideo.video import plan_output, render_blank, transcode
+    quiet, progress, verbose). Returns the job's :class:`marblevideo.media.pipeline.Stats`."""
+    from marblevideo.media.pipeline import plan_output, render_blank, transcode
 
     recipe = as_recipe(recipe)
     if src is None:
@@ -405,7 +405,7 @@ def marbled_frames(
     end: float | None = None,
 ):
     """Iterate ``(t, rgba)``: the frames of video ``src`` marbled at their own times."""
-    from marblevideo.video import iter_frames
+    from marblevideo.media.pipeline import iter_frames
 
     marbler = Marbler(recipe, device=device)
     opts = _video_options({"start": start, "end": end})

@@ -158,8 +158,8 @@ def _main(argv: list[str] | None) -> int:
     from marblevideo.api import as_recipe, blank_canvas
     from marblevideo.bundled import samples_path
     from marblevideo.cli import _Parser
-    from marblevideo.images import is_image_path, write_image
-    from marblevideo.output import atomic_output, check_output
+    from marblevideo.media.images import is_image_path, write_image
+    from marblevideo.media.output import atomic_output, check_output
 
     p = _Parser(
         prog=PROG,

@@ -88,7 +88,7 @@ def run(argv: list[str], output: Path) -> str:
 
 
 def read_rgb(path: Path) -> np.ndarray:
-    from marblevideo.images import read_image
+    from marblevideo.media.images import read_image
 
     return read_image(path)[0][..., :3]
 

@@ -25,7 +25,7 @@ settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
 @pytest.fixture(scope="session")
 def renderer():
-    from marblevideo.renderer import Renderer
+    from marblevideo.opencl.renderer import Renderer
 
     return Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
 

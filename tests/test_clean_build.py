@@ -18,7 +18,7 @@ from pathlib import Path
 import pytest
 
 from marblevideo.errors import DeviceError, UsageError
-from marblevideo.renderer import LANES_VARIABLE, Renderer, cpu_lanes
+from marblevideo.opencl.renderer import LANES_VARIABLE, Renderer, cpu_lanes
 
 ROOT = Path(__file__).resolve().parent.parent
 SAMPLES = ROOT / "samples"
@@ -79,7 +79,7 @@ def test_the_renderer_takes_the_devices_width(renderer):
 
 BUILD_EVERY_KIND = """
 import json, logging, sys
-from marblevideo.renderer import Renderer, Structure, UNROLL_LIMIT
+from marblevideo.opencl.renderer import Renderer, Structure, UNROLL_LIMIT
 logs = []
 class Keep(logging.Handler):
     def emit(self, record):

@@ -303,7 +303,7 @@ def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
     outside = tmp_path / "elsewhere"
     outside.mkdir()
     probe = (
-        "import marblevideo, marblevideo.renderer as r; from importlib import resources;"
+        "import marblevideo, marblevideo.opencl.renderer as r; from importlib import resources;"
         "print(marblevideo.__file__);"
         "print(resources.files('marblevideo') / 'kernels' / 'marble.cl');"
         "print(len(r.kernel_source()))"

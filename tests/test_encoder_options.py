@@ -19,7 +19,7 @@ import pytest
 from clips import write_clip
 
 from marblevideo.errors import UsageError
-from marblevideo.video import VideoOptions, plan_output
+from marblevideo.media.pipeline import VideoOptions, plan_output
 
 RECIPE = {
     "canvas": [64, 48],

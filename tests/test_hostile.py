@@ -31,12 +31,12 @@ from conftest import ROOT
 from recipes import make_image
 
 from marblevideo.errors import DeviceError
-from marblevideo.frame import geometry
-from marblevideo.images import MAX_PIXELS
+from marblevideo.media.images import MAX_PIXELS
+from marblevideo.opencl.renderer import MAX_SIDE, Renderer, Structure
+from marblevideo.opencl.selfcheck import agreement
 from marblevideo.recipe import parse_recipe
+from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
-from marblevideo.renderer import MAX_SIDE, Renderer, Structure
-from marblevideo.selfcheck import agreement
 
 CANVAS = {"canvas": [64, 48], "antialias": "none"}
 
@@ -54,7 +54,7 @@ def digest(path: Path) -> str:
 
 
 def leftovers(folder: Path) -> list[str]:
-    """Temporary files of marblevideo.output (.NAME.XXXX.part.EXT)."""
+    """Temporary files of marblevideo.media.output (.NAME.XXXX.part.EXT)."""
     return sorted(p.name for p in folder.iterdir() if ".part" in p.name)
 
 

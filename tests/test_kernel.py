@@ -9,10 +9,10 @@ import numpy as np
 import pytest
 from recipes import EDGES, PATTERNS, make_image, random_recipe
 
-from marblevideo.frame import geometry
+from marblevideo.opencl.selfcheck import SHARE, agreement  # the tolerances `devices --check` uses
 from marblevideo.recipe import parse_recipe
+from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
-from marblevideo.selfcheck import SHARE, agreement  # the tolerances `devices --check` uses
 
 
 def check(renderer, recipe_dict, size, image=None, t=None):
@@ -46,7 +46,7 @@ def test_kernel_matches_reference_on_blank_sheet(renderer, seed):
 
 
 def test_long_recipe_uses_loop_walk_and_matches(renderer):
-    from marblevideo.renderer import UNROLL_LIMIT
+    from marblevideo.opencl.renderer import UNROLL_LIMIT
 
     recipe = random_recipe(7, n_ops=UNROLL_LIMIT + 13)
     for op in recipe["ops"]:  # keep the many ops gentle so the picture stays comparable
@@ -66,7 +66,7 @@ def test_identity_recipe_returns_the_input_exactly(renderer):
 def test_a_prebuilt_program_is_built_once_and_renders_as_ever():
     """prebuild builds in a thread; a render asking meanwhile waits for that build
     instead of starting its own, and the result matches the reference."""
-    from marblevideo.renderer import Renderer, Structure
+    from marblevideo.opencl.renderer import Renderer, Structure
 
     renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
     builds = []
@@ -82,14 +82,14 @@ def test_a_prebuilt_program_is_built_once_and_renders_as_ever():
 
 @pytest.mark.parametrize("seed", [0, 5, 14, 23])
 def test_adaptive_over_an_input_matches_reference(seed):
-    from marblevideo.renderer import Renderer
+    from marblevideo.opencl.renderer import Renderer
 
     check(Renderer(adaptive=True), random_recipe(seed), (101, 77), make_image(90, 66, seed))
 
 
 @pytest.mark.parametrize("lanes", [1, 4, 8])
 def test_every_lane_width_agrees(lanes):
-    from marblevideo.renderer import Renderer
+    from marblevideo.opencl.renderer import Renderer
 
     narrow = Renderer(lanes=lanes, chains=1 if lanes == 1 else 2)
     check(narrow, random_recipe(3), (61, 47), make_image(50, 40, 1))
@@ -109,7 +109,7 @@ def test_parameter_change_does_not_rebuild(renderer):
 
 @pytest.fixture(scope="module")
 def full_pattern():
-    from marblevideo.renderer import Renderer
+    from marblevideo.opencl.renderer import Renderer
 
     return Renderer(adaptive=False)
 
@@ -123,7 +123,7 @@ def test_full_pattern_path_matches_reference(full_pattern, seed):
 @pytest.mark.parametrize("seed", [2, 9, 104])
 def test_adaptive_stays_within_tolerance_of_full_pattern_on_noise(full_pattern, seed):
     """Noise is the hardest input for adaptive sampling: any position error shows."""
-    from marblevideo.renderer import Renderer
+    from marblevideo.opencl.renderer import Renderer
 
     renderer = Renderer(adaptive=True)
     rng = np.random.default_rng(seed)

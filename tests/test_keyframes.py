@@ -10,7 +10,7 @@ import pytest
 from hypothesis import given
 from hypothesis import strategies as st
 
-from marblevideo.keyframes import BEZIERS, EASE_NAMES, Key, Track, cubic_bezier, ease
+from marblevideo.recipe.keyframes import BEZIERS, EASE_NAMES, Key, Track, cubic_bezier, ease
 
 
 def brute_bezier(x1: float, y1: float, x2: float, y2: float, u: float) -> float:

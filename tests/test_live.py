@@ -16,10 +16,10 @@ import numpy as np
 import pytest
 
 from marblevideo.errors import UsageError
-from marblevideo.live import Clock, LiveSession, sliders, with_overrides
-from marblevideo.preview import PreviewServer
+from marblevideo.live.preview import PreviewServer
+from marblevideo.live.session import Clock, LiveSession, sliders, with_overrides
+from marblevideo.live.sources import Latest, TestPattern
 from marblevideo.recipe import parse_recipe
-from marblevideo.sources import Latest, TestPattern
 from tests.live_helpers import RECIPE, ROOT, LiveProcess
 
 SWIRL = ROOT / "samples" / "swirl.json"

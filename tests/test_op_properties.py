@@ -12,7 +12,7 @@ import math
 import numpy as np
 import pytest
 
-from marblevideo.frame import OpState
+from marblevideo.recipe.frame import OpState
 from marblevideo.reference import forward, inverse, jacobian
 
 SEEDS = range(8)

@@ -10,13 +10,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from marblevideo.frame import geometry
+from marblevideo.opencl.renderer import UNROLL_LIMIT, kernel_source, pack_params, walk_source
+from marblevideo.opencl.selfcheck import LEVELS, SHARE, agreement
 from marblevideo.ops import COLOR_SLOTS, PSTRIDE, REGISTRY, identity, op_def
 from marblevideo.ops.base import PROGRESS_LAWS, slider_range
 from marblevideo.recipe import parse_recipe
+from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
-from marblevideo.renderer import UNROLL_LIMIT, kernel_source, pack_params, walk_source
-from marblevideo.selfcheck import LEVELS, SHARE, agreement
 
 ROOT = Path(__file__).resolve().parent.parent
 OPS = list(REGISTRY.values())

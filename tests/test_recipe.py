@@ -11,11 +11,11 @@ import numpy as np
 import pytest
 
 from marblevideo.errors import RecipeError, UsageError
-from marblevideo.frame import FrameSpec
-from marblevideo.keyframes import EASE_NAMES
 from marblevideo.ops import REGISTRY
 from marblevideo.recipe import Op, Recipe, load_recipe, parse_recipe
-from marblevideo.schema import schema
+from marblevideo.recipe.frame import FrameSpec
+from marblevideo.recipe.keyframes import EASE_NAMES
+from marblevideo.recipe.schema import schema
 
 OPS = {
     "drop": {"type": "drop", "center": [10, 20], "radius": 5, "color": "#ff8000"},

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 from marblevideo import reference
-from marblevideo.antialias import PATTERNS
-from marblevideo.frame import EDGE_MODES, FrameSpec, OpState, geometry
+from marblevideo.recipe.antialias import PATTERNS
+from marblevideo.recipe.frame import EDGE_MODES, FrameSpec, OpState, geometry
 from marblevideo.reference import forward, inverse_walk, render, sample_bilinear
 
 RED, BLUE, GREEN = (255.0, 0.0, 0.0), (0.0, 0.0, 255.0), (0.0, 200.0, 0.0)
@@ -289,7 +289,7 @@ def test_chunking_does_not_change_the_picture(monkeypatch: pytest.MonkeyPatch) -
     )
     geom = geometry((40.0, 30.0), (40, 30))
     whole = render(s, geom, img)
-    monkeypatch.setattr(reference, "CHUNK_POINTS", 37)
+    monkeypatch.setattr(reference.shading, "CHUNK_POINTS", 37)
     np.testing.assert_array_equal(render(s, geom, img), whole)
 
 

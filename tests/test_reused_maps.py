@@ -10,11 +10,11 @@ import numpy as np
 import pytest
 from recipes import EDGES, PATTERNS, make_image, random_recipe
 
-from marblevideo.frame import geometry
+from marblevideo.opencl.renderer import Renderer
+from marblevideo.opencl.selfcheck import SHARE, agreement
 from marblevideo.recipe import parse_recipe
+from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
-from marblevideo.renderer import Renderer
-from marblevideo.selfcheck import SHARE, agreement
 
 
 @pytest.fixture(scope="module")

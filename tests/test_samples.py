@@ -8,8 +8,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from marblevideo.frame import geometry
 from marblevideo.recipe import load_recipe
+from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
 SAMPLES = Path(__file__).resolve().parent.parent / "samples"
@@ -42,7 +42,7 @@ def test_figure6_at_1024_matches_the_reference(renderer):
 def test_outputs_get_the_usual_file_mode(tmp_path):
     import os
 
-    from marblevideo.output import atomic_output
+    from marblevideo.media.output import atomic_output
 
     umask = os.umask(0o022)
     try:

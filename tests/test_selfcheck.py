@@ -9,13 +9,13 @@ from dataclasses import replace
 
 import pytest
 
-from marblevideo import selfcheck
-from marblevideo.antialias import PATTERNS
-from marblevideo.device import choose_device
-from marblevideo.frame import EDGE_MODES
+from marblevideo.opencl import selfcheck
+from marblevideo.opencl.device import choose_device
+from marblevideo.opencl.renderer import UNROLL_LIMIT
 from marblevideo.ops import REGISTRY
+from marblevideo.recipe.antialias import PATTERNS
+from marblevideo.recipe.frame import EDGE_MODES
 from marblevideo.reference import render as reference_render
-from marblevideo.renderer import UNROLL_LIMIT
 
 DEVICE = os.environ.get("MARBLEVIDEO_TEST_DEVICE")
 
@@ -100,7 +100,7 @@ def test_a_misplaced_picture_makes_the_check_fail_and_exit_1():
 def test_a_program_that_fails_to_build_is_one_line_for_the_device(monkeypatch):
     """A real OpenCL build failure (the kernel source replaced by one that does
     not compile): the device's check stops with one line, and exit status 1."""
-    from marblevideo import renderer
+    from marblevideo.opencl import renderer
 
     broken = "__kernel void marble(__global uint *dst) { this is not C; }\n"
     monkeypatch.setattr(renderer, "program_source", lambda: broken)

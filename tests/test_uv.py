@@ -11,9 +11,9 @@ import numpy as np
 import pytest
 from test_vector import blank_design
 
-from marblevideo.frame import geometry
+from marblevideo.outputs.uv import read_uv, render_uv
+from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
-from marblevideo.uv import read_uv, render_uv
 
 ROOT = Path(__file__).resolve().parent.parent
 

@@ -8,9 +8,9 @@ import math
 import numpy as np
 import pytest
 
-from marblevideo.frame import geometry
+from marblevideo.outputs.svg import design_svg, simplify_closed
 from marblevideo.recipe import parse_recipe
-from marblevideo.vector import design_svg, simplify_closed
+from marblevideo.recipe.frame import geometry
 
 cairosvg = pytest.importorskip("cairosvg", reason="cairosvg (test extra) rasterizes the SVG")
 
@@ -129,7 +129,7 @@ def test_simplification_stays_within_tolerance():
 
 
 def test_refinement_guard_notes_the_cap(monkeypatch):
-    import marblevideo.vector as vector
+    import marblevideo.outputs.svg as vector
 
     monkeypatch.setattr(vector, "MAX_VERTICES", 2000)
     recipe = blank_design(1)

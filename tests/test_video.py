@@ -17,8 +17,7 @@ import pytest
 from clips import picture, probe, write_clip
 
 from marblevideo.errors import MediaError, OutputExistsError, UsageError
-from marblevideo.progress import Progress
-from marblevideo.video import (
+from marblevideo.media.pipeline import (
     QUEUE_FRAMES,
     VideoOptions,
     _Pipeline,
@@ -27,6 +26,7 @@ from marblevideo.video import (
     render_blank,
     transcode,
 )
+from marblevideo.media.progress import Progress
 
 
 def invert(rgba: np.ndarray, t: float) -> np.ndarray:
@@ -386,7 +386,7 @@ def test_queues_are_bounded():
 
 INTERRUPT_SCRIPT = """
 import sys, time
-from marblevideo.video import transcode, VideoOptions
+from marblevideo.media.pipeline import transcode, VideoOptions
 def slow(rgba, t):
     print("frame", flush=True)
     time.sleep(0.2)

@@ -15,10 +15,10 @@ import numpy as np
 from clips import probe, write_clip
 
 from marblevideo.api import marbled_frames
-from marblevideo.frame import geometry
+from marblevideo.media.pipeline import iter_frames
 from marblevideo.recipe import load_recipe
+from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
-from marblevideo.video import iter_frames
 
 RECIPE = {
     "marblevideo": 1,

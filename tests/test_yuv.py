@@ -9,12 +9,8 @@ import pytest
 from clips import picture, probe, write_clip
 
 from marblevideo.api import Marbler
-from marblevideo.frame import geometry
-from marblevideo.recipe import parse_recipe
-from marblevideo.reference import render as reference_render
-from marblevideo.renderer import Renderer
-from marblevideo.video import VideoOptions, render_blank, transcode
-from marblevideo.yuv import (
+from marblevideo.media.pipeline import VideoOptions, render_blank, transcode
+from marblevideo.media.yuv import (
     YuvMatrix,
     chroma_geometry,
     coded_spec,
@@ -24,6 +20,10 @@ from marblevideo.yuv import (
     rgba_to_i420,
     split_i420,
 )
+from marblevideo.opencl.renderer import Renderer
+from marblevideo.recipe import parse_recipe
+from marblevideo.recipe.frame import geometry
+from marblevideo.reference import render as reference_render
 
 MATRICES = [
     YuvMatrix.of(2, 0),  # unspecified: BT.601, limited

@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from marblevideo.api import Marbler, render_still
-from marblevideo.tiled import write_bands
+from marblevideo.media.tiled import write_bands
 
 FIGURE6 = "samples/figure6.json"
 

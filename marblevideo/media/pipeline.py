@@ -28,9 +28,9 @@ Conventions
   (yuv420p) an odd width or height is padded by one replicated edge pixel, and
   a one-line notice says so.
 - A transform may also offer ``transform.i420(planes, t, src, dst) -> planes``:
-  the frame as I420 planes ``(y, u, v)`` (:mod:`marblevideo.yuv`; views of the
+  the frame as I420 planes ``(y, u, v)`` (:mod:`marblevideo.media.yuv`; views of the
   decoded frame's buffers, rows possibly padded: read them, do not keep them)
-  with colours in the :class:`~marblevideo.yuv.YuvMatrix` ``src``, the result as
+  with colours in the :class:`~marblevideo.media.yuv.YuvMatrix` ``src``, the result as
   I420 in ``dst``, packed or as planes, in arrays of its own (a packed result
   is encoded without a copy). With ``transform.i420_start(planes, t, src, dst)
   -> finish`` as well, the pipeline keeps one frame in flight: it starts frame
@@ -45,7 +45,7 @@ Conventions
   (the usual case: the output keeps the input's tags), else it converts on
   the OpenCL device; either way neither swscale conversion runs. Luma differs
   from the RGBA path by a level or two (swscale rounds with less precision);
-  chroma is resampled at chroma resolution (see :mod:`marblevideo.yuv`).
+  chroma is resampled at chroma resolution (see :mod:`marblevideo.media.yuv`).
   :attr:`Stats.i420_frames` counts these frames.
 - Packets the decoder rejects as invalid data are skipped and counted, with a
   one-line notice at the end (decoders that conceal damage, like H.264, report
@@ -53,7 +53,7 @@ Conventions
 - Notices (one line each) go to ``options.notify``, else to stderr prefixed by
   ``marblevideo:`` (not when ``quiet``); they are also listed in :attr:`Stats.notes`.
 - Encoder settings are tried in :func:`plan_output`, before any input is opened
-  (:mod:`marblevideo.encoders`); the encoder libraries' own log lines are off
+  (:mod:`marblevideo.media.encoders`); the encoder libraries' own log lines are off
   unless ``verbose``.
 - Decode, transform and encode run in three threads joined by bounded queues
   (``QUEUE_FRAMES`` frames each), so memory stays flat; the transform runs in
@@ -78,18 +78,18 @@ from pathlib import Path
 import av
 import numpy as np
 
-from marblevideo.encoders import (
+from marblevideo.errors import MediaError, UsageError
+from marblevideo.media.encoders import (
     check_encoder,
     library_logs,
     option_table,
     quiet_environment,
     quiet_options,
 )
-from marblevideo.errors import MediaError, UsageError
-from marblevideo.inputs import check_input
-from marblevideo.output import atomic_output, check_output
-from marblevideo.progress import MODES, Progress, progress_mode
-from marblevideo.yuv import FORMATS, YuvMatrix, packed_i420, split_i420
+from marblevideo.media.inputs import check_input
+from marblevideo.media.output import atomic_output, check_output
+from marblevideo.media.progress import MODES, Progress, progress_mode
+from marblevideo.media.yuv import FORMATS, YuvMatrix, packed_i420, split_i420
 
 Transform = Callable[[np.ndarray, float], np.ndarray]  # optional i420, i420_start, rgba_start
 
@@ -183,7 +183,7 @@ class VideoItem:
     pts: int
     duration: int
     t: float
-    i420: np.ndarray | tuple | None = None  # I420, packed or as planes (marblevideo.yuv)
+    i420: np.ndarray | tuple | None = None  # I420, packed or as planes (marblevideo.media.yuv)
     matrix: YuvMatrix | None = None  # the colour matrix and range of ``i420``
 
     @property

@@ -41,9 +41,9 @@ import numpy as np
 
 from marblevideo.cli import add_encoder_arguments, configure_logging, parse_encoder_opts
 from marblevideo.errors import MarbleError, RecipeError, UsageError
-from marblevideo.keyframes import Track
+from marblevideo.live.sources import Latest, Source, open_source
 from marblevideo.ops import NUMERIC_KINDS, op_def, slider_range
-from marblevideo.sources import Latest, Source, open_source
+from marblevideo.recipe.keyframes import Track
 
 DEFAULT_PORT = 8765
 RELOAD_POLL = 0.5
@@ -176,8 +176,8 @@ class LiveSession:
         say=None,
     ):
         from marblevideo.api import Marbler
+        from marblevideo.opencl.renderer import Renderer
         from marblevideo.recipe import load_recipe
-        from marblevideo.renderer import Renderer
 
         self._load = load_recipe
         self.recipe_path = Path(recipe_path)
@@ -551,8 +551,8 @@ def build_parser(parser_class=argparse.ArgumentParser) -> argparse.ArgumentParse
 
 
 def _recorder(args):
-    from marblevideo.recording import Recorder
-    from marblevideo.video import PRESET_CODECS, VideoOptions
+    from marblevideo.live.recording import Recorder
+    from marblevideo.media.pipeline import PRESET_CODECS, VideoOptions
 
     opts = parse_encoder_opts(args.encoder_opt)
     suffix = Path(args.output).suffix.lower()
@@ -637,7 +637,7 @@ def run_live(argv: list[str], parser_class=argparse.ArgumentParser) -> int:
             recorder.start(width, height, source.fps)
             session.recorder = recorder
         if args.preview:
-            from marblevideo.preview import PreviewServer
+            from marblevideo.live.preview import PreviewServer
 
             server = PreviewServer(session, args.port)
             server.start()

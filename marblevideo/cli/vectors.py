@@ -8,7 +8,7 @@ import math
 import sys
 
 from marblevideo.errors import UsageError
-from marblevideo.images import is_image_path
+from marblevideo.media.images import is_image_path
 from marblevideo.recipe import Recipe
 
 

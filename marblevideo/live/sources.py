@@ -248,7 +248,7 @@ class MediaSource(Source):
         return container
 
     def capture(self) -> None:
-        from marblevideo.video import _upright
+        from marblevideo.media.pipeline import _upright
 
         origin = time.monotonic()  # wall-clock time of t = 0 of the current pass
         while not self._stop.is_set():

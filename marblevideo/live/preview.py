@@ -2,7 +2,7 @@
 
 Routes:
 
-- ``GET /``: the page (``live_page.html``): the stream, counters, controls.
+- ``GET /``: the page (``page.html``): the stream, counters, controls.
 - ``GET /stream.mjpg``: the marbled frames as MJPEG (``multipart/x-mixed-replace``),
   each JPEG sent once, newest first: a slow client skips frames, it never queues them.
 - ``GET /frame.jpg``: the newest JPEG.
@@ -31,7 +31,7 @@ HOST = "127.0.0.1"
 
 
 def page_html() -> bytes:
-    return (resources.files("marblevideo") / "live_page.html").read_bytes()
+    return (resources.files("marblevideo.live") / "page.html").read_bytes()
 
 
 class _Handler(BaseHTTPRequestHandler):

@@ -2,7 +2,7 @@
 
 A recipe's *structure* (op types in order, antialiasing pattern, edges mode,
 blank sheet or input) is built into a program once; the per-frame values (a
-:class:`~marblevideo.frame.FrameSpec`) are packed into a small float buffer by
+:class:`~marblevideo.recipe.frame.FrameSpec`) are packed into a small float buffer by
 :func:`pack_params`, so animating a recipe never recompiles. Programs are
 cached per structure and their kernel fetched once.
 
@@ -38,12 +38,12 @@ from pathlib import Path
 
 import numpy as np
 
-from marblevideo.antialias import pattern
-from marblevideo.device import DeviceInfo, choose_device
 from marblevideo.errors import DeviceError, UsageError
-from marblevideo.frame import EDGE_MODES, FrameSpec, Geometry
+from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, split_i420
+from marblevideo.opencl.device import DeviceInfo, choose_device
 from marblevideo.ops import COLOR_SLOTS, PSTRIDE, REGISTRY, is_ink, op_def
-from marblevideo.yuv import YuvMatrix, chroma_geometry, coded_spec, split_i420
+from marblevideo.recipe.antialias import pattern
+from marblevideo.recipe.frame import EDGE_MODES, FrameSpec, Geometry
 
 #: Recipes longer than this walk their ops in a loop instead of unrolled code.
 UNROLL_LIMIT = 48
@@ -101,7 +101,7 @@ def kernel_source(name: str = "marble.cl") -> str:
     packaged = resources.files("marblevideo") / "kernels" / name
     if packaged.is_file():
         return packaged.read_text()
-    return (Path(__file__).resolve().parent.parent / "kernels" / name).read_text()
+    return (Path(__file__).resolve().parents[2] / "kernels" / name).read_text()
 
 
 def program_source() -> str:
@@ -484,7 +484,7 @@ class Renderer:
         """:meth:`render` for 8-bit 4:2:0 video frames, converted on the device.
 
         ``planes``: the input as I420, packed or as planes (see
-        :mod:`marblevideo.yuv`; padded rows are copied as they are, without a
+        :mod:`marblevideo.media.yuv`; padded rows are copied as they are, without a
         copy on the host), even-sized, in ``src_matrix``, or None for a blank
         sheet; returns the frame as packed I420
         in ``dst_matrix``, shape (3 * out_h / 2, out_w), which must be even too.
@@ -740,7 +740,7 @@ class Renderer:
         )
 
     def _put_i420(self, planes: tuple[np.ndarray, np.ndarray, np.ndarray], events: list):
-        """The buffer ``i420_in`` holding ``planes`` packed (see marblevideo.yuv);
+        """The buffer ``i420_in`` holding ``planes`` packed (see marblevideo.media.yuv);
         rows padded on the host are copied by a rectangle copy, not packed first.
         The copies' events are appended to ``events``."""
         cl = self._cl

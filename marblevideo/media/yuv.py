@@ -37,8 +37,8 @@ from functools import cache, cached_property
 
 import numpy as np
 
-from marblevideo.frame import FrameSpec, Geometry, OpState
 from marblevideo.ops import is_ink
+from marblevideo.recipe.frame import FrameSpec, Geometry, OpState
 from marblevideo.reference import render as reference_render
 
 # AVColorSpace -> (name, Kr, Kb); 2 is "unspecified", taken as BT.601 like swscale

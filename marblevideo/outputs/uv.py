@@ -31,9 +31,9 @@ from pathlib import Path
 
 import numpy as np
 
-from marblevideo.antialias import pattern
 from marblevideo.errors import MediaError, UsageError
-from marblevideo.frame import FrameSpec, geometry
+from marblevideo.recipe.antialias import pattern
+from marblevideo.recipe.frame import FrameSpec, geometry
 from marblevideo.reference import ink_colors, shade
 
 #: Subsample points walked at once.
@@ -43,7 +43,7 @@ UV_EXTENSIONS = frozenset({".png", ".exr", ".tif", ".tiff"})
 
 def read_uv(path: str | os.PathLike) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """(u, v, surface) float64/bool arrays (H, W) of a UV pass file."""
-    from marblevideo.images import opencv  # sets OpenCV's EXR switch before cv2 loads
+    from marblevideo.media.images import opencv  # sets OpenCV's EXR switch before cv2 loads
 
     cv2 = opencv()
 

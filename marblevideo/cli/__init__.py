@@ -166,7 +166,7 @@ def parse_encoder_opts(items: list[str]) -> dict[str, str]:
 
 
 def _cmd_devices(argv: list[str]) -> int:
-    from marblevideo.device import describe_devices, list_devices
+    from marblevideo.opencl.device import describe_devices, list_devices
 
     p = _Parser(
         prog="marblevideo devices",
@@ -188,7 +188,7 @@ def _cmd_devices(argv: list[str]) -> int:
             raise UsageError(f"{'--device' if args.device else '--verbose'} goes with --check")
         print(describe_devices())
         return 0 if list_devices() else 1
-    from marblevideo.selfcheck import run_check
+    from marblevideo.opencl.selfcheck import run_check
 
     return run_check(args.device, verbose=args.verbose)
 
@@ -203,7 +203,7 @@ def _cmd_schema(argv: list[str]) -> int:
 
 def _cmd_render(argv: list[str]) -> int:
     from marblevideo.api import as_recipe, parse_size, parse_view, render_still
-    from marblevideo.images import is_image_path
+    from marblevideo.media.images import is_image_path
 
     args = _render_parser().parse_args(argv)
     configure_logging(args.verbose)
@@ -211,7 +211,7 @@ def _cmd_render(argv: list[str]) -> int:
     size = parse_size(args.size) if args.size else None
     out_ext = Path(args.output).suffix.lower()
     if out_ext == ".svg" or args.uv or args.tolerance is not None:
-        from marblevideo.zoomcli import render_extra
+        from marblevideo.cli.vectors import render_extra
 
         return render_extra(args, recipe, size, out_ext)
     if args.view and not is_image_path(args.output):
@@ -275,7 +275,7 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
 
 
 def _cmd_live(argv: list[str]) -> int:
-    from marblevideo.live import run_live
+    from marblevideo.live.session import run_live
 
     return run_live(argv, _Parser)
 

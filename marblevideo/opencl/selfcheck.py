@@ -7,15 +7,15 @@ Conventions:
   :data:`LEVELS` of the reference (for I420 frames: of plane samples); a case
   agrees when that share is at least :data:`SHARE`. These are the test suite's
   tolerances: the tests import them from here.
-- Every device gets a fresh :class:`~marblevideo.renderer.Renderer` with the
+- Every device gets a fresh :class:`~marblevideo.opencl.renderer.Renderer` with the
   renderer's defaults for that device (vector code on CPUs, one pixel
   per work-item on GPUs; adaptive sampling on blank sheets, reused maps over
   inputs), so the check runs the code a real render of that device runs.
 - The cases (:func:`cases`) are derived from the real lists: every op type of
   the registry (:data:`marblevideo.ops.REGISTRY`, with its example), every antialiasing pattern
-  (:data:`marblevideo.antialias.PATTERNS`) over an input and on a blank sheet,
-  every edges mode (:data:`marblevideo.frame.EDGE_MODES`), a recipe longer
-  than :data:`~marblevideo.renderer.UNROLL_LIMIT` (the loop walk), I420 frames
+  (:data:`marblevideo.recipe.antialias.PATTERNS`) over an input and on a blank sheet,
+  every edges mode (:data:`marblevideo.recipe.frame.EDGE_MODES`), a recipe longer
+  than :data:`~marblevideo.opencl.renderer.UNROLL_LIMIT` (the loop walk), I420 frames
   warped plane by plane and converted between matrices; every case over an
   input is rendered a second time, identically, which must come from the table
   of reused maps (group ``reused``).
@@ -38,14 +38,14 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from marblevideo.antialias import PATTERNS
-from marblevideo.device import HOW_TO_GET_ONE, DeviceInfo, choose_device, list_devices
-from marblevideo.frame import EDGE_MODES, FrameSpec, Geometry, geometry
+from marblevideo.media.yuv import YuvMatrix, i420_to_rgba, render_planes, rgba_to_i420
+from marblevideo.opencl.device import HOW_TO_GET_ONE, DeviceInfo, choose_device, list_devices
+from marblevideo.opencl.renderer import UNROLL_LIMIT, Renderer
 from marblevideo.ops import EXAMPLE_CANVAS, REGISTRY
 from marblevideo.recipe import parse_recipe
+from marblevideo.recipe.antialias import PATTERNS
+from marblevideo.recipe.frame import EDGE_MODES, FrameSpec, Geometry, geometry
 from marblevideo.reference import render as reference_render
-from marblevideo.renderer import UNROLL_LIMIT, Renderer
-from marblevideo.yuv import YuvMatrix, i420_to_rgba, render_planes, rgba_to_i420
 
 #: A pixel agrees when every channel is within this many levels of the reference.
 LEVELS = 4

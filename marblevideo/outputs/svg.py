@@ -1,6 +1,6 @@
 """Blank-sheet designs as resolution-independent SVG (paper, section 3.3, and beyond).
 
-Every drop and spray of a :class:`~marblevideo.frame.FrameSpec` is a circle
+Every drop and spray of a :class:`~marblevideo.recipe.frame.FrameSpec` is a circle
 whose paint is carried by the *later* ops only: its boundary is sampled on the
 original circle and pushed through the float64 forward maps of
 the later ops' definitions (:mod:`marblevideo.ops`; a later drop pushes earlier paint outward, a
@@ -34,8 +34,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from marblevideo.frame import FrameSpec, fit
 from marblevideo.ops import identity, op_def
+from marblevideo.recipe.frame import FrameSpec, fit
 
 #: Default tolerance, output pixels.
 DEFAULT_TOLERANCE = 0.5

@@ -1,7 +1,7 @@
 """NumPy float64 reference renderer: the oracle the OpenCL kernel is tested against.
 
 It follows shared/recipe-format.md literally and favours clarity over speed.
-Conventions, shared with the contract and :mod:`marblevideo.frame`:
+Conventions, shared with the contract and :mod:`marblevideo.recipe.frame`:
 
 - Canvas units, origin top-left, **x right, y down**. Angles in **degrees**;
   angle 0 is +x, 90 is +y (down the screen), so a positive rotation is
@@ -25,9 +25,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from marblevideo.antialias import PATTERNS, pattern
-from marblevideo.frame import EDGE_MODES, FrameSpec, Geometry, OpState
 from marblevideo.ops import is_ink, op_def
+from marblevideo.recipe.antialias import PATTERNS, pattern
+from marblevideo.recipe.frame import EDGE_MODES, FrameSpec, Geometry, OpState
 
 ArrayLike = np.ndarray | float
 Points = tuple[np.ndarray, np.ndarray]

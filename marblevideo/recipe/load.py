@@ -2,7 +2,7 @@
 
 :func:`load_recipe` and :func:`parse_recipe` turn a JSON file or a Python dict
 into a :class:`Recipe`, validating it fully first: structure against the
-published JSON Schema (:mod:`marblevideo.schema`), then what a schema cannot
+published JSON Schema (:mod:`marblevideo.recipe.schema`), then what a schema cannot
 say (key times strictly increasing, ``end`` > ``start``). The first fault in
 document order (structural faults before those) raises
 :class:`~marblevideo.errors.RecipeError`, whose text is
@@ -16,7 +16,7 @@ range) are refused; so is nesting deeper than :data:`MAX_DEPTH` (a valid recipe
 needs 7 levels), before anything recurses into it.
 
 :meth:`Recipe.at` resolves every track and applies each op's progress,
-giving the :class:`~marblevideo.frame.FrameSpec` the renderers read.
+giving the :class:`~marblevideo.recipe.frame.FrameSpec` the renderers read.
 """
 
 from __future__ import annotations
@@ -34,10 +34,10 @@ from typing import Any
 from jsonschema import Draft202012Validator, ValidationError
 
 from marblevideo.errors import RecipeError, UsageError
-from marblevideo.frame import FrameSpec, OpState
-from marblevideo.keyframes import Key, Track
 from marblevideo.ops import op_def
-from marblevideo.schema import LIMIT, schema
+from marblevideo.recipe.frame import FrameSpec, OpState
+from marblevideo.recipe.keyframes import Key, Track
+from marblevideo.recipe.schema import LIMIT, schema
 
 DEFAULT_BACKGROUND = "#ffffff"
 DEFAULT_ANTIALIAS = "rgss"

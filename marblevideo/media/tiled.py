@@ -22,7 +22,7 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 
-from marblevideo.frame import Geometry
+from marblevideo.recipe.frame import Geometry
 
 #: Pixels per band (about 64 MiB of RGBA).
 BAND_PIXELS = 16 << 20

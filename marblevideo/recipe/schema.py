@@ -17,10 +17,10 @@ from __future__ import annotations
 import copy
 from functools import lru_cache
 
-from marblevideo.antialias import PATTERNS
-from marblevideo.frame import EDGE_MODES
-from marblevideo.keyframes import EASE_NAMES
 from marblevideo.ops import REGISTRY
+from marblevideo.recipe.antialias import PATTERNS
+from marblevideo.recipe.frame import EDGE_MODES
+from marblevideo.recipe.keyframes import EASE_NAMES
 
 SCHEMA_ID = "urn:marblevideo:recipe:1"
 DRAFT = "https://json-schema.org/draft/2020-12/schema"

@@ -14,7 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import MediaError, UsageError
-from marblevideo.inputs import check_input
+from marblevideo.media.inputs import check_input
 
 IMAGE_EXTENSIONS = frozenset({".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp"})
 ALPHA_EXTENSIONS = frozenset({".png", ".tif", ".tiff", ".webp"})
@@ -22,7 +22,7 @@ ALPHA_EXTENSIONS = frozenset({".png", ".tif", ".tiff", ".webp"})
 MAX_PIXELS = 1 << 28
 
 os.environ.setdefault("OPENCV_IO_MAX_IMAGE_PIXELS", str(MAX_PIXELS))
-os.environ.setdefault("OPENCV_IO_ENABLE_OPENEXR", "1")  # UV passes (marblevideo.uv)
+os.environ.setdefault("OPENCV_IO_ENABLE_OPENEXR", "1")  # UV passes (marblevideo.outputs.uv)
 # OpenCV's own warnings (e.g. libtiff's about extra samples) are not ours to print:
 # errors reach the user as one line each, through MediaError.
 os.environ.setdefault("OPENCV_LOG_LEVEL", "ERROR")
