@@ -20,7 +20,8 @@ from marblevideo.media.progress import Progress
 from marblevideo.media.tiled import TILED_ABOVE, can_stream, write_bands
 from marblevideo.media.tiled import band_rows as tiled_rows
 from marblevideo.media.yuv import YuvMatrix, split_i420
-from marblevideo.opencl.renderer import Renderer, Structure
+from marblevideo.opencl.program import Structure
+from marblevideo.opencl.renderer import Renderer
 from marblevideo.outputs.svg import DEFAULT_TOLERANCE, VectorStats, design_svg
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
 from marblevideo.recipe.frame import Geometry, geometry

@@ -18,7 +18,8 @@ from pathlib import Path
 import pytest
 
 from marblevideo.errors import DeviceError, UsageError
-from marblevideo.opencl.renderer import LANES_VARIABLE, Renderer, cpu_lanes
+from marblevideo.opencl.program import LANES_VARIABLE, cpu_lanes
+from marblevideo.opencl.renderer import Renderer
 
 ROOT = Path(__file__).resolve().parent.parent
 SAMPLES = ROOT / "samples"
@@ -79,7 +80,8 @@ def test_the_renderer_takes_the_devices_width(renderer):
 
 BUILD_EVERY_KIND = """
 import json, logging, sys
-from marblevideo.opencl.renderer import Renderer, Structure, UNROLL_LIMIT
+from marblevideo.opencl.renderer import Renderer
+from marblevideo.opencl.program import Structure, UNROLL_LIMIT
 logs = []
 class Keep(logging.Handler):
     def emit(self, record):

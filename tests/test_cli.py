@@ -264,7 +264,11 @@ def wheel(tmp_path_factory) -> Path:
 def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
     with zipfile.ZipFile(wheel) as zf:
         names = zf.namelist()
-        assert "marblevideo/kernels/marble.cl" in names
+        kernels = [
+            f"marblevideo/kernels/{p.relative_to(ROOT / 'kernels')}"
+            for p in (ROOT / "kernels").rglob("*.cl")
+        ]
+        assert "marblevideo/kernels/ops/ink.cl" in kernels and set(kernels) <= set(names)
         shipped = zf.read("marblevideo/kernels/marble.cl").decode()
         recipes = {p.name for p in (ROOT / "samples").glob("*.json")}
         assert {f"marblevideo/samples/{n}" for n in recipes} <= set(names)
@@ -303,10 +307,10 @@ def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
     outside = tmp_path / "elsewhere"
     outside.mkdir()
     probe = (
-        "import marblevideo, marblevideo.opencl.renderer as r; from importlib import resources;"
+        "import marblevideo, marblevideo.opencl.program as r; from importlib import resources;"
         "print(marblevideo.__file__);"
         "print(resources.files('marblevideo') / 'kernels' / 'marble.cl');"
-        "print(len(r.kernel_source()))"
+        "print(len(r.program_source()))"
     )
     proc = subprocess.run(
         [str(py), "-c", probe], cwd=outside, env=env, capture_output=True, text=True, timeout=60
@@ -314,7 +318,9 @@ def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
     assert proc.returncode == 0, proc.stderr
     package, kernel, length = proc.stdout.split("\n")[:3]
     assert package.startswith(str(venv)) and kernel.startswith(str(venv)), proc.stdout
-    assert Path(kernel).is_file() and int(length) == len(shipped)
+    from marblevideo.opencl.program import program_source
+
+    assert Path(kernel).is_file() and int(length) == len(program_source())
 
     # the console script of the installed package renders a still
     write_recipe(outside, RECIPE)

@@ -32,7 +32,8 @@ from recipes import make_image
 
 from marblevideo.errors import DeviceError
 from marblevideo.media.images import MAX_PIXELS
-from marblevideo.opencl.renderer import MAX_SIDE, Renderer, Structure
+from marblevideo.opencl.program import Structure
+from marblevideo.opencl.renderer import MAX_SIDE, Renderer
 from marblevideo.opencl.selfcheck import agreement
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
@@ -518,7 +519,7 @@ def test_kernel_build_failure_is_one_line():
     """The real build path with a source that does not compile (the renderer's
     source attribute replaced on a fresh instance, nothing else)."""
     renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
-    renderer._source = "__kernel void marble(__global uint *dst) { this is not C; }\n"
+    renderer.programs.source = "__kernel void marble(__global uint *dst) { this is not C; }\n"
     with pytest.raises(DeviceError, match="OpenCL build failed") as info:
         renderer.kernel_for(Structure(("drop",), "none", "clamp", False))
     assert "\n" not in str(info.value)
@@ -526,7 +527,7 @@ def test_kernel_build_failure_is_one_line():
 
 def test_a_failed_prebuild_is_reported_by_the_render():
     renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
-    renderer._source = "__kernel void marble(__global uint *dst) { this is not C; }\n"
+    renderer.programs.source = "__kernel void marble(__global uint *dst) { this is not C; }\n"
     structure = Structure(("drop",), "none", "clamp", False)
     renderer.prebuild(structure)  # fails in its thread, silently
     with pytest.raises(DeviceError, match="OpenCL build failed") as info:

@@ -46,7 +46,7 @@ def test_kernel_matches_reference_on_blank_sheet(renderer, seed):
 
 
 def test_long_recipe_uses_loop_walk_and_matches(renderer):
-    from marblevideo.opencl.renderer import UNROLL_LIMIT
+    from marblevideo.opencl.program import UNROLL_LIMIT
 
     recipe = random_recipe(7, n_ops=UNROLL_LIMIT + 13)
     for op in recipe["ops"]:  # keep the many ops gentle so the picture stays comparable
@@ -66,12 +66,15 @@ def test_identity_recipe_returns_the_input_exactly(renderer):
 def test_a_prebuilt_program_is_built_once_and_renders_as_ever():
     """prebuild builds in a thread; a render asking meanwhile waits for that build
     instead of starting its own, and the result matches the reference."""
-    from marblevideo.opencl.renderer import Renderer, Structure
+    from marblevideo.opencl.program import Structure
+    from marblevideo.opencl.renderer import Renderer
 
     renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
     builds = []
-    build = renderer._build
-    renderer._build = lambda st: builds.append((st, threading.current_thread().name)) or build(st)
+    build = renderer.programs.build
+    renderer.programs.build = lambda st: (
+        builds.append((st, threading.current_thread().name)) or build(st)
+    )
     recipe = parse_recipe(random_recipe(3), "random.json")
     structure = Structure.of(recipe, True)
     renderer.prebuild(structure)
@@ -101,9 +104,9 @@ def test_parameter_change_does_not_rebuild(renderer):
     geom = geometry(recipe.canvas, (64, 48), (64, 48))
     image = make_image(64, 48)
     renderer.render(recipe.at(0.0), geom, image)
-    built = len(renderer._kernels)
+    built = renderer.programs.built
     frames = [renderer.render(recipe.at(t), geom, image) for t in np.linspace(0, 3, 7)]
-    assert len(renderer._kernels) == built
+    assert renderer.programs.built == built
     assert any(not np.array_equal(frames[0], f) for f in frames[1:])
 
 

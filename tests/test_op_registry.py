@@ -10,7 +10,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from marblevideo.opencl.renderer import UNROLL_LIMIT, kernel_source, pack_params, walk_source
+from marblevideo.opencl.program import UNROLL_LIMIT, kernel_source, pack_params, walk_source
 from marblevideo.opencl.selfcheck import LEVELS, SHARE, agreement
 from marblevideo.ops import COLOR_SLOTS, PSTRIDE, REGISTRY, identity, op_def
 from marblevideo.ops.base import PROGRESS_LAWS, slider_range

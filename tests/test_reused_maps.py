@@ -122,7 +122,7 @@ def test_identity_through_the_table_is_exact():
 def test_table_over_the_limit_or_switched_off_walks_every_frame():
     spec, geom, image = frame(4)
     big = Renderer()
-    big._table_limit = 1024  # this frame's table needs 4 * 89 * 128 * 4 bytes
+    big.tables.limit = 1024  # this frame's table needs 4 * 89 * 128 * 4 bytes
     off = Renderer(reuse_maps=False)
     for renderer in (big, off):
         first = renderer.render(spec, geom, image)

@@ -11,7 +11,7 @@ import pytest
 
 from marblevideo.opencl import selfcheck
 from marblevideo.opencl.device import choose_device
-from marblevideo.opencl.renderer import UNROLL_LIMIT
+from marblevideo.opencl.program import UNROLL_LIMIT
 from marblevideo.ops import REGISTRY
 from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.frame import EDGE_MODES
@@ -100,10 +100,10 @@ def test_a_misplaced_picture_makes_the_check_fail_and_exit_1():
 def test_a_program_that_fails_to_build_is_one_line_for_the_device(monkeypatch):
     """A real OpenCL build failure (the kernel source replaced by one that does
     not compile): the device's check stops with one line, and exit status 1."""
-    from marblevideo.opencl import renderer
+    from marblevideo.opencl import program
 
     broken = "__kernel void marble(__global uint *dst) { this is not C; }\n"
-    monkeypatch.setattr(renderer, "program_source", lambda: broken)
+    monkeypatch.setattr(program, "program_source", lambda: broken)
     report = selfcheck.check_device(DEVICE)
     assert not report.agrees and "OpenCL build failed" in report.error
     assert "\n" not in report.error and report.stopped_in == selfcheck.cases()[0].name

@@ -15,7 +15,7 @@ Conventions:
   the registry (:data:`marblevideo.ops.REGISTRY`, with its example), every antialiasing pattern
   (:data:`marblevideo.recipe.antialias.PATTERNS`) over an input and on a blank sheet,
   every edges mode (:data:`marblevideo.recipe.frame.EDGE_MODES`), a recipe longer
-  than :data:`~marblevideo.opencl.renderer.UNROLL_LIMIT` (the loop walk), I420 frames
+  than :data:`~marblevideo.opencl.program.UNROLL_LIMIT` (the loop walk), I420 frames
   warped plane by plane and converted between matrices; every case over an
   input is rendered a second time, identically, which must come from the table
   of reused maps (group ``reused``).
@@ -40,7 +40,8 @@ import numpy as np
 
 from marblevideo.media.yuv import YuvMatrix, i420_to_rgba, render_planes, rgba_to_i420
 from marblevideo.opencl.device import HOW_TO_GET_ONE, DeviceInfo, choose_device, list_devices
-from marblevideo.opencl.renderer import UNROLL_LIMIT, Renderer
+from marblevideo.opencl.program import UNROLL_LIMIT
+from marblevideo.opencl.renderer import Renderer
 from marblevideo.ops import EXAMPLE_CANVAS, REGISTRY
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.antialias import PATTERNS
@@ -271,7 +272,6 @@ def _path(renderer, case: Case, spec: FrameSpec, w: int, h: int) -> str:
 
 
 def _run(renderer, case: Case, spec, geom: Geometry, image: np.ndarray) -> np.ndarray:
-    renderer.last_full_pixels = None
     if case.route == "planes":
         return renderer.render_i420(spec, geom, rgba_to_i420(image, PLANES), PLANES, PLANES)
     if case.route == "converted":

@@ -1,0 +1,106 @@
+"""Planar video frames: an I420 frame warped plane by plane, in its own colour
+matrix throughout (:func:`marblevideo.reference.yuv.render_planes` is the
+reference): luma at full resolution, both chroma planes at half, each sampled
+through its *quads* (a whole bilinear footprint in one 32-bit gather; see
+marble.cl), with the same tables of reused maps per plane as RGBA frames."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import numpy as np
+
+from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec
+from marblevideo.opencl.program import Programs, Structure, pack_params
+from marblevideo.opencl.queue import DeviceQueue, float4, geometry_args
+from marblevideo.opencl.tables import ReusedMaps
+from marblevideo.recipe.frame import FrameSpec, Geometry
+
+
+class PlanarFrames:
+    """Renders I420 frames plane by plane on ``queue`` with ``programs``, reusing
+    maps through ``tables`` when ``reuse_maps``."""
+
+    def __init__(
+        self, queue: DeviceQueue, programs: Programs, tables: ReusedMaps, reuse_maps: bool
+    ):
+        self.queue, self.programs, self.tables = queue, programs, tables
+        self.reuse_maps = reuse_maps
+
+    def render(
+        self,
+        spec: FrameSpec,
+        geom: Geometry,
+        planes: tuple[np.ndarray, np.ndarray, np.ndarray],
+        matrix: YuvMatrix,
+        out: np.ndarray | None,
+        static: bool,
+        wait: bool,
+        errors: Callable,
+    ):
+        """(frame or finishing function, reused): see Renderer.render_i420;
+        ``errors`` turns OpenCL errors into DeviceError."""
+        queue, lanes = self.queue, self.programs.lanes
+        w, h = geom.out_w, geom.out_h
+        sh, sw = planes[0].shape
+        coded = coded_spec(spec, matrix)
+        structure = Structure.of(coded, True)
+        built = self.programs.get(structure)
+        params = pack_params(coded)
+        luma, chroma = geom, chroma_geometry(geom)
+        (luma_maps, geo), (chroma_maps, _) = geometry_args(luma), geometry_args(chroma)
+        key = ("planes", structure, params.tobytes(), geo.tobytes(), w, h, sw, sh)
+        reuse = False
+        if self.reuse_maps:
+            nbytes = sum(
+                self.tables.nbytes(spec.antialias, g.out_w, g.out_h) for g in (luma, chroma)
+            )
+            reuse = self.tables.decide(key, nbytes, static)
+        result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
+        bg = coded.background
+        with errors():
+            pbuf = queue.buffer("params", params.nbytes)
+            # the uploads' events hold their host arrays until the copies are done
+            uploads = [queue.upload(pbuf, params)]
+            staged = queue.put_i420(planes, uploads)
+            dst = queue.buffer("i420_out", result.nbytes)
+            samples = queue.samples(spec.antialias)
+            bgc = float4([*bg, 255.0])
+            cw, ch = sw // 2, sh // 2
+            planes_in = (  # (name, offset, width, height, background code) of each input plane
+                ("quads_y", 0, sw, sh, bg[0]),
+                ("quads_u", sw * sh, cw, ch, bg[1]),
+                ("quads_v", sw * sh + cw * ch, cw, ch, bg[2]),
+            )
+            quads = []
+            k = built.kernels["marble_quads"]
+            yl = self.programs.yuv_lanes
+            for name, off, pw, ph, code in planes_in:
+                buf = queue.buffer(name, (pw + 2) * (ph + 2) * 4)
+                k.set_args(buf, staged, np.int32(off), np.int32(pw), np.int32(ph), np.uint32(code))
+                queue.launch(k, (pw + yl) // yl * (ph + 1))
+                quads.append(buf)
+            # luma, then both chroma planes at the same points: (geometry, its maps,
+            # output offsets, input plane size, quads, chroma flag, table names)
+            luma_job = (luma, luma_maps, (0, 0), (sw, sh), quads[0], quads[0], 0, ("taps", "wts"))
+            chroma_offsets = (w * h, w * h * 5 // 4)
+            chroma_job = (chroma, chroma_maps, chroma_offsets, (cw, ch), *quads[1:], 1)
+            chroma_job += (("ctaps", "cwts"),)
+            walk = reuse and not self.tables.holds(key)
+            for g, maps, offsets, in_size, q0, q1, is_chroma, names in (luma_job, chroma_job):
+                pw, ph = g.out_w, g.out_h
+                head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q0, q1)
+                head += (np.int32(is_chroma),)
+                common = (q0, *map(np.int32, in_size), pbuf, samples, *maps, bgc)
+                if not reuse:
+                    k = built.kernels["marble_plane"]
+                    k.set_args(*head, *common)
+                    queue.launch(k, -(-pw // lanes) * -(-ph // built.rows))
+                    continue
+                table = self.tables.table(built, names, pw, ph, spec.antialias, common, walk)
+                k = built.kernels["marble_apply_plane"]
+                k.set_args(*head, *table, samples)
+                queue.launch(k, -(-pw // lanes) * ph)
+            if reuse:
+                self.tables.hold(key)
+            return queue.download(result, dst, wait, uploads, errors), reuse

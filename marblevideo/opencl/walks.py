@@ -1,0 +1,79 @@
+"""Walked frames: every subsample walked afresh (:class:`FreshWalk`), or the full
+pattern only where a pixel needs it (:class:`AdaptiveWalk`).
+
+Adaptive antialiasing runs three passes (see marble.cl): one walk at every
+pixel centre of a grid one pixel larger than the output, a classification of
+each pixel's 3x3 neighbourhood (one ink all round: that ink; none: the
+background, or over a smooth map the pattern's samples interpolated from the
+nine walks), and the full pattern for the pixels left on a list.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from marblevideo.opencl.program import Built
+from marblevideo.opencl.queue import DeviceQueue
+
+#: Work-group size of marble_classify (its list takes one global atomic per group).
+CLASSIFY_GROUP = 64
+
+
+class FreshWalk:
+    """Every subsample of every pixel walked (the ``marble`` kernel)."""
+
+    def __init__(self, queue: DeviceQueue, lanes: int):
+        self.queue, self.lanes = queue, lanes
+
+    def render(self, built: Built, dst, w: int, h: int, common: tuple) -> None:
+        k = built.kernels["marble"]
+        k.set_args(dst, np.int32(w), np.int32(h), *common)
+        self.queue.launch(k, -(-w // self.lanes) * -(-h // built.rows))
+
+
+class AdaptiveWalk:
+    """The three passes of adaptive antialiasing; :attr:`last_full_pixels`: the
+    pixels the last render gave the full pattern."""
+
+    def __init__(self, queue: DeviceQueue, lanes: int):
+        self.queue, self.lanes = queue, lanes
+        self.group = min(CLASSIFY_GROUP, queue.info.device.max_work_group_size)
+        self.last_full_pixels: int | None = None
+
+    def render(self, built: Built, dst, w, h, common, pbuf, maps, has_input: bool) -> None:
+        """``maps``: the geometry's two float4 kernel arguments; ``pbuf``: the params."""
+        queue, lanes = self.queue, self.lanes
+        nbx = -(-w // lanes)
+        gstride, gh = nbx * lanes + 2 * lanes, h + 2
+        cells = gstride * gh
+        inkmap = queue.buffer("inkmap", cells * 4)
+        size = cells * 4 if has_input else 4  # end points: only over an input
+        sxmap, symap = queue.buffer("sxmap", size), queue.buffer("symap", size)
+        listing = queue.buffer("list", w * h * 4)
+        counter = queue.buffer("count", 4)
+        zero = np.zeros(1, np.int32)
+        cleared = queue.upload(counter, zero)
+        centres = built.kernels["marble_centres"]
+        centres.set_args(inkmap, sxmap, symap, np.int32(gstride), np.int32(gh), pbuf, *maps)
+        queue.launch(centres, gstride // lanes * -(-gh // built.chains))
+        classify = built.kernels["marble_classify"]
+        classify.set_args(
+            dst,
+            np.int32(w),
+            np.int32(h),
+            inkmap,
+            sxmap,
+            symap,
+            np.int32(gstride),
+            listing,
+            counter,
+            *common,
+        )
+        queue.launch(classify, nbx * h, self.group)
+        n = queue.count(counter)
+        del cleared  # copied before the count was read
+        self.last_full_pixels = n
+        if n:
+            full = built.kernels["marble_list"]
+            full.set_args(dst, np.int32(w), listing, np.int32(n), *common)
+            queue.launch(full, -(-n // (lanes * built.rows)))
