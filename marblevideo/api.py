@@ -350,7 +350,7 @@ def parse_size(text: str) -> tuple[int, int]:
 
 
 def _video_options(options: dict):
-    from marblevideo.media.pipeline import VideoOptions
+    from marblevideo.media.video import VideoOptions
 
     try:
         return VideoOptions(**options)
@@ -371,10 +371,11 @@ def render_video(
     """Marble every frame of the video ``src`` into ``dst`` at its own time, keeping
     audio and timing; with ``src=None`` render the recipe's process on a blank sheet
     for ``duration`` seconds (default: the whole animation plus one second) at ``fps``.
-    ``options`` are the fields of :class:`marblevideo.media.pipeline.VideoOptions`
+    ``options`` are the fields of :class:`marblevideo.media.video.VideoOptions`
     (codec, crf, preset, pix_fmt, encoder_opts, audio, start, end, size, overwrite,
-    quiet, progress, verbose). Returns the job's :class:`marblevideo.media.pipeline.Stats`."""
-    from marblevideo.media.pipeline import plan_output, render_blank, transcode
+    quiet, progress, verbose). Returns the job's :class:`marblevideo.media.video.Stats`."""
+    from marblevideo.media.encode import plan_output
+    from marblevideo.media.pipeline import render_blank, transcode
 
     recipe = as_recipe(recipe)
     if src is None:

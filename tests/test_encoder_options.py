@@ -19,7 +19,8 @@ import pytest
 from clips import write_clip
 
 from marblevideo.errors import UsageError
-from marblevideo.media.pipeline import VideoOptions, plan_output
+from marblevideo.media.encode import plan_output
+from marblevideo.media.video import VideoOptions
 
 RECIPE = {
     "canvas": [64, 48],

@@ -17,16 +17,9 @@ import pytest
 from clips import picture, probe, write_clip
 
 from marblevideo.errors import MediaError, OutputExistsError, UsageError
-from marblevideo.media.pipeline import (
-    QUEUE_FRAMES,
-    VideoOptions,
-    _Pipeline,
-    _Stopped,
-    iter_frames,
-    render_blank,
-    transcode,
-)
+from marblevideo.media.pipeline import _Pipeline, _Stopped, iter_frames, render_blank, transcode
 from marblevideo.media.progress import Progress
+from marblevideo.media.video import QUEUE_FRAMES, VideoOptions
 
 
 def invert(rgba: np.ndarray, t: float) -> np.ndarray:
@@ -386,7 +379,8 @@ def test_queues_are_bounded():
 
 INTERRUPT_SCRIPT = """
 import sys, time
-from marblevideo.media.pipeline import transcode, VideoOptions
+from marblevideo.media.pipeline import transcode
+from marblevideo.media.video import VideoOptions
 def slow(rgba, t):
     print("frame", flush=True)
     time.sleep(0.2)

@@ -9,7 +9,8 @@ import pytest
 from clips import picture, probe, write_clip
 
 from marblevideo.api import Marbler
-from marblevideo.media.pipeline import VideoOptions, render_blank, transcode
+from marblevideo.media.pipeline import render_blank, transcode
+from marblevideo.media.video import VideoOptions
 from marblevideo.media.yuv import (
     YuvMatrix,
     chroma_geometry,

@@ -5,7 +5,7 @@ first recorded frame's, in milliseconds (time base 1/1000), so the file plays
 back at the pace it was shown, dropped frames included as gaps. Encoder
 settings are the file mode's, checked by :func:`marblevideo.video.plan_output`
 (--codec, --crf, --preset, --pix-fmt, --encoder-opt), and frames are written
-by its :class:`~marblevideo.media.pipeline.Encoder`.
+by its :class:`~marblevideo.media.encode.Encoder`.
 
 Encoding runs in its own thread behind a small bounded queue; a frame that
 finds the queue full is dropped and counted (``dropped``), so a slow encoder
@@ -25,15 +25,9 @@ from fractions import Fraction
 import av
 import numpy as np
 
+from marblevideo.media.encode import Encoder, plan_output
 from marblevideo.media.output import atomic_output
-from marblevideo.media.pipeline import (
-    Encoder,
-    Stats,
-    VideoItem,
-    VideoOptions,
-    notifier,
-    plan_output,
-)
+from marblevideo.media.video import Stats, VideoItem, VideoOptions, notifier
 
 TIME_BASE = Fraction(1, 1000)
 QUEUE = 8

@@ -552,7 +552,8 @@ def build_parser(parser_class=argparse.ArgumentParser) -> argparse.ArgumentParse
 
 def _recorder(args):
     from marblevideo.live.recording import Recorder
-    from marblevideo.media.pipeline import PRESET_CODECS, VideoOptions
+    from marblevideo.media.encode import PRESET_CODECS
+    from marblevideo.media.video import VideoOptions
 
     opts = parse_encoder_opts(args.encoder_opt)
     suffix = Path(args.output).suffix.lower()

@@ -248,7 +248,7 @@ class MediaSource(Source):
         return container
 
     def capture(self) -> None:
-        from marblevideo.media.pipeline import _upright
+        from marblevideo.media.decode import upright
 
         origin = time.monotonic()  # wall-clock time of t = 0 of the current pass
         while not self._stop.is_set():
@@ -265,7 +265,7 @@ class MediaSource(Source):
                     return
                 if self._stop.is_set():
                     return
-                self.publish(_upright(frame))
+                self.publish(upright(frame))
             if not self.loop:
                 return
             self._container.close()

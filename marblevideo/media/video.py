@@ -1,0 +1,117 @@
+"""What a video job is: its options, what it did (:class:`Stats`), the items
+that travel through the pipeline (a frame, or an audio packet or frame), and
+its one-line notices. Conventions of the whole job: :mod:`~marblevideo.media.pipeline`."""
+
+from __future__ import annotations
+
+import os
+import sys
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import av
+import numpy as np
+
+from marblevideo.errors import UsageError
+from marblevideo.media.yuv import YuvMatrix, split_i420
+
+QUEUE_FRAMES = 4
+AUDIO_MODES = ("copy", "aac", "none")
+
+
+@dataclass
+class VideoOptions:
+    """Options of a video job; the fields mirror the command line's flags."""
+
+    codec: str | None = None  # --codec: encoder name; default from the extension
+    crf: int | None = None  # --crf: constant quality (x264 23, x265 28, VP9 31)
+    preset: str | None = None  # --preset: x264/x265 speed preset (medium)
+    pix_fmt: str = "yuv420p"  # --pix-fmt
+    encoder_opts: dict[str, str] = field(default_factory=dict)  # --encoder-opt KEY=VALUE
+    audio: str = "copy"  # --audio copy|aac|none
+    start: float | None = None  # --start: seconds on the input's clock
+    end: float | None = None  # --end: seconds on the input's clock (exclusive)
+    size: tuple[int, int] | None = None  # --size W H: what the transform produces
+    overwrite: bool = False  # -y
+    quiet: bool = False  # --quiet: no progress bar, no notices on stderr
+    progress: str = "auto"  # --progress auto|bar|json|off
+    notify: Callable[[str], None] | None = None  # one-line notices; default stderr
+    verbose: bool = False  # --verbose: the encoder libraries' and FFmpeg's own log lines
+
+
+@dataclass
+class Stats:
+    """What a job did."""
+
+    frames: int = 0
+    size: tuple[int, int] | None = None  # (width, height) as encoded
+    audio: str = "none"  # "copy", the re-encoder's name, or "none"
+    audio_packets: int = 0  # packets copied or encoded
+    corrupt_packets: int = 0  # input packets skipped as undecodable
+    i420_frames: int = 0  # frames the transform took and gave as I420 (no swscale)
+    seconds: float = 0.0  # wall time
+    duration: float = 0.0  # seconds of video written: first frame's start to last one's end
+    notes: list[str] = field(default_factory=list)
+
+    @property
+    def fps(self) -> float:
+        return self.frames / self.seconds if self.seconds > 0 else 0.0
+
+    def summary(self, path: str | os.PathLike) -> str:
+        """One line for the end of a job: ``wrote PATH: N frames, D s, WxH, F fps``
+        (the size as encoded; fps: frames per second of wall time)."""
+        size = "x".join(map(str, self.size)) if self.size else "no size"
+        return (
+            f"wrote {path}: {self.frames} frames, {self.duration:.2f} s, {size}, {self.fps:.1f} fps"
+        )
+
+
+@dataclass
+class VideoItem:
+    """One frame on its way through the pipeline: its pixels (RGBA or I420), its
+    output pts and duration in the encoder's time base, and its time ``t``."""
+
+    rgba: np.ndarray | None  # upright RGBA, or None when the frame travels as I420
+    pts: int
+    duration: int
+    t: float
+    i420: np.ndarray | tuple | None = None  # I420, packed or as planes (marblevideo.media.yuv)
+    matrix: YuvMatrix | None = None  # the colour matrix and range of ``i420``
+
+    @property
+    def shape(self) -> tuple[int, int]:
+        """(height, width) of the frame."""
+        if self.i420 is not None:
+            return split_i420(self.i420)[0].shape
+        return self.rgba.shape[:2]
+
+
+@dataclass
+class AudioItem:
+    """An audio packet to copy, or a decoded frame to encode, of input stream ``index``."""
+
+    index: int  # input stream index
+    payload: av.Packet | av.AudioFrame  # packet to copy or frame to encode
+
+
+def say(options: VideoOptions, stats: Stats, message: str) -> None:
+    """Note ``message`` in ``stats`` and tell it (``options.notify``, else stderr
+    unless quiet)."""
+    stats.notes.append(message)
+    if options.notify is not None:
+        options.notify(message)
+    elif not options.quiet:
+        print(f"marblevideo: {message}", file=sys.stderr, flush=True)
+
+
+def notifier(options: VideoOptions, stats: Stats) -> Callable[[str], None]:
+    """The one-line notice function of a job: ``options.notify`` or stderr, noted in
+    ``stats``."""
+    return lambda message: say(options, stats, message)
+
+
+def check_range(start: float | None, end: float | None) -> None:
+    if start is not None and start < 0:
+        raise UsageError(f"start must be >= 0 seconds, got {start}")
+    if end is not None and end <= (start or 0):
+        raise UsageError(f"end ({end} s) must be after start ({start or 0} s)")
