@@ -68,7 +68,7 @@ def _reader(url: str, stop: threading.Event, counter: list[int]) -> None:
 
 
 def bench(size, seconds, warmup, preview_width, record, device, fps):
-    from marblevideo.api import parse_size
+    from marblevideo.cli.arguments import parse_size
     from marblevideo.live.preview import PreviewServer
     from marblevideo.live.session import LiveSession
     from marblevideo.live.sources import TestPattern
@@ -83,10 +83,10 @@ def bench(size, seconds, warmup, preview_width, record, device, fps):
         )
         recorder = None
         if record:
-            from marblevideo.live.session import _recorder, build_parser
+            from marblevideo.cli.live import build_parser, recorder_for
 
             args = build_parser().parse_args(["--ops", str(recipe), "-o", record, "-y"])
-            recorder = _recorder(args)
+            recorder = recorder_for(args)
             recorder.start(w, h, fps)
             session.recorder = recorder
         server = PreviewServer(session, 0)

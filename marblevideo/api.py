@@ -322,33 +322,6 @@ def render_uv_pass(
     return dst
 
 
-def parse_view(text: str) -> tuple[float, float, float, float]:
-    """'X,Y,W,H' (canvas units) -> a view window; W and H > 0, all finite."""
-    parts = text.split(",")
-    try:
-        values = tuple(float(p) for p in parts)
-    except ValueError:
-        values = ()
-    if len(values) != 4 or not all(np.isfinite(values)):
-        raise UsageError(
-            f"--view: expected X,Y,W,H in canvas units such as 0,0,256,256, got {text!r}"
-        )
-    if values[2] <= 0 or values[3] <= 0:
-        raise UsageError(f"--view: width and height must be > 0, got {text!r}")
-    return values
-
-
-def parse_size(text: str) -> tuple[int, int]:
-    """'WxH' -> (W, H), each 1..32768."""
-    parts = text.lower().split("x")
-    if len(parts) != 2 or not all(p.strip().isdigit() for p in parts):
-        raise UsageError(f"--size: expected WxH such as 1280x720, got {text!r}")
-    w, h = (int(p) for p in parts)
-    if not (0 < w <= 32768 and 0 < h <= 32768):
-        raise UsageError(f"--size: each side must be 1..32768, got {text!r}")
-    return w, h
-
-
 def _video_options(options: dict):
     from marblevideo.media.video import VideoOptions
 

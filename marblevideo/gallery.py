@@ -157,11 +157,11 @@ def main(argv: list[str] | None = None) -> int:
 def _main(argv: list[str] | None) -> int:
     from marblevideo.api import as_recipe, blank_canvas
     from marblevideo.bundled import samples_path
-    from marblevideo.cli import _Parser
+    from marblevideo.cli.arguments import Parser
     from marblevideo.media.images import is_image_path, write_image
     from marblevideo.media.output import atomic_output, check_output
 
-    p = _Parser(
+    p = Parser(
         prog=PROG,
         description=__doc__.split("\n\n")[0],
         epilog="The stages come from the ops' start/end windows; see the module docstring.",

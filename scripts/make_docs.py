@@ -115,7 +115,7 @@ def recompress(path: Path) -> None:
 def make(out: Path, tmp: Path) -> dict[str, str]:
     """Write every picture into ``out``; returns the README's numbers by marker name."""
     from marblevideo import load_recipe, marbled_frames, samples_path
-    from marblevideo.api import parse_view
+    from marblevideo.cli.arguments import parse_view
     from marblevideo.gallery import stages
 
     numbers = {}

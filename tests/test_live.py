@@ -16,8 +16,9 @@ import numpy as np
 import pytest
 
 from marblevideo.errors import UsageError
+from marblevideo.live.controls import Clock, sliders, with_overrides
 from marblevideo.live.preview import PreviewServer
-from marblevideo.live.session import Clock, LiveSession, sliders, with_overrides
+from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import Latest, TestPattern
 from marblevideo.recipe import parse_recipe
 from tests.live_helpers import RECIPE, ROOT, LiveProcess

@@ -1,22 +1,27 @@
-"""The command line: ``marblevideo [INPUT] --ops RECIPE -o OUTPUT``, ``devices``, ``schema``.
+"""``marblevideo [INPUT] --ops RECIPE -o OUTPUT``: render a still, a video, an SVG.
 
 What is rendered follows from the files: an image input or a blank sheet to an
 image output is a still; a video input, or a blank sheet to a video output, is
-a video. Exit status: 0 done, 1 runtime failure, 2 usage or recipe error,
-130/143 interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
+a video; an .svg output, ``--uv`` or ``--tolerance`` go to :mod:`.vectors`.
 """
 
 from __future__ import annotations
 
 import argparse
-import json
-import logging
-import signal
 import sys
 from pathlib import Path
 
 from marblevideo import __version__
-from marblevideo.errors import Interrupted, MarbleError, UsageError
+from marblevideo.cli.arguments import (
+    Parser,
+    add_encoder_arguments,
+    add_log_arguments,
+    configure_logging,
+    parse_encoder_opts,
+    parse_size,
+    parse_view,
+)
+from marblevideo.errors import UsageError
 
 VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm")
 EPILOG = """\
@@ -33,15 +38,8 @@ exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143 interru
 """
 
 
-class _Parser(argparse.ArgumentParser):
-    """argparse with one-line errors and exit status 2."""
-
-    def error(self, message: str):
-        raise UsageError(f"{message} (see {self.prog} --help)")
-
-
 def _render_parser() -> argparse.ArgumentParser:
-    p = _Parser(
+    p = Parser(
         prog="marblevideo",
         description="Marble videos, live sources and stills with the closed-form "
         "operations of Mathematical Marbling (Lu et al. 2012), rendered by OpenCL.",
@@ -111,98 +109,8 @@ def _render_parser() -> argparse.ArgumentParser:
     return p
 
 
-def add_log_arguments(parser) -> None:
-    """-q and --verbose, shared by the commands."""
-    parser.add_argument("-q", "--quiet", action="store_true", help="no progress bar or notes")
-    parser.add_argument(
-        "--verbose",
-        action="store_true",
-        help="say which device and vector width render; show OpenCL build and encoder logs",
-    )
-
-
-def configure_logging(verbose: bool) -> None:
-    """With ``verbose``, the ``marblevideo`` logger's DEBUG records go to stderr as
-    ``marblevideo: ...`` lines (the renderer then builds with compiler warnings
-    on and logs the build log); without, nothing is logged."""
-    logger = logging.getLogger("marblevideo")
-    for handler in list(logger.handlers):
-        if getattr(handler, "marblevideo_cli", False):
-            logger.removeHandler(handler)
-    if not verbose:
-        logger.setLevel(logging.NOTSET)
-        return
-    handler = logging.StreamHandler(sys.stderr)
-    handler.setFormatter(logging.Formatter("marblevideo: %(message)s"))
-    handler.marblevideo_cli = True
-    logger.addHandler(handler)
-    logger.setLevel(logging.DEBUG)
-
-
-def add_encoder_arguments(group, preset_default: str) -> None:
-    """The encoder flags shared by the file and live modes."""
-    group.add_argument("--codec", help="video encoder (default: libx264; libvpx-vp9 for .webm)")
-    group.add_argument("--crf", type=int, help="constant quality (default as ffmpeg: 23 for x264)")
-    group.add_argument("--preset", help=f"x264/x265 preset (default {preset_default})")
-    group.add_argument("--pix-fmt", default="yuv420p", help="encoded pixel format (yuv420p)")
-    group.add_argument(
-        "--encoder-opt",
-        action="append",
-        default=[],
-        metavar="KEY=VALUE",
-        help="extra encoder option, repeatable (e.g. tune=film)",
-    )
-
-
-def parse_encoder_opts(items: list[str]) -> dict[str, str]:
-    """--encoder-opt KEY=VALUE items as a dict."""
-    opts = {}
-    for item in items:
-        key, sep, value = item.partition("=")
-        if not sep or not key:
-            raise UsageError(f"--encoder-opt: expected KEY=VALUE, got {item!r}")
-        opts[key] = value
-    return opts
-
-
-def _cmd_devices(argv: list[str]) -> int:
-    from marblevideo.opencl.device import describe_devices, list_devices
-
-    p = _Parser(
-        prog="marblevideo devices",
-        description="List OpenCL devices; with --check, test each one against the NumPy reference.",
-        epilog="--check renders a fixed set of small recipes (every op type, "
-        "antialiasing pattern and edges mode, over an input and on a blank sheet, a "
-        "long recipe, I420 frames, reused maps) on each device and compares them with "
-        "the NumPy reference. Exit status: 0 every checked device agrees, 1 one "
-        "disagrees or fails, 2 usage error.",
-    )
-    p.add_argument(
-        "--check", action="store_true", help="render test recipes on each device and compare"
-    )
-    p.add_argument("--device", help="check only this device: P:D or a name (with --check)")
-    p.add_argument("-v", "--verbose", action="store_true", help="--check: every case's detail")
-    args = p.parse_args(argv)
-    if not args.check:
-        if args.device or args.verbose:
-            raise UsageError(f"{'--device' if args.device else '--verbose'} goes with --check")
-        print(describe_devices())
-        return 0 if list_devices() else 1
-    from marblevideo.opencl.selfcheck import run_check
-
-    return run_check(args.device, verbose=args.verbose)
-
-
-def _cmd_schema(argv: list[str]) -> int:
-    from marblevideo.recipe import schema
-
-    _Parser(prog="marblevideo schema", description="Print the recipe JSON Schema.").parse_args(argv)
-    print(json.dumps(schema(), indent=2))
-    return 0
-
-
-def _cmd_render(argv: list[str]) -> int:
-    from marblevideo.api import as_recipe, parse_size, parse_view, render_still
+def render_command(argv: list[str]) -> int:
+    from marblevideo.api import as_recipe, render_still
     from marblevideo.media.images import is_image_path
 
     args = _render_parser().parse_args(argv)
@@ -272,38 +180,3 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         progress=args.progress,
         verbose=args.verbose,
     )
-
-
-def _cmd_live(argv: list[str]) -> int:
-    from marblevideo.live.session import run_live
-
-    return run_live(argv, _Parser)
-
-
-COMMANDS = {"devices": _cmd_devices, "schema": _cmd_schema, "live": _cmd_live}
-
-
-def _on_sigterm(signum, frame):
-    raise Interrupted(signum)
-
-
-def run(argv: list[str]) -> int:
-    """Dispatch a command line; raises MarbleError for the caller to report."""
-    if argv and argv[0] in COMMANDS:
-        return COMMANDS[argv[0]](argv[1:])
-    return _cmd_render(argv)
-
-
-def main(argv: list[str] | None = None) -> int:
-    argv = sys.argv[1:] if argv is None else list(argv)
-    previous = signal.signal(signal.SIGTERM, _on_sigterm)
-    try:
-        return run(argv)
-    except MarbleError as exc:
-        print(f"marblevideo: {exc}", file=sys.stderr)
-        return exc.exit_code
-    except KeyboardInterrupt:
-        print("marblevideo: interrupted", file=sys.stderr)
-        return 130
-    finally:
-        signal.signal(signal.SIGTERM, previous)

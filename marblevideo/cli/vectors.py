@@ -15,7 +15,8 @@ from marblevideo.recipe import Recipe
 def render_extra(
     args: argparse.Namespace, recipe: Recipe, size: tuple[int, int] | None, out_ext: str
 ) -> int:
-    from marblevideo.api import parse_view, render_svg, render_uv_pass
+    from marblevideo.api import render_svg, render_uv_pass
+    from marblevideo.cli.arguments import parse_view
 
     view = parse_view(args.view) if args.view else None
     if args.tolerance is not None:

@@ -43,6 +43,13 @@ PRESET_CODECS = ("libx264", "libx265")
 COLOR_FIELDS = ("color_range", "colorspace", "color_primaries", "color_trc")
 
 
+
+def default_codec(dst: str | os.PathLike) -> str | None:
+    """The video encoder an output's extension gets by default (None: unknown)."""
+    container = CONTAINERS.get(Path(dst).suffix.lower())
+    return None if container is None else container[1]
+
+
 @dataclass
 class OutputPlan:
     """Validated output settings (:func:`plan_output`), used by :class:`Encoder`."""

@@ -1,0 +1,62 @@
+"""The command line: ``marblevideo [INPUT] --ops RECIPE -o OUTPUT`` (:mod:`.render`),
+``devices`` and ``schema`` (:mod:`.info`), ``live`` (:mod:`.live`).
+
+Exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143
+interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
+"""
+
+from __future__ import annotations
+
+import signal
+import sys
+
+from marblevideo.errors import Interrupted, MarbleError
+
+
+def _devices(argv: list[str]) -> int:
+    from marblevideo.cli.info import devices_command
+
+    return devices_command(argv)
+
+
+def _schema(argv: list[str]) -> int:
+    from marblevideo.cli.info import schema_command
+
+    return schema_command(argv)
+
+
+def _live(argv: list[str]) -> int:
+    from marblevideo.cli.live import run_live
+
+    return run_live(argv)
+
+
+COMMANDS = {"devices": _devices, "schema": _schema, "live": _live}
+
+
+def _on_sigterm(signum, frame):
+    raise Interrupted(signum)
+
+
+def run(argv: list[str]) -> int:
+    """Dispatch a command line; raises MarbleError for the caller to report."""
+    if argv and argv[0] in COMMANDS:
+        return COMMANDS[argv[0]](argv[1:])
+    from marblevideo.cli.render import render_command
+
+    return render_command(argv)
+
+
+def main(argv: list[str] | None = None) -> int:
+    argv = sys.argv[1:] if argv is None else list(argv)
+    previous = signal.signal(signal.SIGTERM, _on_sigterm)
+    try:
+        return run(argv)
+    except MarbleError as exc:
+        print(f"marblevideo: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print("marblevideo: interrupted", file=sys.stderr)
+        return 130
+    finally:
+        signal.signal(signal.SIGTERM, previous)

@@ -1,0 +1,190 @@
+"""``marblevideo live``: marble a camera, a file/URL or a test pattern in real time
+(:mod:`marblevideo.live`).
+
+Stopping: ``--duration``, the end of a file source without ``--loop``, or
+SIGINT (Ctrl-C) / SIGTERM, which are the normal end of a live session: the
+recording so far is finalized and kept and the exit status is 0. A second
+Ctrl-C while finalizing aborts (exit 130, no recording left).
+"""
+
+from __future__ import annotations
+
+import argparse
+import signal
+import sys
+import threading
+
+from marblevideo.cli.arguments import (
+    Parser,
+    add_encoder_arguments,
+    add_log_arguments,
+    configure_logging,
+    parse_encoder_opts,
+    parse_size,
+)
+from marblevideo.errors import MarbleError, UsageError
+from marblevideo.live.session import LiveSession
+from marblevideo.live.sources import open_source
+from marblevideo.live.vcam import VCAM_HELP, VirtualCamera
+
+DEFAULT_PORT = 8765
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = Parser(
+        prog="marblevideo live",
+        description="Marble a camera, a video file or URL, or a test pattern in real time; "
+        "preview it in a browser, send it to a virtual camera, record it.",
+        epilog="examples:\n"
+        "  marblevideo live test --ops samples/swirl.json --preview\n"
+        "  marblevideo live 0 --ops samples/swirl.json --vcam\n"
+        "  marblevideo live clip.mp4 --loop --ops swirl.json --preview -o take1.mp4\n\n"
+        "Ctrl-C (SIGINT) or SIGTERM ends a session normally: the recording is kept, exit 0.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "source",
+        nargs="?",
+        help="camera index or /dev/videoN, a video file or URL, or 'test' (default: camera 0)",
+    )
+    p.add_argument("--source", dest="source_opt", metavar="SOURCE", help="same as SOURCE")
+    p.add_argument("--ops", required=True, metavar="RECIPE", help="recipe JSON file (watched)")
+    p.add_argument("--preview", action="store_true", help="serve a preview page on 127.0.0.1")
+    p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"preview port ({DEFAULT_PORT})")
+    p.add_argument("--vcam", action="store_true", help="send frames to a virtual camera")
+    p.add_argument("-o", "--output", help="record what is shown (.mp4 .mov .mkv .webm)")
+    p.add_argument("-y", "--overwrite", action="store_true", help="replace an existing recording")
+    p.add_argument("--size", metavar="WxH", help="test pattern size, or the size asked of a camera")
+    p.add_argument("--fps", type=float, help="test pattern rate (30), or asked of a camera")
+    p.add_argument("--loop", action="store_true", help="file sources: start again at the end")
+    p.add_argument("--duration", type=float, metavar="S", help="stop after S seconds")
+    p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
+    p.add_argument(
+        "--preview-width", type=int, metavar="W", help="encode the preview at most W pixels wide"
+    )
+    p.add_argument("--jpeg-quality", type=int, default=80, help="preview JPEG quality (80)")
+    add_log_arguments(p)
+    v = p.add_argument_group("recording (as the file mode)")
+    add_encoder_arguments(v, preset_default="here: veryfast, for real time")
+    return p
+
+
+def recorder_for(args):
+    from marblevideo.live.recording import Recorder
+    from marblevideo.media.encode import PRESET_CODECS, default_codec
+    from marblevideo.media.video import VideoOptions
+
+    opts = parse_encoder_opts(args.encoder_opt)
+    codec = args.codec or default_codec(args.output)
+    preset = args.preset
+    if preset is None and codec in PRESET_CODECS:
+        preset = "veryfast"
+    if codec == "libvpx-vp9":
+        opts.setdefault("deadline", "realtime")
+        opts.setdefault("cpu-used", "8")
+    options = VideoOptions(
+        codec=args.codec,
+        crf=args.crf,
+        preset=preset,
+        pix_fmt=args.pix_fmt,
+        encoder_opts=opts,
+        audio="none",
+        overwrite=args.overwrite,
+        quiet=args.quiet,
+        verbose=args.verbose,
+        progress="off",
+    )
+    return Recorder(args.output, options)
+
+
+def run_live(argv: list[str]) -> int:
+    """The ``live`` command; returns the exit status (MarbleError propagates)."""
+    from marblevideo.recipe import load_recipe
+
+    args = build_parser().parse_args(argv)
+    configure_logging(args.verbose)
+    if args.source and args.source_opt and args.source != args.source_opt:
+        raise UsageError("give the source once: SOURCE or --source")
+    spec = args.source_opt or args.source or "0"
+    load_recipe(args.ops)  # a bad recipe is refused before anything opens (exit 2)
+    size = parse_size(args.size) if args.size else None
+    if args.fps is not None and args.fps <= 0:
+        raise UsageError(f"--fps: must be > 0, got {args.fps}")
+    if args.duration is not None and args.duration <= 0:
+        raise UsageError(f"--duration: must be > 0, got {args.duration}")
+    if not 0 <= args.port <= 65535:
+        raise UsageError(f"--port: must be 0..65535, got {args.port}")
+    if not 1 <= args.jpeg_quality <= 100:
+        raise UsageError(f"--jpeg-quality: must be 1..100, got {args.jpeg_quality}")
+    if args.preview_width is not None and args.preview_width < 16:
+        raise UsageError(f"--preview-width: must be >= 16, got {args.preview_width}")
+    if args.vcam:
+        try:
+            import pyvirtualcam  # noqa: F401 - checked before anything opens
+        except ImportError:
+            raise MarbleError(f"--vcam needs pyvirtualcam: {VCAM_HELP}") from None
+    recorder = recorder_for(args) if args.output else None  # settings checked up front
+
+    source = open_source(spec, size, args.fps, args.loop)
+    session = server = None
+    stop = threading.Event()
+    ok = False
+    previous: dict[int, object] = {}
+
+    def on_signal(signum, frame):
+        if stop.is_set():  # a second Ctrl-C while finishing: abort
+            raise KeyboardInterrupt
+        stop.set()
+        if session is not None:
+            session.stop_event.set()
+
+    try:
+        session = LiveSession(
+            args.ops,
+            source,
+            device=args.device,
+            jpeg=args.preview,
+            preview_width=args.preview_width,
+            jpeg_quality=args.jpeg_quality,
+            quiet=args.quiet,
+        )
+        width, height = source.size
+        if args.vcam:
+            session.vcam = VirtualCamera(width, height, source.fps)
+        if recorder is not None:
+            recorder.start(width, height, source.fps)
+            session.recorder = recorder
+        if args.preview:
+            from marblevideo.live.preview import PreviewServer
+
+            server = PreviewServer(session, args.port)
+            server.start()
+            print(f"preview: {server.url}", flush=True)
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            previous[signum] = signal.signal(signum, on_signal)
+        if not args.quiet:
+            print(
+                f"marblevideo: live from {source.name} ({width}x{height}); Ctrl-C to stop",
+                file=sys.stderr,
+                flush=True,
+            )
+        session.run(args.duration)
+        ok = True
+    finally:
+        if server is not None:
+            server.stop()
+        if session is not None:
+            session.close()
+        else:
+            source.stop()
+        if session is not None and session.vcam is not None:
+            session.vcam.close()
+        if recorder is not None:
+            recorder.close(ok=ok)
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+    if not args.quiet:
+        print(f"marblevideo: {session.summary()}", file=sys.stderr, flush=True)
+        if recorder is not None:
+            print(f"marblevideo: wrote {args.output}", file=sys.stderr, flush=True)
+    return 0

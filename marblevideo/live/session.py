@@ -1,0 +1,322 @@
+"""A live session: a source marbled in real time.
+
+Pipeline (one thread each, joined by one-slot "latest" mailboxes, so when a
+stage is behind, frames are dropped rather than queued and latency stays
+bounded)::
+
+    capture -> [latest] -> render (main thread) -> [latest] -> JPEG for the preview
+                                                -> [bounded, drops when full] -> recording
+                                                -> [latest] -> virtual camera
+
+- The recipe file is polled every 0.5 s; a save reloads it. An invalid save
+  keeps the previous recipe running; its one-line RecipeError is printed on
+  stderr and shown on the preview page. Slider overrides are reset by a reload.
+- The preview's controls (clock, bypass, mirror, sliders) are
+  :class:`~marblevideo.live.controls.Controls`.
+"""
+
+from __future__ import annotations
+
+import statistics
+import sys
+import threading
+import time
+from collections import deque
+from pathlib import Path
+
+import cv2
+import numpy as np
+
+from marblevideo.errors import RecipeError
+from marblevideo.live.controls import Controls, sliders, with_overrides
+from marblevideo.live.sources import Latest, Source
+
+RELOAD_POLL = 0.5
+
+
+class RateWindow:
+    """Rates and latencies over the last few seconds."""
+
+    def __init__(self, span: float = 2.0, keep: int = 120):
+        self.span = span
+        self.times: deque[float] = deque()
+        self.values: deque[float] = deque(maxlen=keep)
+
+    def add(self, now: float, value: float | None = None) -> None:
+        self.times.append(now)
+        while self.times and self.times[0] < now - self.span:
+            self.times.popleft()
+        if value is not None:
+            self.values.append(value)
+
+    def rate(self, now: float) -> float:
+        recent = [t for t in self.times if t >= now - self.span]
+        if len(recent) < 2:
+            return 0.0
+        return (len(recent) - 1) / max(recent[-1] - recent[0], 1e-9)
+
+    def median(self) -> float | None:
+        return statistics.median(self.values) if self.values else None
+
+    def quantile(self, q: float) -> float | None:
+        if not self.values:
+            return None
+        ordered = sorted(self.values)
+        return ordered[min(len(ordered) - 1, int(q * len(ordered)))]
+
+
+class LiveSession:
+    """A running live job: source, recipe (watched), controls, outputs and counters."""
+
+    def __init__(
+        self,
+        recipe_path: str | Path,
+        source: Source,
+        *,
+        device: str | None = None,
+        renderer=None,
+        jpeg: bool = False,
+        preview_width: int | None = None,
+        jpeg_quality: int = 80,
+        quiet: bool = False,
+        say=None,
+    ):
+        from marblevideo.api import Marbler
+        from marblevideo.opencl.renderer import Renderer
+        from marblevideo.recipe import load_recipe
+
+        self._load = load_recipe
+        self.recipe_path = Path(recipe_path)
+        self.recipe = load_recipe(recipe_path)  # a bad recipe stops the start (exit 2)
+        self._stamp = self._file_stamp()
+        self.source = source
+        self.renderer = renderer or Renderer(device)
+        self._Marbler = Marbler
+        self.quiet = quiet
+        self._say = say or (lambda msg: print(f"marblevideo: {msg}", file=sys.stderr, flush=True))
+        self.controls = Controls()
+        self.recipe_version = 1
+        self.recipe_error: str | None = None
+        self._lock = threading.Lock()
+        self._marbler = None
+        self._marbled_for: tuple[int, int] | None = None  # (recipe, overrides) versions
+        # outputs
+        self.shown = Latest()  # rendered frames for the JPEG encoder
+        self.jpeg = jpeg
+        self.preview_width = preview_width
+        self.jpeg_quality = jpeg_quality
+        self.jpeg_cond = threading.Condition()
+        self.jpeg_bytes: bytes | None = None
+        self.jpeg_seq = 0
+        self.recorder = None
+        self.vcam = None
+        # counters
+        self.frames = 0
+        self.started = time.monotonic()
+        self._rendered = RateWindow()
+        self._latency = RateWindow()  # capture -> JPEG ready, seconds
+        self._render_ms = RateWindow()
+        self._threads: list[threading.Thread] = []
+        self.stop_event = threading.Event()
+
+    # -- recipe -------------------------------------------------------------
+    def _file_stamp(self):
+        try:
+            st = self.recipe_path.stat()
+        except OSError:
+            return None
+        return (st.st_mtime_ns, st.st_size)
+
+    def check_reload(self) -> bool:
+        """Reload the recipe if its file changed; returns whether it did."""
+        stamp = self._file_stamp()
+        if stamp is None or stamp == self._stamp:
+            return False
+        self._stamp = stamp
+        try:
+            recipe = self._load(self.recipe_path)
+        except RecipeError as exc:
+            with self._lock:
+                self.recipe_error = str(exc)
+            self._say(f"{exc} (keeping the previous recipe)")
+            return False
+        with self._lock:
+            self.recipe = recipe
+            self.recipe_version += 1
+            self.recipe_error = None
+        self.controls.reset()
+        if not self.quiet:
+            self._say(f"reloaded {self.recipe_path}")
+        return True
+
+    def _watch(self) -> None:
+        while not self.stop_event.wait(RELOAD_POLL):
+            try:
+                self.check_reload()
+            except Exception as exc:  # noqa: BLE001 - an unreadable save is reported, not fatal
+                with self._lock:
+                    self.recipe_error = f"{self.recipe_path}: {exc}"
+                self._say(f"{self.recipe_path}: {exc} (keeping the previous recipe)")
+
+    @property
+    def clock(self):
+        """The animation clock (:class:`~marblevideo.live.controls.Clock`)."""
+        return self.controls.clock
+
+    def _current(self):
+        overrides, bypass, mirror, version = self.controls.snapshot()
+        with self._lock:
+            if self._marbled_for != (self.recipe_version, version):
+                recipe = with_overrides(self.recipe, overrides)
+                self._marbler = self._Marbler(recipe, renderer=self.renderer)
+                self._marbled_for = (self.recipe_version, version)
+            return self._marbler, bypass, mirror
+
+    # -- controls (from the preview) ----------------------------------------
+    def params(self) -> dict:
+        """The sliders of the current recipe, with the overridden values."""
+        overrides = self.controls.snapshot()[0]
+        with self._lock:
+            recipe, version = self.recipe, self.recipe_version
+        ops = sliders(recipe, self.source.size)
+        for op in ops:
+            for p in op["params"]:
+                key = (op["index"], p["name"])
+                if key in overrides:
+                    p["value"] = overrides[key]
+        return {"version": version, "source": str(self.recipe_path), "ops": ops}
+
+    def control(self, request: dict) -> dict:
+        """Apply a control request (see Controls.apply); the new state."""
+        with self._lock:
+            recipe = self.recipe
+        return self.controls.apply(request, recipe)
+
+    def state(self) -> dict:
+        return self.controls.state()
+
+    def stats(self) -> dict:
+        now = time.monotonic()
+        lat = self._latency.median()
+        p95 = self._latency.quantile(0.95)
+        render = self._render_ms.median()
+        with self._lock:
+            error, version = self.recipe_error, self.recipe_version
+        return {
+            "frames": self.frames,
+            "fps": round(self._rendered.rate(now), 2),
+            "latency_ms": None if lat is None else round(lat * 1000, 1),
+            "latency_p95_ms": None if p95 is None else round(p95 * 1000, 1),
+            "render_ms": None if render is None else round(render * 1000, 2),
+            "dropped": self.source.frames.dropped,
+            "preview_skipped": self.shown.dropped,
+            "record_dropped": self.recorder.dropped if self.recorder else 0,
+            "recorded": self.recorder.frames if self.recorder else 0,
+            "jpeg_seq": self.jpeg_seq,
+            "size": list(self.source.size),
+            "source": self.source.name,
+            "recipe_version": version,
+            "recipe_error": error,
+            "uptime": round(now - self.started, 2),
+            **self.state(),
+        }
+
+    # -- threads ------------------------------------------------------------
+    def _spawn(self, name: str, target) -> None:
+        thread = threading.Thread(target=target, name=f"marblevideo-{name}", daemon=True)
+        self._threads.append(thread)
+        thread.start()
+
+    def _encode_jpeg(self) -> None:
+        params = [cv2.IMWRITE_JPEG_QUALITY, int(self.jpeg_quality)]
+        while not self.stop_event.is_set():
+            item = self.shown.get(timeout=0.2)
+            if item is None:
+                continue
+            rgba, ts = item
+            if self.preview_width and self.preview_width < rgba.shape[1]:
+                h = max(1, round(rgba.shape[0] * self.preview_width / rgba.shape[1]))
+                rgba = cv2.resize(rgba, (self.preview_width, h), interpolation=cv2.INTER_AREA)
+            ok, buf = cv2.imencode(".jpg", cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGR), params)
+            if not ok:
+                continue
+            done = time.monotonic()
+            self._latency.add(done, done - ts)
+            with self.jpeg_cond:
+                self.jpeg_bytes = buf.tobytes()
+                self.jpeg_seq += 1
+                self.jpeg_cond.notify_all()
+
+    def latest_jpeg(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None]:
+        """Wait for a JPEG newer than sequence ``after``: (seq, bytes), or (after, None)."""
+        with self.jpeg_cond:
+            self.jpeg_cond.wait_for(
+                lambda: self.jpeg_seq > after or self.stop_event.is_set(), timeout
+            )
+            if self.jpeg_seq > after and self.jpeg_bytes is not None:
+                return self.jpeg_seq, self.jpeg_bytes
+            return after, None
+
+    # -- the loop -------------------------------------------------------------
+    def run(self, duration: float | None = None) -> None:
+        """Render until ``stop_event``, ``duration`` seconds, or the end of the source."""
+        self._spawn("watch", self._watch)
+        if self.jpeg:
+            self._spawn("jpeg", self._encode_jpeg)
+        self.source.start()
+        self.started = time.monotonic()
+        self.clock.restart()
+        deadline = None if duration is None else self.started + duration
+        while not self.stop_event.is_set():
+            if deadline is not None and time.monotonic() >= deadline:
+                break
+            wait = 0.1 if deadline is None else max(0.0, min(0.1, deadline - time.monotonic()))
+            cap = self.source.frames.get(timeout=wait)
+            if cap is None:
+                if self.source.error is not None:
+                    raise self.source.error
+                if self.source.ended:
+                    break
+                continue
+            self.show(cap.rgba, cap.ts)
+
+    def show(self, rgba: np.ndarray, ts: float) -> np.ndarray:
+        """Marble one captured frame and hand it to every output."""
+        marbler, bypass, mirror = self._current()
+        if mirror:
+            rgba = np.ascontiguousarray(rgba[:, ::-1])
+        start = time.monotonic()
+        out = rgba if bypass else marbler.render(rgba, self.clock.now())
+        now = time.monotonic()
+        self._render_ms.add(now, now - start)
+        self._rendered.add(now)
+        self.frames += 1
+        if self.jpeg:
+            self.shown.put((out, ts))
+        if self.recorder is not None:
+            self.recorder.add(out, ts)
+        if self.vcam is not None:
+            self.vcam.send(out)
+        return out
+
+    def close(self) -> None:
+        self.stop_event.set()
+        self.source.stop()
+        self.shown.close()
+        with self.jpeg_cond:
+            self.jpeg_cond.notify_all()
+        for thread in self._threads:
+            thread.join(5.0)
+
+    def summary(self) -> str:
+        s = self.stats()
+        elapsed = max(time.monotonic() - self.started, 1e-9)
+        text = (
+            f"live: {self.frames} frames in {elapsed:.1f} s ({self.frames / elapsed:.1f} fps), "
+            f"{s['dropped']} source frames dropped"
+        )
+        if s["latency_ms"] is not None:
+            text += f", latency median {s['latency_ms']} ms (p95 {s['latency_p95_ms']} ms)"
+        if self.recorder is not None:
+            text += f", recorded {self.recorder.frames} ({self.recorder.dropped} dropped)"
+        return text
