@@ -11,20 +11,12 @@ from clips import picture, probe, write_clip
 from marblevideo.api import Marbler
 from marblevideo.media.pipeline import render_blank, transcode
 from marblevideo.media.video import VideoOptions
-from marblevideo.media.yuv import (
-    YuvMatrix,
-    chroma_geometry,
-    coded_spec,
-    i420_to_rgba,
-    packed_i420,
-    render_planes,
-    rgba_to_i420,
-    split_i420,
-)
+from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, packed_i420, split_i420
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
+from marblevideo.reference.yuv import i420_to_rgba, render_planes, rgba_to_i420
 
 MATRICES = [
     YuvMatrix.of(2, 0),  # unspecified: BT.601, limited

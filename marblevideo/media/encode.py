@@ -43,7 +43,6 @@ PRESET_CODECS = ("libx264", "libx265")
 COLOR_FIELDS = ("color_range", "colorspace", "color_primaries", "color_trc")
 
 
-
 def default_codec(dst: str | os.PathLike) -> str | None:
     """The video encoder an output's extension gets by default (None: unknown)."""
     container = CONTAINERS.get(Path(dst).suffix.lower())

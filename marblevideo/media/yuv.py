@@ -18,10 +18,11 @@ Conventions
   mean of the 2x2 pixels' RGB for the chroma. Values are rounded as
   ``floor(v + 0.5)`` and clamped to 0..255; alpha is 255 on decode and ignored on
   encode. The OpenCL kernels ``marble_from_i420`` and ``marble_to_i420`` compute
-  the same float32 expressions; the functions below are their reference.
-- *Planar* rendering (:func:`render_planes`, used when a frame's input and
-  output share one matrix) warps the planes themselves: luma at full
-  resolution, both chroma planes at half, where chroma sample (i, j) covers
+  the same float32 expressions; :mod:`marblevideo.reference.yuv` is their
+  reference.
+- *Planar* rendering (:func:`marblevideo.reference.yuv.render_planes`, used when
+  a frame's input and output share one matrix) warps the planes themselves:
+  luma at full resolution, both chroma planes at half, where chroma sample (i, j) covers
   luma pixels 2i..2i+1 x 2j..2j+1 (centred, as the 2x2 conventions above), so
   its centre is at luma (2i + 1, 2j + 1). Ink and background colours become
   their 8-bit codes (:func:`coded_spec`). The luma equals the RGBA path's
@@ -39,7 +40,6 @@ import numpy as np
 
 from marblevideo.ops import is_ink
 from marblevideo.recipe.frame import FrameSpec, Geometry, OpState
-from marblevideo.reference import render as reference_render
 
 # AVColorSpace -> (name, Kr, Kb); 2 is "unspecified", taken as BT.601 like swscale
 _MATRICES = {
@@ -155,44 +155,6 @@ def packed_i420(frame) -> np.ndarray:
     return np.concatenate([y.ravel(), u.ravel(), v.ravel()]).reshape(-1, y.shape[1])
 
 
-def _affine(m: np.ndarray, a: np.ndarray, b: np.ndarray, c: np.ndarray) -> list[np.ndarray]:
-    """Each row of ``m`` applied to (a, b, c, 1) in float32, in the kernel's order."""
-    return [((m[i, 0] * a + m[i, 1] * b) + m[i, 2] * c) + m[i, 3] for i in range(3)]
-
-
-def _code(v: np.ndarray) -> np.ndarray:
-    return np.clip(np.floor(v + np.float32(0.5)), 0, 255).astype(np.uint8)
-
-
-def i420_to_rgba(planes, matrix: YuvMatrix) -> np.ndarray:
-    """I420 (packed or planes) -> (h, w, 4) RGBA (reference of ``marble_from_i420``)."""
-    y, u, v = (p.astype(np.float32) for p in split_i420(planes))
-    u, v = (c.repeat(2, axis=0).repeat(2, axis=1) for c in (u, v))
-    rgb = _affine(matrix.to_rgb(), y, u, v)
-    out = np.empty((*y.shape, 4), np.uint8)
-    for k in range(3):
-        out[..., k] = _code(rgb[k])
-    out[..., 3] = 255
-    return out
-
-
-def rgba_to_i420(rgba: np.ndarray, matrix: YuvMatrix) -> np.ndarray:
-    """(h, w, 4) RGBA, even sizes -> (3h/2, w) I420 (reference of ``marble_to_i420``)."""
-    h, w = rgba.shape[:2]
-    if h % 2 or w % 2:
-        raise ValueError(f"I420 needs even sizes, got {w}x{h}")
-    r, g, b = (rgba[..., k].astype(np.float32) for k in range(3))
-    m = matrix.to_yuv()
-    y = _affine(m, r, g, b)[0]
-
-    def mean(c: np.ndarray) -> np.ndarray:
-        rows = c[0::2] + c[1::2]
-        return (rows[:, 0::2] + rows[:, 1::2]) * np.float32(0.25)
-
-    _, u, v = _affine(m, mean(r), mean(g), mean(b))
-    return packed_i420((_code(y), _code(u), _code(v)))
-
-
 @cache
 def _codes(matrix: YuvMatrix, rgb: tuple[float, ...]) -> tuple[float, float, float]:
     m = matrix.to_yuv().astype(np.float64)
@@ -223,25 +185,3 @@ def chroma_geometry(geom: Geometry) -> Geometry:
         (2.0 * kx, 2.0 * ky, tx, ty),
         (sx / 2.0, sy / 2.0, ox / 2.0, oy / 2.0),
     )
-
-
-def render_planes(
-    spec: FrameSpec, geom: Geometry, planes, matrix: YuvMatrix, render=reference_render
-) -> np.ndarray:
-    """Reference of planar rendering: the I420 ``planes`` (colours in ``matrix``)
-    marbled by ``spec`` at ``geom`` (even output), as I420 in the same matrix.
-
-    Each plane is rendered by ``render`` (:func:`marblevideo.reference.render`,
-    or a stand-in with its signature) as one channel of an RGBA image, with
-    :func:`coded_spec`'s colours: luma with ``geom``, chroma with
-    :func:`chroma_geometry`."""
-    if geom.out_w % 2 or geom.out_h % 2:
-        raise ValueError(f"I420 needs even sizes, got {geom.out_w}x{geom.out_h}")
-    coded = coded_spec(spec, matrix)
-    y, u, v = split_i420(planes)
-    opaque = np.full(y.shape, 255, np.uint8)
-    luma = render(coded, geom, np.dstack([y, y, y, opaque]))
-    half = opaque[: u.shape[0], : u.shape[1]]
-    chroma = render(coded, chroma_geometry(geom), np.dstack([u, u, v, half]))
-    codes = (luma[..., 0], chroma[..., 1], chroma[..., 2])
-    return packed_i420(tuple(np.ascontiguousarray(c) for c in codes))

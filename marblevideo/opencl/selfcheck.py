@@ -38,7 +38,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from marblevideo.media.yuv import YuvMatrix, i420_to_rgba, render_planes, rgba_to_i420
+from marblevideo.media.yuv import YuvMatrix
 from marblevideo.opencl.device import HOW_TO_GET_ONE, DeviceInfo, choose_device, list_devices
 from marblevideo.opencl.program import UNROLL_LIMIT
 from marblevideo.opencl.renderer import Renderer
@@ -47,6 +47,7 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.frame import EDGE_MODES, FrameSpec, Geometry, geometry
 from marblevideo.reference import render as reference_render
+from marblevideo.reference.yuv import i420_to_rgba, render_planes, rgba_to_i420
 
 #: A pixel agrees when every channel is within this many levels of the reference.
 LEVELS = 4

@@ -14,165 +14,22 @@ Conventions, shared with the contract and :mod:`marblevideo.recipe.frame`:
   vectorised; there is no per-pixel Python loop.
 
 Each op's maps are its definition's (:mod:`marblevideo.ops`, where the choices
-the contract leaves open are stated); this module walks them. Where the
-contract is silent it chooses, and the kernel must match: in
-:func:`inverse_walk` a point that hits ink keeps the coordinates it had when it
-reached that ink op (the inverses of the later ops applied, not of the ink op
-itself).
+the contract leaves open are stated), walked by :mod:`.walk`; inputs are
+sampled by :mod:`.sampling`; this module shades points and renders frames.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from marblevideo.ops import is_ink, op_def
+from marblevideo.ops import is_ink
 from marblevideo.recipe.antialias import PATTERNS, pattern
-from marblevideo.recipe.frame import EDGE_MODES, FrameSpec, Geometry, OpState
-
-ArrayLike = np.ndarray | float
-Points = tuple[np.ndarray, np.ndarray]
+from marblevideo.recipe.frame import EDGE_MODES, FrameSpec, Geometry
+from marblevideo.reference.sampling import sample_bilinear
+from marblevideo.reference.walk import inverse_walk
 
 #: Subsample points evaluated at once by :func:`render` (bounds its memory).
 CHUNK_POINTS = 1 << 20
-
-
-def _points(x: ArrayLike, y: ArrayLike) -> Points:
-    x, y = np.broadcast_arrays(np.asarray(x, np.float64), np.asarray(y, np.float64))
-    return x, y
-
-
-def contains(op: OpState, x: ArrayLike, y: ArrayLike) -> np.ndarray:
-    """Whether the ink op ``op`` holds each point (see :mod:`marblevideo.ops.ink`).
-
-    False everywhere for an ink op at progress 0 and for ops that are not ink.
-    """
-    x, y = _points(x, y)
-    definition = op_def(op.type)
-    if not definition.ink:
-        return np.zeros(x.shape, dtype=bool)
-    return definition.contains(op.values, x, y)
-
-
-def forward(op: OpState, x: ArrayLike, y: ArrayLike) -> Points:
-    """Where paint at canvas point (x, y) moves under ``op``: P -> P'.
-
-    For a drop this is meant for points outside the new drop (every P != C);
-    see :mod:`marblevideo.ops.ink` for P = C. Spray is the identity.
-    """
-    x, y = _points(x, y)
-    return op_def(op.type).forward(op.values, x, y)
-
-
-def inverse(op: OpState, x: ArrayLike, y: ArrayLike) -> Points:
-    """Where the paint now at canvas point (x', y') came from under ``op``: P' -> P.
-
-    Exact inverse of :func:`forward`. For a drop it is meant for |P' - C| >= r
-    (points inside are ink and map to C). Spray is the identity.
-    """
-    x, y = _points(x, y)
-    return op_def(op.type).inverse(op.values, x, y)
-
-
-def jacobian(op: OpState, x: ArrayLike, y: ArrayLike, h: ArrayLike = 1e-6) -> np.ndarray:
-    """Numerical Jacobian of :func:`forward` by central differences, shape (..., 2, 2).
-
-    ``h`` (a scalar or one per point) is relative: the step is h * max(1, |P|).
-    J[..., i, j] = d out_i / d in_j.
-    """
-    x, y = _points(x, y)
-    step = h * np.maximum(1.0, np.hypot(x, y))
-    fxp, fyp = forward(op, x + step, y)
-    fxm, fym = forward(op, x - step, y)
-    gxp, gyp = forward(op, x, y + step)
-    gxm, gym = forward(op, x, y - step)
-    j = np.empty(x.shape + (2, 2))
-    j[..., 0, 0] = (fxp - fxm) / (2 * step)
-    j[..., 1, 0] = (fyp - fym) / (2 * step)
-    j[..., 0, 1] = (gxp - gxm) / (2 * step)
-    j[..., 1, 1] = (gyp - gym) / (2 * step)
-    return j
-
-
-def inverse_walk(
-    spec: FrameSpec, x: ArrayLike, y: ArrayLike
-) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """Walk canvas points back through ``spec.ops``, last op first.
-
-    Returns (x0, y0, ink): ``ink`` is the index in ``spec.ops`` of the ink op
-    (drop or spray of radius > 0) that holds the point, checked before that
-    op's own inverse; the first one met ends the walk. ``ink`` is -1 for a
-    point that reached the start, and (x0, y0) is then where it samples the
-    input. A point that hit ink keeps the coordinates it had on reaching that
-    op (meaningful only as a debugging aid).
-    """
-    x, y = _points(x, y)
-    x, y = x.copy(), y.copy()
-    ink = np.full(x.shape, -1, dtype=np.int64)
-    for k in range(len(spec.ops) - 1, -1, -1):
-        op = spec.ops[k]
-        definition = op_def(op.type)
-        live = ink < 0
-        if definition.ink:
-            hit = live & definition.contains(op.values, x, y)
-            ink[hit] = k
-            live &= ~hit
-        if not live.any():
-            break
-        x[live], y[live] = definition.inverse(op.values, x[live], y[live])
-    return x, y, ink
-
-
-def _tap(i: np.ndarray, n: int, edges: str) -> tuple[np.ndarray, np.ndarray | None]:
-    """Map integer tap indices into 0..n-1 by the edge mode; for ``background`` also
-    return which taps were inside."""
-    if edges == "clamp":
-        return np.clip(i, 0, n - 1), None
-    if edges == "repeat":
-        return np.mod(i, n), None  # numpy's integer mod is non-negative for n > 0
-    if edges == "mirror":
-        m = np.mod(i, 2 * n)
-        return np.where(m < n, m, 2 * n - 1 - m), None
-    if edges == "background":
-        return np.clip(i, 0, n - 1), (i >= 0) & (i < n)
-    raise ValueError(f"unknown edges mode {edges!r}; expected one of {', '.join(EDGE_MODES)}")
-
-
-def sample_bilinear(
-    image: np.ndarray,
-    xs: ArrayLike,
-    ys: ArrayLike,
-    edges: str,
-    background_rgb: tuple[float, float, float],
-) -> np.ndarray:
-    """Bilinear samples of an RGBA uint8 ``image`` (H, W, 4) at input pixel coordinates.
-
-    Pixel i covers [i, i+1], centre i + 0.5; interpolation runs between centres:
-    fx = x - 0.5, x0 = floor(fx), wx = fx - x0, taps x0 and x0 + 1 (y likewise),
-    value = (1-wy)((1-wx) p00 + wx p10) + wy((1-wx) p01 + wx p11).
-    Each tap index is mapped by ``edges``: ``clamp`` to 0..W-1, ``repeat``
-    i mod W, ``mirror`` m = i mod 2W then m if m < W else 2W-1-m, ``background``
-    a tap outside the image is ``background_rgb`` with alpha 255.
-    Coordinates must be finite. Returns float64 RGBA 0..255 of shape xs.shape + (4,).
-    """
-    xs, ys = _points(xs, ys)
-    h, w = image.shape[:2]
-    fx, fy = xs - 0.5, ys - 0.5
-    x0f, y0f = np.floor(fx), np.floor(fy)
-    wx, wy = (fx - x0f)[..., None], (fy - y0f)[..., None]
-    x0, y0 = x0f.astype(np.int64), y0f.astype(np.int64)
-    bg = np.array([*background_rgb, 255.0])
-
-    def tap(ix: np.ndarray, iy: np.ndarray) -> np.ndarray:
-        jx, inside_x = _tap(ix, w, edges)
-        jy, inside_y = _tap(iy, h, edges)
-        p = image[jy, jx].astype(np.float64)
-        if inside_x is not None:
-            p = np.where((inside_x & inside_y)[..., None], p, bg)
-        return p
-
-    p00, p10 = tap(x0, y0), tap(x0 + 1, y0)
-    p01, p11 = tap(x0, y0 + 1), tap(x0 + 1, y0 + 1)
-    return (1 - wy) * ((1 - wx) * p00 + wx * p10) + wy * ((1 - wx) * p01 + wx * p11)
 
 
 def _as_rgba(image: np.ndarray) -> np.ndarray:
