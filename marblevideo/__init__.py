@@ -2,8 +2,10 @@
 
 Implements the transforms of Lu, Jaffer, Jin, Zhao and Mao, "Mathematical
 Marbling" (IEEE TVCG 2012) following shared/recipe-format.md. Data flows one
-way: recipe -> per-frame parameters (:mod:`marblevideo.recipe.frame`) -> renderer
-(OpenCL, with :mod:`marblevideo.reference` as the NumPy oracle) -> encoder.
+way: recipe (:mod:`marblevideo.recipe`, its ops defined in :mod:`marblevideo.ops`)
+-> per-frame parameters (:mod:`marblevideo.recipe.frame`) -> renderer
+(:mod:`marblevideo.opencl`, with :mod:`marblevideo.reference` as the NumPy
+oracle) -> encoder (:mod:`marblevideo.media`).
 """
 
 from marblevideo.bundled import samples_path
@@ -20,13 +22,22 @@ from marblevideo.recipe import Recipe, load_recipe, parse_recipe
 __version__ = "0.1.0"
 
 
+#: The parts that need OpenCL or PyAV, imported on first use: name -> module.
+_LAZY = {
+    "Marbler": "marblevideo.marbler",
+    "render_image": "marblevideo.api",
+    "render_still": "marblevideo.api",
+    "render_video": "marblevideo.api",
+    "marbled_frames": "marblevideo.api",
+}
+
+
 def __getattr__(name: str):
-    """Lazy access to the parts that need OpenCL or PyAV (imported on first use)."""
+    """Lazy access to :data:`_LAZY`'s names."""
     import importlib
 
-    api = importlib.import_module("marblevideo.api")
-    if name in ("Marbler", "render_image", "render_still", "render_video", "marbled_frames"):
-        return getattr(api, name)
+    if name in _LAZY:
+        return getattr(importlib.import_module(_LAZY[name]), name)
     raise AttributeError(f"module 'marblevideo' has no attribute {name!r}")
 
 

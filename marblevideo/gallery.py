@@ -115,7 +115,7 @@ def strip(recipe: Recipe, size: int = 192, columns: int = 5, marbler=None) -> np
     """The stages as one RGB image: ``columns`` per row, a label under each."""
     import cv2
 
-    from marblevideo.api import Marbler
+    from marblevideo.marbler import Marbler
 
     marbler = marbler or Marbler(recipe)
     pad, label_h = 6, 22
@@ -155,9 +155,9 @@ def main(argv: list[str] | None = None) -> int:
 
 
 def _main(argv: list[str] | None) -> int:
-    from marblevideo.api import as_recipe, blank_canvas
     from marblevideo.bundled import samples_path
     from marblevideo.cli.arguments import Parser
+    from marblevideo.marbler import as_recipe, blank_canvas
     from marblevideo.media.images import is_image_path, write_image
     from marblevideo.media.output import atomic_output, check_output
 

@@ -26,8 +26,8 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from recipes import random_recipe
 
-from marblevideo.api import Marbler
 from marblevideo.errors import RecipeError
+from marblevideo.marbler import Marbler
 from marblevideo.recipe import load_recipe, parse_recipe
 
 SOURCE = "fuzz.json"

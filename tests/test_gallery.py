@@ -15,8 +15,8 @@ import pytest
 from conftest import ROOT
 
 from marblevideo import load_recipe, parse_recipe, samples_path
-from marblevideo.api import Marbler
 from marblevideo.gallery import stages, strip, upto
+from marblevideo.marbler import Marbler
 
 
 def spans(recipe):

@@ -10,7 +10,7 @@ import cv2
 import numpy as np
 import pytest
 
-from marblevideo.api import Marbler
+from marblevideo.marbler import Marbler
 from marblevideo.recipe import parse_recipe
 
 ROOT = Path(__file__).resolve().parent.parent

@@ -135,7 +135,7 @@ def test_cli_range_size_and_progress_json(tmp_path, cli):
 def test_a_static_recipe_keeps_its_maps_from_the_first_frame(tmp_path):
     """A recipe without keyframes lands every frame where the first did: the video
     transform draws even the first frame from the table of reused maps."""
-    from marblevideo.api import Marbler
+    from marblevideo.marbler import Marbler
 
     clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=3, fps=25, audio=False)
     static = {**RECIPE, "ops": [{**RECIPE["ops"][1], "alpha": 20}]}

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from clips import picture, probe, write_clip
 
-from marblevideo.api import Marbler
+from marblevideo.marbler import Marbler
 from marblevideo.media.pipeline import render_blank, transcode
 from marblevideo.media.video import VideoOptions
 from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, packed_i420, split_i420

@@ -8,7 +8,8 @@ import cv2
 import numpy as np
 import pytest
 
-from marblevideo.api import Marbler, render_still
+from marblevideo.api import render_still
+from marblevideo.marbler import Marbler
 from marblevideo.media.tiled import write_bands
 
 FIGURE6 = "samples/figure6.json"

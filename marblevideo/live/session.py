@@ -81,7 +81,7 @@ class LiveSession:
         quiet: bool = False,
         say=None,
     ):
-        from marblevideo.api import Marbler
+        from marblevideo.marbler import Marbler
         from marblevideo.opencl.renderer import Renderer
         from marblevideo.recipe import load_recipe
 

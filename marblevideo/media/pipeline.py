@@ -36,7 +36,7 @@ Conventions
   -> finish`` as well, the pipeline keeps one frame in flight: it starts frame
   n + 1 before calling frame n's ``finish()``, which returns what ``i420``
   would have, so a device renders while the host prepares the next frame
-  (:meth:`marblevideo.api.VideoTransform.i420_start`); the planes stay the
+  (:meth:`marblevideo.marbler.VideoTransform.i420_start`); the planes stay the
   pipeline's until ``finish`` returns. ``transform.rgba_start(rgba, t) ->
   finish`` does the same for frames that go the RGBA way.
   It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
