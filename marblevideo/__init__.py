@@ -18,9 +18,7 @@ from marblevideo.errors import (
     UsageError,
 )
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
-
-__version__ = "0.1.0"
-
+from marblevideo.version import __version__
 
 #: The parts that need OpenCL or PyAV, imported on first use: name -> module.
 _LAZY = {

@@ -13,6 +13,7 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import UsageError
+from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.marbler import (
     BlankFrames,
     Marbler,
@@ -28,7 +29,7 @@ from marblevideo.media.progress import Progress
 from marblevideo.media.tiled import TILED_ABOVE, can_stream, write_bands
 from marblevideo.media.tiled import band_rows as tiled_rows
 from marblevideo.opencl.program import Structure
-from marblevideo.outputs.svg import DEFAULT_TOLERANCE, VectorStats, design_svg
+from marblevideo.outputs.svg import VectorStats, design_svg
 
 
 def render_image(
@@ -116,7 +117,7 @@ def render_svg(
     canvas = blank_canvas(recipe)
     check_output(dst, overwrite)
     if not (tolerance > 0 and np.isfinite(tolerance)):
-        raise UsageError(f"--tolerance: must be a number > 0, got {tolerance}")
+        raise UsageError(f"--tolerance: must be a number > 0 (pixels), got {tolerance}")
     t = recipe.end_time() if time is None else float(time)
     svg, stats = design_svg(recipe.at(t, canvas), size or blank_size(recipe), tolerance)
     with atomic_output(dst, overwrite) as tmp:
@@ -171,7 +172,7 @@ def render_video(
     *,
     device: str | None = None,
     duration: float | None = None,
-    fps: float = 30.0,
+    fps: float = DEFAULT_FPS,
     **options,
 ):
     """Marble every frame of the video ``src`` into ``dst`` at its own time, keeping

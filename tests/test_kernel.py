@@ -8,8 +8,9 @@ import threading
 import numpy as np
 import pytest
 from recipes import EDGES, PATTERNS, make_image, random_recipe
+from tolerances import KERNEL_SHARE
 
-from marblevideo.opencl.selfcheck import SHARE, agreement  # the tolerances `devices --check` uses
+from marblevideo.opencl.selfcheck import agreement
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
@@ -25,7 +26,7 @@ def check(renderer, recipe_dict, size, image=None, t=None):
     ref = reference_render(spec, geom, image)
     assert ours.shape == ref.shape == (size[1], size[0], 4)
     share = agreement(ours, ref)
-    assert share >= SHARE, f"only {share:.4f} of pixels agree (t={t})"
+    assert share >= KERNEL_SHARE, f"only {share:.4f} of pixels agree (t={t})"
     return ours, ref
 
 
@@ -136,7 +137,7 @@ def test_adaptive_stays_within_tolerance_of_full_pattern_on_noise(full_pattern, 
     geom = geometry(recipe.canvas, (120, 90), (100, 80))
     adaptive = renderer.render(spec, geom, noise)
     assert renderer.last_full_pixels < 120 * 90  # some pixels took the one-sample path
-    assert agreement(adaptive, full_pattern.render(spec, geom, noise)) >= SHARE
+    assert agreement(adaptive, full_pattern.render(spec, geom, noise)) >= KERNEL_SHARE
 
 
 def test_adaptive_samples_fully_only_near_edges(renderer):

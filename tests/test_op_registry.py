@@ -9,9 +9,10 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from tolerances import KERNEL_LEVELS, KERNEL_SHARE, ROUND_TRIP
 
 from marblevideo.opencl.program import UNROLL_LIMIT, kernel_source, pack_params, walk_source
-from marblevideo.opencl.selfcheck import LEVELS, SHARE, agreement
+from marblevideo.opencl.selfcheck import agreement
 from marblevideo.ops import COLOR_SLOTS, PSTRIDE, REGISTRY, identity, op_def
 from marblevideo.ops.base import PROGRESS_LAWS, slider_range
 from marblevideo.recipe import parse_recipe
@@ -90,7 +91,7 @@ def test_forward_then_inverse_is_the_identity(definition):
     if definition.ink and definition.forward is not identity:  # a drop pushes paint out
         assert not definition.contains(values, fx, fy).any()
     bx, by = definition.inverse(values, fx, fy)
-    assert np.allclose(bx, x, atol=1e-9) and np.allclose(by, y, atol=1e-9)
+    assert np.allclose(bx, x, atol=ROUND_TRIP) and np.allclose(by, y, atol=ROUND_TRIP)
 
 
 @pytest.mark.parametrize("definition", OPS, ids=IDS)
@@ -106,7 +107,7 @@ def test_the_example_renders_on_the_device_as_the_reference_does(renderer, defin
         geom = geometry(recipe.canvas, (80, 60), None if image is None else (80, 60))
         ours = renderer.render(spec, geom, image)
         share = agreement(ours, reference_render(spec, geom, image))
-        assert share >= SHARE, (definition.type, share, LEVELS)
+        assert share >= KERNEL_SHARE, (definition.type, share, KERNEL_LEVELS)
 
 
 def test_the_loop_walk_has_one_case_per_op_type_and_no_default():

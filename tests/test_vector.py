@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from tolerances import SVG_SHARE
 
 from marblevideo.outputs.svg import design_svg, simplify_closed
 from marblevideo.recipe import parse_recipe
@@ -74,7 +75,7 @@ def test_svg_agrees_with_the_raster_renderer(renderer, seed):
     assert stats.shapes == len(spec.ops) - 4 and not stats.capped
     assert stats.vertices < stats.refined_vertices
     raster = renderer.render(spec, geometry(spec.canvas, size))
-    assert agreement(rasterize(svg, size), raster) >= 0.985
+    assert agreement(rasterize(svg, size), raster) >= SVG_SHARE
 
 
 def test_later_ops_move_earlier_ink(renderer):
@@ -88,7 +89,7 @@ def test_later_ops_move_earlier_ink(renderer):
     undeformed = type(spec)(spec.ops[:-4], spec.background, spec.antialias, spec.edges,
                             spec.canvas)  # fmt: skip
     plain, _ = design_svg(undeformed, size)
-    assert agreement(rasterize(svg, size), raster) >= 0.985
+    assert agreement(rasterize(svg, size), raster) >= SVG_SHARE
     assert agreement(rasterize(plain, size), raster) < 0.95
 
 

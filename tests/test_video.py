@@ -15,6 +15,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from clips import picture, probe, write_clip
+from tolerances import LOSSY_MEAN, LOSSY_MEAN_RESAMPLED
 
 from marblevideo.errors import MediaError, OutputExistsError, UsageError
 from marblevideo.media.pipeline import _Pipeline, _Stopped, iter_frames, render_blank, transcode
@@ -78,7 +79,7 @@ def test_cfr_timing_and_audio_copied_bit_exact(cfr, tmp_path):
     assert stats.summary("out.mp4").startswith("wrote out.mp4: 25 frames, 1.00 s, 96x64, ")
     # the picture is the inverted input (lossy codec: loose tolerance)
     diff = np.abs(out.frames[5].astype(int) - (255 - src.frames[5].astype(int)))
-    assert diff.mean() < 4
+    assert diff.mean() < LOSSY_MEAN
 
 
 def test_vfr_timestamps_kept(tmp_path):
@@ -156,10 +157,10 @@ def test_rotation_upright(tmp_path, rotation):
     # expected: the stored picture turned counter-clockwise by `rotation`
     expected = np.rot90(picture(0, 64, 48), rotation // 90)
     assert rec.first.shape[:2] == expected.shape[:2]
-    assert np.abs(rec.first[..., :3].astype(int) - expected).mean() < 6
+    assert np.abs(rec.first[..., :3].astype(int) - expected).mean() < LOSSY_MEAN_RESAMPLED
     out = probe(dst)
     assert out.rotation == 0 and (out.height, out.width) == expected.shape[:2]
-    assert np.abs(out.frames[0].astype(int) - expected).mean() < 6
+    assert np.abs(out.frames[0].astype(int) - expected).mean() < LOSSY_MEAN_RESAMPLED
     assert any("rotated" in n for n in notes)
 
 
@@ -169,7 +170,7 @@ def test_full_range_carried_over(tmp_path):
     transcode(src, tmp_path / "out.mkv", Recorder(), quiet())
     out = probe(tmp_path / "out.mkv")
     assert out.color_range == 2
-    assert np.abs(out.frames[1].astype(int) - picture(1, 96, 64)).mean() < 4
+    assert np.abs(out.frames[1].astype(int) - picture(1, 96, 64)).mean() < LOSSY_MEAN
 
 
 # ---------------------------------------------------------------------------- encoders
@@ -267,7 +268,7 @@ def test_iter_frames(cfr):
     assert got[0][1].shape == (64, 96, 4)
     plain = list(iter_frames(cfr, options=VideoOptions(end=0.1)))
     assert len(plain) == 3
-    assert np.abs(got[0][1][..., :3].astype(int) - (255 - picture(13, 96, 64))).mean() < 4
+    assert np.abs(got[0][1][..., :3].astype(int) - (255 - picture(13, 96, 64))).mean() < LOSSY_MEAN
 
 
 def test_render_blank(tmp_path):

@@ -10,6 +10,7 @@ import sys
 import numpy as np
 
 from marblevideo.errors import UsageError
+from marblevideo.limits import MAX_SIDE
 
 
 class Parser(argparse.ArgumentParser):
@@ -90,11 +91,11 @@ def parse_view(text: str) -> tuple[float, float, float, float]:
 
 
 def parse_size(text: str) -> tuple[int, int]:
-    """'WxH' -> (W, H), each 1..32768."""
+    """'WxH' -> (W, H), each 1..MAX_SIDE."""
     parts = text.lower().split("x")
     if len(parts) != 2 or not all(p.strip().isdigit() for p in parts):
         raise UsageError(f"--size: expected WxH such as 1280x720, got {text!r}")
     w, h = (int(p) for p in parts)
-    if not (0 < w <= 32768 and 0 < h <= 32768):
-        raise UsageError(f"--size: each side must be 1..32768, got {text!r}")
+    if not (0 < w <= MAX_SIDE and 0 < h <= MAX_SIDE):
+        raise UsageError(f"--size: each side must be 1..{MAX_SIDE}, got {text!r}")
     return w, h

@@ -23,11 +23,10 @@ from marblevideo.cli.arguments import (
     parse_size,
 )
 from marblevideo.errors import MarbleError, UsageError
+from marblevideo.limits import DEFAULT_FPS, DEFAULT_PORT
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import open_source
 from marblevideo.live.vcam import VCAM_HELP, VirtualCamera
-
-DEFAULT_PORT = 8765
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -55,7 +54,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("-o", "--output", help="record what is shown (.mp4 .mov .mkv .webm)")
     p.add_argument("-y", "--overwrite", action="store_true", help="replace an existing recording")
     p.add_argument("--size", metavar="WxH", help="test pattern size, or the size asked of a camera")
-    p.add_argument("--fps", type=float, help="test pattern rate (30), or asked of a camera")
+    p.add_argument(
+        "--fps", type=float, help=f"test pattern rate ({DEFAULT_FPS:g}), or asked of a camera"
+    )
     p.add_argument("--loop", action="store_true", help="file sources: start again at the end")
     p.add_argument("--duration", type=float, metavar="S", help="stop after S seconds")
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")

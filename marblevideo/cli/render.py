@@ -11,7 +11,6 @@ import argparse
 import sys
 from pathlib import Path
 
-from marblevideo import __version__
 from marblevideo.cli.arguments import (
     Parser,
     add_encoder_arguments,
@@ -22,6 +21,8 @@ from marblevideo.cli.arguments import (
     parse_view,
 )
 from marblevideo.errors import UsageError
+from marblevideo.limits import DEFAULT_FPS
+from marblevideo.version import __version__
 
 VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm")
 EPILOG = """\
@@ -92,7 +93,12 @@ def _render_parser() -> argparse.ArgumentParser:
         metavar="S",
         help="blank sheet to video: length (default: the animation plus 1 s)",
     )
-    v.add_argument("--fps", type=float, default=30.0, help="blank sheet to video: frame rate (30)")
+    v.add_argument(
+        "--fps",
+        type=float,
+        default=DEFAULT_FPS,
+        help=f"blank sheet to video: frame rate ({DEFAULT_FPS:g})",
+    )
     v.add_argument(
         "--audio",
         choices=("copy", "aac", "none"),

@@ -4,10 +4,10 @@
 from __future__ import annotations
 
 import argparse
-import math
 import sys
 
 from marblevideo.errors import UsageError
+from marblevideo.limits import DEFAULT_TOLERANCE
 from marblevideo.media.images import is_image_path
 from marblevideo.recipe import Recipe
 
@@ -19,11 +19,8 @@ def render_extra(
     from marblevideo.cli.arguments import parse_view
 
     view = parse_view(args.view) if args.view else None
-    if args.tolerance is not None:
-        if not (math.isfinite(args.tolerance) and args.tolerance > 0):
-            raise UsageError(f"--tolerance: must be a number > 0 (pixels), got {args.tolerance}")
-        if out_ext != ".svg":
-            raise UsageError("--tolerance: applies to .svg outputs only")
+    if args.tolerance is not None and out_ext != ".svg":
+        raise UsageError("--tolerance: applies to .svg outputs only")
     if out_ext == ".svg":
         if args.input is not None:
             raise UsageError(
@@ -37,7 +34,7 @@ def render_extra(
             args.output,
             time=args.time,
             size=size,
-            tolerance=0.5 if args.tolerance is None else args.tolerance,
+            tolerance=DEFAULT_TOLERANCE if args.tolerance is None else args.tolerance,
             overwrite=args.overwrite,
         )
         if not args.quiet:

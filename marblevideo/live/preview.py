@@ -25,6 +25,7 @@ from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
 
 from marblevideo.errors import MediaError, UsageError
+from marblevideo.limits import DEFAULT_PORT
 
 BOUNDARY = "marblevideoframe"
 HOST = "127.0.0.1"
@@ -139,7 +140,7 @@ class _Server(ThreadingHTTPServer):
 class PreviewServer:
     """Serves ``session`` on 127.0.0.1:``port`` (0: any free port) in a thread."""
 
-    def __init__(self, session, port: int = 8765):
+    def __init__(self, session, port: int = DEFAULT_PORT):
         try:
             self.httpd = _Server((HOST, port), session)
         except OSError as exc:

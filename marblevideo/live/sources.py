@@ -23,6 +23,7 @@ import cv2
 import numpy as np
 
 from marblevideo.errors import MediaError
+from marblevideo.limits import DEFAULT_FPS
 
 
 @dataclass
@@ -79,7 +80,7 @@ class Source:
     def __init__(self):
         self.frames = Latest()
         self.size: tuple[int, int] = (0, 0)  # (width, height) of the frames
-        self.fps: float = 30.0  # nominal rate
+        self.fps: float = DEFAULT_FPS  # nominal rate
         self.error: BaseException | None = None
         self.ended = False  # the source has no more frames (end of a file without --loop)
         self._stop = threading.Event()
@@ -122,7 +123,7 @@ class TestPattern(Source):
     __test__ = False  # not a pytest class
     name = "test pattern"
 
-    def __init__(self, size: tuple[int, int] = (1280, 720), fps: float = 30.0):
+    def __init__(self, size: tuple[int, int] = (1280, 720), fps: float = DEFAULT_FPS):
         super().__init__()
         self.size, self.fps = size, fps
         w, h = size
@@ -192,7 +193,7 @@ class CameraSource(Source):
         self._cap = cap
         self._first = bgr
         self.size = (bgr.shape[1], bgr.shape[0])
-        self.fps = cap.get(cv2.CAP_PROP_FPS) or fps or 30.0
+        self.fps = cap.get(cv2.CAP_PROP_FPS) or fps or DEFAULT_FPS
 
     @staticmethod
     def _rgba(bgr: np.ndarray) -> np.ndarray:
@@ -232,7 +233,7 @@ class MediaSource(Source):
         stream = self._container.streams.video[0]
         self.size = (stream.codec_context.width, stream.codec_context.height)
         rate = stream.average_rate or stream.guessed_rate
-        self.fps = float(rate) if rate else 30.0
+        self.fps = float(rate) if rate else DEFAULT_FPS
 
     def _open(self):
         import av
@@ -286,7 +287,7 @@ def open_source(
 ) -> Source:
     """The source named by ``spec``: "test", a camera index or /dev/videoN, or a file/URL."""
     if spec == "test":
-        return TestPattern(size or (1280, 720), fps or 30.0)
+        return TestPattern(size or (1280, 720), fps or DEFAULT_FPS)
     if spec.isdigit():
         return CameraSource(int(spec), size, fps)
     if _DEVICE.match(spec):

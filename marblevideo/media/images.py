@@ -14,12 +14,12 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import MediaError, UsageError
+from marblevideo.limits import MAX_PIXELS
 from marblevideo.media.inputs import check_input
 
 IMAGE_EXTENSIONS = frozenset({".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp"})
 ALPHA_EXTENSIONS = frozenset({".png", ".tif", ".tiff", ".webp"})
 #: Largest input image accepted, in pixels (about 16k x 16k).
-MAX_PIXELS = 1 << 28
 
 os.environ.setdefault("OPENCV_IO_MAX_IMAGE_PIXELS", str(MAX_PIXELS))
 os.environ.setdefault("OPENCV_IO_ENABLE_OPENEXR", "1")  # UV passes (marblevideo.outputs.uv)

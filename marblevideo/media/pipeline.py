@@ -27,18 +27,19 @@ Conventions
   for the RGBA <-> YUV conversions. With a chroma-subsampled ``pix_fmt``
   (yuv420p) an odd width or height is padded by one replicated edge pixel, and
   a one-line notice says so.
-- A transform may also offer ``transform.i420(planes, t, src, dst) -> planes``:
+- A transform may also offer ``transform.i420(planes, t, src, dst) -> planes``
+  (:class:`PlanarTransform`):
   the frame as I420 planes ``(y, u, v)`` (:mod:`marblevideo.media.yuv`; views of the
   decoded frame's buffers, rows possibly padded: read them, do not keep them)
   with colours in the :class:`~marblevideo.media.yuv.YuvMatrix` ``src``, the result as
   I420 in ``dst``, packed or as planes, in arrays of its own (a packed result
   is encoded without a copy). With ``transform.i420_start(planes, t, src, dst)
-  -> finish`` as well, the pipeline keeps one frame in flight: it starts frame
-  n + 1 before calling frame n's ``finish()``, which returns what ``i420``
+  -> finish`` as well (:class:`PlanarStart`), the pipeline keeps one frame in
+  flight: it starts frame n + 1 before calling frame n's ``finish()``, which returns what ``i420``
   would have, so a device renders while the host prepares the next frame
   (:meth:`marblevideo.marbler.VideoTransform.i420_start`); the planes stay the
   pipeline's until ``finish`` returns. ``transform.rgba_start(rgba, t) ->
-  finish`` does the same for frames that go the RGBA way.
+  finish`` (:class:`RgbaStart`) does the same for frames that go the RGBA way.
   It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
   a supported matrix, when the output is yuv420p of even size. The marbler
   warps the planes themselves when ``src`` and ``dst`` are the same matrix
@@ -71,6 +72,7 @@ import time
 from collections.abc import Callable, Iterator
 from fractions import Fraction
 from pathlib import Path
+from typing import Protocol, runtime_checkable
 
 import av
 import numpy as np
@@ -93,7 +95,46 @@ from marblevideo.media.video import (
 )
 from marblevideo.media.yuv import YuvMatrix, split_i420
 
-Transform = Callable[[np.ndarray, float], np.ndarray]  # optional i420, i420_start, rgba_start
+Transform = Callable[[np.ndarray, float], np.ndarray]
+"""``transform(rgba, t) -> rgba``; it may also be a :class:`PlanarTransform`, a
+:class:`PlanarStart` and a :class:`RgbaStart` (see the module)."""
+
+
+@runtime_checkable
+class PlanarTransform(Protocol):
+    """A transform that takes and gives 8-bit 4:2:0 frames (see the module)."""
+
+    def i420(self, planes, t: float, src: YuvMatrix, dst: YuvMatrix): ...
+
+
+@runtime_checkable
+class PlanarStart(Protocol):
+    """:class:`PlanarTransform` with one frame in flight: returns a function that
+    finishes the frame."""
+
+    def i420_start(self, planes, t: float, src: YuvMatrix, dst: YuvMatrix) -> Callable: ...
+
+
+@runtime_checkable
+class RgbaStart(Protocol):
+    """A transform with one RGBA frame in flight: returns a function that finishes it."""
+
+    def rgba_start(self, rgba: np.ndarray, t: float) -> Callable[[], np.ndarray]: ...
+
+
+@runtime_checkable
+class PlanarSource(Protocol):
+    """Frames of a blank sheet (:func:`render_blank`) that can come as I420."""
+
+    def i420(self, t: float, matrix: YuvMatrix) -> np.ndarray | None: ...
+
+
+@runtime_checkable
+class PlanarSourceStart(Protocol):
+    """:class:`PlanarSource` with one frame in flight."""
+
+    def i420_start(self, t: float, matrix: YuvMatrix) -> Callable | None: ...
+
 
 _END = object()
 
@@ -287,7 +328,7 @@ def transcode(
         stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
         vin = container.streams.video[0]
         colors = {k: getattr(vin.codec_context, k) for k in COLOR_FIELDS}
-        planar = getattr(transform, "i420", None)
+        planar = transform.i420 if isinstance(transform, PlanarTransform) else None
         out_matrix = YuvMatrix.of(colors["colorspace"], colors["color_range"])
         if plan.pix_fmt != "yuv420p" or (options.size and any(v % 2 for v in options.size)):
             out_matrix = None
@@ -299,8 +340,10 @@ def transcode(
             planar is not None and out_matrix is not None,
         )
 
-        start = getattr(transform, "i420_start", None) if planar is not None else None
-        rgba_start = getattr(transform, "rgba_start", None)
+        start = None
+        if planar is not None and isinstance(transform, PlanarStart):
+            start = transform.i420_start
+        rgba_start = transform.rgba_start if isinstance(transform, RgbaStart) else None
 
         def marble(item: VideoItem) -> Callable[[], None] | None:
             if item.i420 is not None:
@@ -385,8 +428,12 @@ def render_blank(
     stats = Stats()
     rate = Fraction(fps).limit_denominator(1001)
     count = int(np.ceil(duration * fps - 1e-9))
-    planar = getattr(render_at, "i420", None) if plan.pix_fmt == "yuv420p" else None
-    start = getattr(render_at, "i420_start", None) if planar is not None else None
+    planar = None
+    if plan.pix_fmt == "yuv420p" and isinstance(render_at, PlanarSource):
+        planar = render_at.i420
+    start = None
+    if planar is not None and isinstance(render_at, PlanarSourceStart):
+        start = render_at.i420_start
     matrix = YuvMatrix.of(None, None)
 
     def produce() -> Iterator[VideoItem]:

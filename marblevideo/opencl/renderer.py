@@ -22,6 +22,7 @@ from contextlib import contextmanager
 import numpy as np
 
 from marblevideo.errors import DeviceError, UsageError
+from marblevideo.limits import MAX_SIDE
 from marblevideo.media.yuv import YuvMatrix, split_i420
 from marblevideo.opencl.device import DeviceInfo, choose_device
 from marblevideo.opencl.planar import PlanarFrames
@@ -31,9 +32,6 @@ from marblevideo.opencl.tables import ReusedMaps
 from marblevideo.opencl.walks import AdaptiveWalk, FreshWalk
 from marblevideo.recipe.antialias import pattern
 from marblevideo.recipe.frame import FrameSpec, Geometry
-
-#: Largest output or input side accepted (OpenCL buffers and int indices).
-MAX_SIDE = 1 << 15
 
 
 def check_size(w: int, h: int) -> None:

@@ -34,11 +34,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from marblevideo.limits import DEFAULT_TOLERANCE
 from marblevideo.ops import identity, op_def
 from marblevideo.recipe.frame import FrameSpec, fit
 
-#: Default tolerance, output pixels.
-DEFAULT_TOLERANCE = 0.5
 #: Refinement passes at most (each can double a shape's vertices).
 MAX_PASSES = 24
 #: Refined vertices over all shapes at most; refinement stops there with a note.

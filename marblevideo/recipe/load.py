@@ -34,6 +34,7 @@ from typing import Any
 from jsonschema import Draft202012Validator, ValidationError
 
 from marblevideo.errors import RecipeError, UsageError
+from marblevideo.limits import MAX_DEPTH
 from marblevideo.ops import op_def
 from marblevideo.recipe.frame import FrameSpec, OpState
 from marblevideo.recipe.keyframes import Key, Track
@@ -42,8 +43,6 @@ from marblevideo.recipe.schema import LIMIT, schema
 DEFAULT_BACKGROUND = "#ffffff"
 DEFAULT_ANTIALIAS = "rgss"
 DEFAULT_EDGES = "clamp"
-#: Deepest nesting of lists and objects accepted (a valid recipe needs 7 levels).
-MAX_DEPTH = 32
 
 
 # --------------------------------------------------------------------------- model

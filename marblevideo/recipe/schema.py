@@ -17,6 +17,7 @@ from __future__ import annotations
 import copy
 from functools import lru_cache
 
+from marblevideo.limits import NUMBER_LIMIT
 from marblevideo.ops import REGISTRY
 from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.frame import EDGE_MODES
@@ -25,8 +26,8 @@ from marblevideo.recipe.keyframes import EASE_NAMES
 SCHEMA_ID = "urn:marblevideo:recipe:1"
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
 
-#: Largest magnitude of any number: values must stay well inside float32.
-LIMIT = 1e30
+#: Largest magnitude of any number (:data:`marblevideo.limits.NUMBER_LIMIT`).
+LIMIT = NUMBER_LIMIT
 
 #: Value kind of every op parameter, by op type (from the op registry).
 PARAM_KINDS: dict[str, dict[str, str]] = {name: d.kinds for name, d in REGISTRY.items()}

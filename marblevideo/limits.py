@@ -1,0 +1,20 @@
+"""Every limit and default a user meets, in one place (the README's Limits table).
+
+Each is enforced where the value enters (a recipe, an option, a file header)
+with a one-line message, before any work is done.
+"""
+
+#: Largest magnitude of any number in a recipe: values stay well inside float32.
+NUMBER_LIMIT = 1e30
+#: Deepest nesting of lists and objects in a recipe (a valid recipe needs 7).
+MAX_DEPTH = 32
+#: Largest input image, in pixels (16384 x 16384), judged from the file's header.
+MAX_PIXELS = 1 << 28
+#: Largest output (or input) side, in pixels (OpenCL buffers and int indices).
+MAX_SIDE = 1 << 15
+#: SVG outlines lie within this many output pixels of the exact design.
+DEFAULT_TOLERANCE = 0.5
+#: Frame rate of a blank sheet rendered to video, and of the live test pattern.
+DEFAULT_FPS = 30.0
+#: Port of the live preview page (on 127.0.0.1).
+DEFAULT_PORT = 8765

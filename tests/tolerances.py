@@ -1,0 +1,27 @@
+"""The tests' tolerances, in one table: what each one bounds, and why it is not 0.
+
+Levels are 8-bit code values (0..255); a share is of pixels (or plane samples).
+"""
+
+from marblevideo.opencl.selfcheck import LEVELS, SHARE
+
+#: The device (float32 walk) against the NumPy reference (float64): a pixel agrees
+#: within LEVELS in every channel, and at least SHARE of pixels agree (the rest sit
+#: on ink edges a float32 walk can land on the other side of). `devices --check`
+#: uses the same two numbers.
+KERNEL_LEVELS, KERNEL_SHARE = LEVELS, SHARE
+#: Planar I420 frames on the device against render_planes (the same float32
+#: sampling): at most PLANAR_MAX levels apart, and no more than PLANAR_DIFFERING of
+#: samples apart at all (reused maps' 1/32768-pixel weights).
+PLANAR_MAX, PLANAR_DIFFERING = 1, 1e-3
+#: A lossy encode (x264 crf <= 23) against the frames put in: mean absolute levels,
+#: and where the frames were also resized or marbled by the RGBA route.
+LOSSY_MEAN, LOSSY_MEAN_RESAMPLED = 4, 6
+#: Our I420 <-> RGBA conversions against FFmpeg's swscale, which rounds with less
+#: precision: largest and mean difference, and chroma on gradients.
+SWSCALE_MAX, SWSCALE_MEAN, SWSCALE_CHROMA_MAX = 3, 1.5, 2
+#: An SVG rasterized by cairosvg against the raster render (outlines within 0.5
+#: px, antialiased differently): the share of pixels within KERNEL_LEVELS.
+SVG_SHARE = 0.985
+#: Forward then inverse maps in float64: the contract's inverses are exact.
+ROUND_TRIP = 1e-9
