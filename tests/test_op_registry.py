@@ -9,7 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
-from tolerances import KERNEL_LEVELS, KERNEL_SHARE, ROUND_TRIP
+from tolerances import KERNEL_LEVELS, KERNEL_SHARE, ROUND_TRIP, SVG_SHARE
 
 from marblevideo.opencl.program import UNROLL_LIMIT, kernel_source, pack_params, walk_source
 from marblevideo.opencl.selfcheck import agreement
@@ -117,3 +117,24 @@ def test_the_loop_walk_has_one_case_per_op_type_and_no_default():
     assert "default" not in header
     inks = re.findall(r"code_ == (\d+)", header)
     assert inks == [str(d.code) for d in OPS if d.ink]
+
+
+@pytest.mark.parametrize("definition", OPS, ids=IDS)
+def test_the_example_over_drops_is_the_same_in_svg(renderer, definition):
+    """Ink carried through the op's forward map (SVG, rasterized by cairosvg) shows
+    what the kernel's inverse walk shows."""
+    from svg_raster import agreement, rasterize
+
+    from marblevideo.outputs.svg import design_svg
+
+    drops = [
+        {"type": "drop", "center": [20 + 20 * k, 15 + 15 * (k % 3)], "radius": 12, "color": c}
+        for k, c in enumerate(["#1d3557", "#e63946", "#2a9d8f", "#e9c46a"])
+    ]
+    doc = {"canvas": [80, 60], "background": "#f1faee", "ops": [*drops, dict(definition.example)]}
+    recipe = parse_recipe(doc, "ex.json")
+    spec = recipe.at(recipe.end_time())
+    size = (320, 240)
+    svg, _ = design_svg(spec, size)
+    raster = renderer.render(spec, geometry(recipe.canvas, size))
+    assert agreement(rasterize(svg, size), raster) >= SVG_SHARE, definition.type

@@ -261,7 +261,7 @@ def test_bad_background_and_canvas():
 def test_unknown_op_type_suggests():
     assert op_fault({"type": "dorp"}) == (
         "swirl.json: ops[1].type: unknown op type 'dorp' (did you mean 'drop'?); "
-        "expected one of drop, spray, tine, comb, wave, circle, vortex"
+        f"expected one of {', '.join(REGISTRY)}"
     )
 
 

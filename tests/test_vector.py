@@ -7,6 +7,7 @@ import math
 
 import numpy as np
 import pytest
+from svg_raster import agreement, rasterize
 from tolerances import SVG_SHARE
 
 from marblevideo.outputs.svg import design_svg, simplify_closed
@@ -49,21 +50,6 @@ def blank_design(seed: int, w: float = 320, h: float = 240):
                   "lambda": float(rng.uniform(0.1, 0.3) * size)}  # fmt: skip
         ops.append({"type": str(kind), **op})
     return parse_recipe({"canvas": [w, h], "background": color(), "ops": ops})
-
-
-def rasterize(svg: str, size: tuple[int, int]) -> np.ndarray:
-    import cv2
-
-    png = cairosvg.svg2png(bytestring=svg.encode(), output_width=size[0], output_height=size[1])
-    bgra = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_UNCHANGED)
-    return cv2.cvtColor(bgra, cv2.COLOR_BGRA2RGBA)
-
-
-def agreement(a: np.ndarray, b: np.ndarray, tol: int = 32) -> float:
-    """Fraction of pixels whose RGB differ by at most ``tol`` (edge pixels are
-    antialiased differently: cairo by area, the kernel by its subsample pattern)."""
-    d = np.abs(a[..., :3].astype(int) - b[..., :3].astype(int)).max(axis=-1)
-    return float((d <= tol).mean())
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])

@@ -21,7 +21,8 @@ LOSSY_MEAN, LOSSY_MEAN_RESAMPLED = 4, 6
 #: precision: largest and mean difference, and chroma on gradients.
 SWSCALE_MAX, SWSCALE_MEAN, SWSCALE_CHROMA_MAX = 3, 1.5, 2
 #: An SVG rasterized by cairosvg against the raster render (outlines within 0.5
-#: px, antialiased differently): the share of pixels within KERNEL_LEVELS.
-SVG_SHARE = 0.985
+#: px; cairo antialiases by area, the kernel by its subsamples): the share of
+#: pixels within SVG_LEVELS.
+SVG_LEVELS, SVG_SHARE = 32, 0.985
 #: Forward then inverse maps in float64: the contract's inverses are exact.
 ROUND_TRIP = 1e-9
