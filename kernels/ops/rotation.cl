@@ -1,4 +1,4 @@
-/* ops/rotation.cl: circle and vortex (marblevideo/ops/rotation.py): rotate
+/* ops/rotation.cl: circle, vortex and turn (marblevideo/ops/rotation.py): rotate
  * P' - C by -theta, theta = alpha*lambda/(d + lambda)/R, d = |R - r| (circle)
  * or R (vortex: r = 0 and R >= 0 make them one formula).
  * p: cx, cy, r, alpha*lambda / (2 pi), lambda  (theta in turns) */
@@ -17,4 +17,12 @@ inline void op_circle(OP_ARGS) {
 
 inline void op_vortex(OP_ARGS) {
     op_circle(x, y, ink, p, i);
+}
+
+/* turn: the whole tank turned by a about C; P = C + rot(P' - C, -a).
+ * p: cx, cy, cos a, sin a */
+inline void op_turn(OP_ARGS) {
+    vf qx = *x - p[0], qy = *y - p[1];
+    *x = p[0] + qx * p[2] + qy * p[3];
+    *y = p[1] - qx * p[3] + qy * p[2];
 }

@@ -1,6 +1,7 @@
-"""Rotations: ``circle`` and ``vortex`` turn a point about a centre C by an angle
-that depends only on its distance R from C, which the rotation keeps: the
-angle computed at P' is the angle at P and the inverse turns back exactly."""
+"""Rotations: ``circle``, ``vortex`` and ``turn`` turn a point about a centre C
+by an angle that depends only on its distance R from C (a constant for
+``turn``), which the rotation keeps: the angle computed at P' is the angle at
+P and the inverse turns back exactly."""
 
 from __future__ import annotations
 
@@ -8,7 +9,17 @@ import math
 
 import numpy as np
 
-from marblevideo.ops.base import ALPHA, CENTER, LAMBDA, RADIUS, OpDef, Points, Values
+from marblevideo.ops.base import (
+    ALPHA,
+    ANGLE,
+    CENTER,
+    LAMBDA,
+    RADIUS,
+    OpDef,
+    Points,
+    Values,
+    direction,
+)
 
 
 def _rotate(sign: float, circle: bool):
@@ -64,4 +75,36 @@ VORTEX = OpDef(
     example={"type": "vortex", "center": [40, 30], "alpha": 60, "lambda": 20},
 )
 
-OPS = (CIRCLE, VORTEX)
+
+def _turn(sign: float):
+    """P' = C + rot(P - C, a) (sign 1) or its inverse, rot by -a (sign -1)."""
+
+    def move(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
+        cx, cy = v["center"]
+        c, s = direction(sign * v["angle"])
+        qx, qy = x - cx, y - cy
+        return cx + (qx * c - qy * s), cy + (qx * s + qy * c)
+
+    return move
+
+
+def pack_turn(v: Values, lists: list) -> tuple[float, ...]:
+    """cx, cy, cos a, sin a."""
+    return (*v["center"], *direction(v["angle"]))
+
+
+TURN = OpDef(
+    type="turn",
+    help="The tank turned about `center` by `angle` (the whole pattern rotates).",
+    params=(
+        CENTER,
+        ANGLE.but(help="Rotation in degrees; positive turns clockwise on screen."),
+    ),
+    progress=(("angle", "linear"),),
+    pack=pack_turn,
+    inverse=_turn(-1.0),
+    forward=_turn(1.0),
+    example={"type": "turn", "center": [40, 30], "angle": 35},
+)
+
+OPS = (CIRCLE, VORTEX, TURN)
