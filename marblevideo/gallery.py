@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from marblevideo.errors import MarbleError, MediaError, UsageError
+from marblevideo.errors import MediaError, UsageError
 from marblevideo.ops import is_ink
 from marblevideo.recipe import Recipe
 
@@ -144,14 +144,9 @@ def strip(recipe: Recipe, size: int = 192, columns: int = 5, marbler=None) -> np
 
 def main(argv: list[str] | None = None) -> int:
     """The command line; one-line errors, exit status 2 for a user's mistake."""
-    try:
-        return _main(argv)
-    except MarbleError as exc:
-        print(f"{PROG}: {exc}", file=sys.stderr)
-        return exc.exit_code
-    except KeyboardInterrupt:
-        print(f"{PROG}: interrupted", file=sys.stderr)
-        return 130
+    from marblevideo.cli.arguments import reported
+
+    return reported(PROG, lambda: _main(argv))
 
 
 def _main(argv: list[str] | None) -> int:

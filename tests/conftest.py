@@ -45,3 +45,17 @@ def cli(tmp_path):
         )
 
     return run
+
+
+def one_line(proc) -> str:
+    """The single stderr line of a failed run (``marblevideo: ...``); no traceback."""
+    assert "Traceback" not in proc.stderr, proc.stderr
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("marblevideo: ")
+    return lines[0]
+
+
+def files(folder: Path) -> list[str]:
+    """The names in ``folder``, sorted."""
+    return sorted(p.name for p in folder.iterdir())

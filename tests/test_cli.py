@@ -20,7 +20,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from conftest import ROOT
+from conftest import ROOT, files, one_line
 
 RECIPE = {
     "canvas": [64, 48],
@@ -42,19 +42,6 @@ def write_recipe(folder: Path, doc, name: str = "r.json") -> Path:
     path = folder / name
     path.write_text(doc if isinstance(doc, str) else json.dumps(doc))
     return path
-
-
-def one_line(proc) -> str:
-    """The single stderr line of a failed run; no traceback."""
-    assert "Traceback" not in proc.stderr, proc.stderr
-    lines = proc.stderr.splitlines()
-    assert len(lines) == 1, proc.stderr
-    assert lines[0].startswith("marblevideo: ")
-    return lines[0]
-
-
-def files(folder: Path) -> list[str]:
-    return sorted(p.name for p in folder.iterdir())
 
 
 # ---------------------------------------------------------------------------- recipe faults

@@ -17,6 +17,7 @@ from pathlib import Path
 import av
 import pytest
 from clips import write_clip
+from conftest import files, one_line
 
 from marblevideo.errors import UsageError
 from marblevideo.media.encode import plan_output
@@ -65,18 +66,6 @@ def work(tmp_path) -> Path:
     write_clip(tmp_path / "in.mp4", size=(64, 48), frames=5, fps=25)
     (tmp_path / "r.json").write_text(json.dumps(RECIPE))
     return tmp_path
-
-
-def one_line(proc) -> str:
-    assert "Traceback" not in proc.stderr, proc.stderr
-    lines = proc.stderr.splitlines()
-    assert len(lines) == 1, proc.stderr
-    assert lines[0].startswith("marblevideo: ")
-    return lines[0]
-
-
-def files(folder: Path) -> list[str]:
-    return sorted(p.name for p in folder.iterdir())
 
 
 # ---------------------------------------------------------------------------- plan_output

@@ -27,7 +27,7 @@ import cv2
 import numpy as np
 import pytest
 from clips import write_clip
-from conftest import ROOT
+from conftest import ROOT, one_line
 from recipes import make_image
 
 from marblevideo.errors import DeviceError
@@ -40,14 +40,6 @@ from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
 CANVAS = {"canvas": [64, 48], "antialias": "none"}
-
-
-def one_line(proc) -> str:
-    assert "Traceback" not in proc.stderr, proc.stderr
-    lines = proc.stderr.splitlines()
-    assert len(lines) == 1, proc.stderr
-    assert lines[0].startswith("marblevideo: ")
-    return lines[0]
 
 
 def digest(path: Path) -> str:

@@ -10,7 +10,7 @@ from __future__ import annotations
 import signal
 import sys
 
-from marblevideo.errors import Interrupted, MarbleError
+from marblevideo.errors import Interrupted
 
 
 def _devices(argv: list[str]) -> int:
@@ -48,15 +48,12 @@ def run(argv: list[str]) -> int:
 
 
 def main(argv: list[str] | None = None) -> int:
+    """The ``marblevideo`` command: its exit status (errors as one line on stderr)."""
+    from marblevideo.cli.arguments import reported
+
     argv = sys.argv[1:] if argv is None else list(argv)
     previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
-        return run(argv)
-    except MarbleError as exc:
-        print(f"marblevideo: {exc}", file=sys.stderr)
-        return exc.exit_code
-    except KeyboardInterrupt:
-        print("marblevideo: interrupted", file=sys.stderr)
-        return 130
+        return reported("marblevideo", lambda: run(argv))
     finally:
         signal.signal(signal.SIGTERM, previous)

@@ -6,11 +6,25 @@ from __future__ import annotations
 import argparse
 import logging
 import sys
+from collections.abc import Callable
 
 import numpy as np
 
-from marblevideo.errors import UsageError
+from marblevideo.errors import MarbleError, UsageError
 from marblevideo.limits import MAX_SIDE
+
+
+def reported(prog: str, run: Callable[[], int]) -> int:
+    """``run()``'s exit status, with a MarbleError as one line ``PROG: message`` on
+    stderr and its exit code, and Ctrl-C as ``PROG: interrupted`` and 130."""
+    try:
+        return run()
+    except MarbleError as exc:
+        print(f"{prog}: {exc}", file=sys.stderr)
+        return exc.exit_code
+    except KeyboardInterrupt:
+        print(f"{prog}: interrupted", file=sys.stderr)
+        return 130
 
 
 class Parser(argparse.ArgumentParser):
