@@ -12,7 +12,7 @@
 #define PARAMS(i) (params + (i) * PSTRIDE)
 /* Op i of type `name` in every chain (the generated WALK is a list of these, or
  * a loop whose switch has one case per op type). */
-#define OP(i, name) FOR_CHAINS CAT(op_, name)(&px[c], &py[c], &ink[c], PARAMS(i), i);
+#define OP(i, name) FOR_CHAINS CAT(op_, name)(&px[c], &py[c], &ink[c], PARAMS(i), i, lists);
 /* The colour of ink op i for the lanes whose walk ended there (INK lists these). */
 #define INK_COLOR(i)                                                           \
     { vi m = ink[c] == i;                                                      \
@@ -120,8 +120,9 @@ inline void bilinear(__global const uint *src, int sw, int sh, vf ix, vf iy,
 }
 
 #define KPARAMS __global const uint *src, int sw, int sh, __constant const float *params, \
-                __constant const float *samples, float4 gc, float4 gi, float4 bgc
-#define KARGS src, sw, sh, params, samples, gc, gi, bgc
+                __constant const float *samples, float4 gc, float4 gi, float4 bgc, \
+                __global const float *lists
+#define KARGS src, sw, sh, params, samples, gc, gi, bgc, lists
 
 /* The colour of chain c after its walk: ink, else the input (bilinear) or background. */
 #if HAS_INPUT
@@ -239,7 +240,7 @@ __kernel void marble(__global uint *dst, int w, int h, KPARAMS) {
 
 __kernel void marble_centres(__global int *inkmap, __global float *sxmap, __global float *symap,
                              int gstride, int gh, __constant const float *params, float4 gc,
-                             float4 gi) {
+                             float4 gi, __global const float *lists) {
     const int nbx = gstride / LANES;
     const int gid = get_global_id(0);
     const int x0 = (gid % nbx) * LANES, y0 = (gid / nbx) * CHAINS;

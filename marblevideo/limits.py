@@ -18,3 +18,7 @@ DEFAULT_TOLERANCE = 0.5
 DEFAULT_FPS = 30.0
 #: Port of the live preview page (on 127.0.0.1).
 DEFAULT_PORT = 8765
+#: Longest list in a recipe (rake tines, stir radii, layout colours).
+MAX_LIST = 256
+#: Largest count in a recipe (a layout's drops, a rake's tines up to MAX_LIST).
+MAX_COUNT = 4096

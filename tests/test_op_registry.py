@@ -74,7 +74,7 @@ def test_progress_laws_and_sliders_are_well_formed(definition):
 def test_packing_fits_and_ink_colours_sit_where_the_kernel_reads_them(definition):
     recipe = parse_recipe({"canvas": [80, 60], "ops": [dict(definition.example)]}, "ex.json")
     spec = recipe.at(recipe.end_time())
-    row = pack_params(spec)
+    row = pack_params(spec).params
     assert row.shape == (PSTRIDE,) and row[-1] == definition.code
     if definition.ink:
         assert tuple(row[list(COLOR_SLOTS)]) == spec.ops[0]["color"]

@@ -16,7 +16,7 @@ inline void op_circle(OP_ARGS) {
 }
 
 inline void op_vortex(OP_ARGS) {
-    op_circle(x, y, ink, p, i);
+    op_circle(x, y, ink, p, i, lists);
 }
 
 /* turn: the whole tank turned by a about C; P = C + rot(P' - C, -a).

@@ -46,10 +46,10 @@ class PlanarFrames:
         coded = coded_spec(spec, matrix)
         structure = Structure.of(coded, True)
         built = self.programs.get(structure)
-        params = pack_params(coded)
+        packed = pack_params(coded)
         luma, chroma = geom, chroma_geometry(geom)
         (luma_maps, geo), (chroma_maps, _) = geometry_args(luma), geometry_args(chroma)
-        key = ("planes", structure, params.tobytes(), geo.tobytes(), w, h, sw, sh)
+        key = ("planes", structure, packed.key, geo.tobytes(), w, h, sw, sh)
         reuse = False
         if self.reuse_maps:
             nbytes = sum(
@@ -59,9 +59,9 @@ class PlanarFrames:
         result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
         bg = coded.background
         with errors():
-            pbuf = queue.buffer("params", params.nbytes)
             # the uploads' events hold their host arrays until the copies are done
-            uploads = [queue.upload(pbuf, params)]
+            uploads: list = []
+            pbuf, lbuf = queue.put_params(packed, uploads)
             staged = queue.put_i420(planes, uploads)
             dst = queue.buffer("i420_out", result.nbytes)
             samples = queue.samples(spec.antialias)
@@ -91,7 +91,7 @@ class PlanarFrames:
                 pw, ph = g.out_w, g.out_h
                 head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q0, q1)
                 head += (np.int32(is_chroma),)
-                common = (q0, *map(np.int32, in_size), pbuf, samples, *maps, bgc)
+                common = (q0, *map(np.int32, in_size), pbuf, samples, *maps, bgc, lbuf)
                 if not reuse:
                     k = built.kernels["marble_plane"]
                     k.set_args(*head, *common)

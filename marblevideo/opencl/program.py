@@ -114,10 +114,25 @@ def program_source() -> str:
     return "\n".join(kernel_source(name) for name in parts)
 
 
-def pack_params(spec: FrameSpec) -> np.ndarray:
-    """Per-frame op values as float32, PSTRIDE per op: each op's definition packs
-    its floats (:attr:`marblevideo.ops.OpDef.pack`; no library trigonometry is
-    left for the kernel), the last float is its type code."""
+@dataclass(frozen=True)
+class Packed:
+    """A frame's op values for the kernel: ``params``, PSTRIDE float32 per op, and
+    ``lists``, the float32 variable-length data the ops index into (at least one
+    float, so that the buffer exists)."""
+
+    params: np.ndarray
+    lists: np.ndarray
+
+    @property
+    def key(self) -> bytes:
+        """The bytes that decide where every subsample lands (for reused maps)."""
+        return self.params.tobytes() + b"|" + self.lists.tobytes()
+
+
+def pack_params(spec: FrameSpec) -> Packed:
+    """Per-frame op values: each op's definition packs its floats
+    (:attr:`marblevideo.ops.OpDef.pack`; no library trigonometry is left for the
+    kernel), the last float of its row is its type code."""
     out = np.zeros((max(len(spec.ops), 1), PSTRIDE), dtype=np.float64)
     lists: list[float] = []
     for i, op in enumerate(spec.ops):
@@ -128,7 +143,9 @@ def pack_params(spec: FrameSpec) -> np.ndarray:
     # Products of valid values (radius**2, alpha * lambda) can pass float32's range:
     # saturate them rather than hand the kernel inf (and inf * 0 = NaN).
     f32 = float(np.finfo(np.float32).max)
-    return np.clip(out, -f32, f32).astype(np.float32).ravel()
+    params = np.clip(out, -f32, f32).astype(np.float32).ravel()
+    data = np.clip(np.array(lists or [0.0], np.float64), -f32, f32).astype(np.float32)
+    return Packed(params, data)
 
 
 @dataclass(frozen=True)

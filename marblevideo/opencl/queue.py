@@ -96,6 +96,16 @@ class DeviceQueue:
         """Queue a copy of ``array`` into ``buffer``; its event."""
         return self._cl.enqueue_copy(self.queue, buffer, array, is_blocking=False)
 
+    def put_params(self, packed, uploads: list) -> tuple:
+        """The buffers ``params`` and ``lists`` holding a frame's
+        :class:`~marblevideo.opencl.program.Packed` values (copy events appended
+        to ``uploads``)."""
+        pbuf = self.buffer("params", packed.params.nbytes)
+        lbuf = self.buffer("lists", packed.lists.nbytes)
+        uploads.append(self.upload(pbuf, packed.params))
+        uploads.append(self.upload(lbuf, packed.lists))
+        return pbuf, lbuf
+
     def put_rgba(self, rgba: np.ndarray, padded):
         """Copy ``rgba`` inside the one-pixel border of ``padded``; the copy's event."""
         sh, sw = rgba.shape[:2]

@@ -252,18 +252,18 @@ class Renderer:
         has_input = size is not None
         structure = Structure.of(spec, has_input)
         built = self.programs.get(structure)
-        params = pack_params(spec)
+        packed = pack_params(spec)
         maps, geo = geometry_args(geom)
         sw, sh = size if has_input else (1, 1)
         bg = [float(c) for c in spec.background]
         reuse = False
         if has_input and self.reuse_maps:
-            key = (structure, params.tobytes(), geo.tobytes(), w, h, sw, sh)
+            key = (structure, packed.key, geo.tobytes(), w, h, sw, sh)
             reuse = self.tables.decide(key, self.tables.nbytes(spec.antialias, w, h), static)
         self.last_reused = reuse
         with self.errors():
-            pbuf = queue.buffer("params", params.nbytes)
-            uploads = [queue.upload(pbuf, params)]
+            uploads: list = []
+            pbuf, lbuf = queue.put_params(packed, uploads)
             if has_input:  # inside a border that marble_pad fills for the edges mode
                 src = queue.buffer("padded", (sw + 2) * (sh + 2) * 4)
                 put(built, src, uploads)
@@ -275,6 +275,7 @@ class Renderer:
             dst = queue.buffer("dst", w * h * 4)
             samples = queue.samples(spec.antialias)
             common = (src, np.int32(sw), np.int32(sh), pbuf, samples, *maps, float4(bg + [255.0]))
+            common += (lbuf,)
             adaptive = self.adaptive if self.adaptive is not None else not has_input
             if reuse:
                 self.tables.render(built, dst, w, h, common, key)

@@ -54,7 +54,8 @@ class AdaptiveWalk:
         zero = np.zeros(1, np.int32)
         cleared = queue.upload(counter, zero)
         centres = built.kernels["marble_centres"]
-        centres.set_args(inkmap, sxmap, symap, np.int32(gstride), np.int32(gh), pbuf, *maps)
+        lbuf = common[-1]  # the lists, last of the walk's arguments
+        centres.set_args(inkmap, sxmap, symap, np.int32(gstride), np.int32(gh), pbuf, *maps, lbuf)
         queue.launch(centres, gstride // lanes * -(-gh // built.chains))
         classify = built.kernels["marble_classify"]
         classify.set_args(

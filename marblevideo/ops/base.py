@@ -29,7 +29,25 @@ Points = tuple[np.ndarray, np.ndarray]
 Map = Callable[[Values, np.ndarray, np.ndarray], Points]
 
 #: Value kinds of parameters: the recipe schema's ``$defs`` of the same names.
-KINDS = ("number", "positive", "nonnegative", "point", "color")
+#: The first five may be keyframe tracks; lists, counts and the layouts' kinds
+#: are constants.
+KINDS = (
+    "number",
+    "positive",
+    "nonnegative",
+    "point",
+    "color",
+    "count",
+    "numberList",
+    "nonzeroList",
+    "positivePair",
+    "countPair",
+    "colorList",
+    "seed",
+    "distribution",
+)
+#: Kinds whose values may be keyframe tracks.
+KEYABLE_KINDS = ("number", "positive", "nonnegative", "point", "color")
 #: Kinds a slider can move (numbers).
 NUMERIC_KINDS = ("number", "positive", "nonnegative")
 #: Floats per op in the kernel's parameter buffer; the last holds the type code.
@@ -44,19 +62,24 @@ PROGRESS_LAWS = {
 #: The canvas every op definition's ``example`` is drawn for.
 EXAMPLE_CANVAS = (80.0, 60.0)
 #: Slider laws of the live page: (min, max, step) for a value v on a canvas of side size.
-SLIDER_LAWS = ("angle", "phase", "shift", "amplitude", "length")
+SLIDER_LAWS = ("angle", "phase", "shift", "amplitude", "length", "area", "time")
 
 
 @dataclass(frozen=True)
 class Param:
     """One parameter: ``kind`` (one of :data:`KINDS`), its help text (the schema's
-    description) and the live page's ``slider`` law (:data:`SLIDER_LAWS`;
-    None for points and colours)."""
+    description), the live page's ``slider`` law (:data:`SLIDER_LAWS`; None for
+    all but numbers), and whether it may be left out (``optional``; then
+    ``default``, if not None, stands in). Keyable kinds may be keyframe tracks
+    unless ``keyable`` is False (a layout's fields are constants)."""
 
     name: str
     kind: str
     help: str
     slider: str | None = None
+    optional: bool = False
+    default: object = None
+    keyable: bool = True
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -65,6 +88,13 @@ class Param:
             raise ValueError(f"param {self.name}: numbers have a slider law, others none")
         if self.slider is not None and self.slider not in SLIDER_LAWS:
             raise ValueError(f"param {self.name}: unknown slider law {self.slider!r}")
+        if self.kind not in KEYABLE_KINDS:
+            object.__setattr__(self, "keyable", False)
+
+    @property
+    def tracked(self) -> bool:
+        """Whether the value may be a keyframe track."""
+        return self.keyable and self.kind in KEYABLE_KINDS
 
     def but(self, **changes) -> Param:
         """This parameter with some fields changed (e.g. an op's own help text)."""
@@ -90,6 +120,11 @@ class OpDef:
     - ``inverse``, ``forward``: the NumPy float64 maps P' -> P and P -> P'.
     - ``contains(v, x, y)``: for ink ops, whether each point is ink (ends the
       walk with the op's ``color``); None for ops that are not ink.
+    - ``check(op, tracks)``: what a schema cannot say about one op of a recipe
+      (``op`` as JSON, ``tracks`` its parameters' Tracks): a list of (JSON path
+      below the op, message); None when the schema says it all.
+    - ``settle(values)``: the values at one instant made renderable where the
+      recipe leaves them out of range between keys (in place); None: as they are.
     - ``example``: a valid op of this type as JSON, drawn for :data:`EXAMPLE_CANVAS`
       (for tests, the device check and docs).
     - ``family``: the module that defines it, and so the kernel file
@@ -105,6 +140,8 @@ class OpDef:
     example: Mapping
     progress: tuple[tuple[str, str], ...] = ()
     contains: Callable[[Values, np.ndarray, np.ndarray], np.ndarray] | None = None
+    check: Callable[[Mapping, Mapping], list] | None = None
+    settle: Callable[[dict], dict] | None = None
     family: str = ""
     code: int = field(default=-1, compare=False)
 
@@ -134,14 +171,15 @@ class OpDef:
         raise KeyError(f"{self.type} has no parameter {name!r}")
 
     def at_progress(self, values: dict[str, Value], p: float) -> dict[str, Value]:
-        """``values`` with the progress laws applied at progress ``p`` (in place)."""
+        """``values`` with the progress laws applied at progress ``p``, then settled
+        (in place)."""
         for name, law in self.progress:
             scale = PROGRESS_LAWS[law]
             value = values[name]
             values[name] = (
                 tuple(scale(c, p) for c in value) if isinstance(value, tuple) else scale(value, p)
             )
-        return values
+        return self.settle(values) if self.settle is not None else values
 
     def packed(self, values: Values, lists: list) -> list[float]:
         """:attr:`pack`, checked: at most PSTRIDE - 1 floats."""
@@ -159,6 +197,14 @@ def slider_range(param: Param, v: float, size: float) -> tuple[float, float, flo
     spacing, wavelength) up to four times v or size/10, from 0 where 0 is
     allowed."""
     law = param.slider
+    if law == "area":  # canvas units squared (a circulation, a viscosity)
+        m = max(abs(v) * 2, size * size / 4)
+        if param.kind == "number":
+            return -m, m, m / 500
+        return (0.0 if param.kind == "nonnegative" else m / 1000), m, m / 1000
+    if law == "time":  # seconds
+        hi = max(v * 4, 10.0)
+        return 0.0, hi, hi / 1000
     if law in ("angle", "phase"):
         m = max(180.0 if law == "angle" else 360.0, math.ceil(abs(v)))
         return -m, m, 1.0

@@ -41,6 +41,8 @@ from marblevideo.recipe.keyframes import Key, Track
 from marblevideo.recipe.schema import LIMIT, schema
 
 DEFAULT_BACKGROUND = "#ffffff"
+#: Parameter kinds whose value is one number (the others are tuples).
+SCALAR_KINDS = ("number", "positive", "nonnegative", "count", "seed")
 DEFAULT_ANTIALIAS = "rgss"
 DEFAULT_EDGES = "clamp"
 
@@ -234,11 +236,22 @@ def _normalize(data: Any) -> Any:
     return data
 
 
+def _params(op: dict) -> dict[str, Track]:
+    """The Tracks of a valid op's parameters: those it gives, and the defaults of
+    optional ones it leaves out."""
+    params = {}
+    for param in op_def(op["type"]).params:
+        if param.name in op:
+            params[param.name] = _track(op[param.name], param.kind)
+        elif param.default is not None:
+            params[param.name] = _track(param.default, param.kind)
+    return params
+
+
 def _build(doc: dict, source: str) -> Recipe:
     ops = []
     for index, op in enumerate(doc["ops"]):
-        kinds = op_def(op["type"]).kinds
-        params = {name: _track(op[name], kind) for name, kind in kinds.items()}
+        params = _params(op)
         start, end = op.get("start"), op.get("end")
         ops.append(
             Op(
@@ -271,7 +284,7 @@ def _components(value: Any) -> tuple[float, ...]:
 
 def _track(value: Any, kind: str) -> Track:
     """A valid parameter value (constant or ``{"keys": [...]}``) as a Track."""
-    scalar = kind not in ("point", "color")
+    scalar = kind in SCALAR_KINDS
     if not isinstance(value, dict):
         return Track((Key(0.0, _components(value)),), scalar=scalar, keyed=False)
     return Track(tuple(_key(key) for key in value["keys"]), scalar=scalar)
@@ -306,7 +319,9 @@ def _semantic_faults(doc: dict) -> list[_Fault]:
     faults = []
     tracks: list[tuple[list, Any]] = [(["background"], doc.get("background"))]
     for i, op in enumerate(doc["ops"]):
-        tracks += [(["ops", i, name], op[name]) for name in op_def(op["type"]).kinds]
+        tracks += [
+            (["ops", i, p.name], op[p.name]) for p in op_def(op["type"]).params if p.name in op
+        ]
         if "end" in op and op["end"] <= op["start"]:
             message = f"must be > start ({_describe(op['start'])}), got {_describe(op['end'])}"
             faults.append(_make_fault(doc, ["ops", i, "end"], message))
@@ -321,6 +336,12 @@ def _semantic_faults(doc: dict) -> list[_Fault]:
                     f"after {_describe(keys[k - 1]['t'])}"
                 )
                 faults.append(_make_fault(doc, [*path, "keys", k, "t"], message))
+    if faults:
+        return faults
+    for i, op in enumerate(doc["ops"]):  # the ops' own rules, on well-formed tracks
+        check = op_def(op["type"]).check
+        for path, message in check(op, _params(op)) if check is not None else ():
+            faults.append(_make_fault(doc, ["ops", i, *path], message))
     return faults
 
 
@@ -402,6 +423,8 @@ def _message(kind: str, instance: Any, bound: Any, schema_: dict) -> str:
             hint = _did_you_mean(instance, bound)
             return f"unknown {title or 'value'} {instance!r}{hint}; expected one of {names}"
         return f"expected one of {names}, got {got}"
+    if kind == "not" and isinstance(bound, dict) and "const" in bound:
+        return f"must not be {_describe(bound['const'])}, got {got}"
     if kind == "const":
         return f"unsupported {title or 'value'}: expected {_describe(bound)}, got {got}"
     if kind == "pattern":

@@ -17,7 +17,7 @@ from __future__ import annotations
 import copy
 from functools import lru_cache
 
-from marblevideo.limits import NUMBER_LIMIT
+from marblevideo.limits import MAX_COUNT, MAX_LIST, NUMBER_LIMIT
 from marblevideo.ops import REGISTRY
 from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.frame import EDGE_MODES
@@ -72,7 +72,10 @@ def _op(op: str) -> dict:
     definition = REGISTRY[op]
     props: dict = {"type": {"const": op}}
     for param in definition.params:
-        props[param.name] = {**_ref(f"{param.kind}Param"), "description": param.help}
+        kind = f"{param.kind}Param" if param.tracked else param.kind
+        props[param.name] = {**_ref(kind), "description": param.help}
+        if param.default is not None:
+            props[param.name]["default"] = param.default
     for name, help_ in _TIME_HELP.items():
         props[name] = {**_ref("time"), "description": help_}
     return {
@@ -80,7 +83,7 @@ def _op(op: str) -> dict:
         "description": definition.help,
         "type": "object",
         "properties": props,
-        "required": ["type", *definition.kinds],
+        "required": ["type", *(p.name for p in definition.params if not p.optional)],
         "additionalProperties": False,
         "dependentRequired": {"end": ["start"]},
     }
@@ -112,9 +115,51 @@ def _build() -> dict:
             ],
         },
     }
+    positive_pair = {"type": "array", "items": _ref("positive"), "minItems": 2, "maxItems": 2}
+    count_pair = {"type": "array", "items": _ref("count"), "minItems": 2, "maxItems": 2}
+    constants = {  # kinds that are never keyframe tracks
+        "count": {
+            "title": "count (a whole number >= 1)",
+            "type": "integer",
+            "minimum": 1,
+            "maximum": MAX_COUNT,
+        },
+        "numberList": {
+            "title": f"list of 1..{MAX_LIST} numbers",
+            "type": "array",
+            "items": _ref("number"),
+            "minItems": 1,
+            "maxItems": MAX_LIST,
+        },
+        "nonzeroList": {
+            "title": f"list of 1..{MAX_LIST} non-zero numbers",
+            "type": "array",
+            "items": {**_ref("number"), "not": {"const": 0}},
+            "minItems": 1,
+            "maxItems": MAX_LIST,
+        },
+        "positivePair": {"title": "pair [a, b] of numbers > 0", **positive_pair},
+        "countPair": {"title": "pair [columns, rows] of whole numbers >= 1", **count_pair},
+        "colorList": {
+            "title": f"list of 1..{MAX_LIST} colors",
+            "type": "array",
+            "items": _ref("color"),
+            "minItems": 1,
+            "maxItems": MAX_LIST,
+        },
+        "seed": {
+            "title": "seed (a whole number 0..2^63-1)",
+            "type": "integer",
+            "minimum": 0,
+            "maximum": 2**63 - 1,
+        },
+        "distribution": {"title": "distribution", "type": "string", "enum": ["uniform", "normal"]},
+    }
+    used = {p.kind for d in REGISTRY.values() for p in d.params}
     unit = {"type": "number", "minimum": 0, "maximum": 1}
     defs: dict = {
         **kinds,
+        **{kind: schema_ for kind, schema_ in constants.items() if kind in used},
         **{f"{kind}Track": _track(kind) for kind in kinds},
         **{f"{kind}Param": {"anyOf": [_ref(kind), _ref(f"{kind}Track")]} for kind in kinds},
         "time": _number(),
