@@ -57,6 +57,8 @@ typedef CAT(uint, LANES) vu;
 #endif
 #endif
 
+#define AS_VF(v) CAT(as_float, LANES)(v)
+#define AS_VI(v) CAT(as_int, LANES)(v)
 #define CVT_F(v) CAT(convert_float, LANES)(v)
 #define CVT_I(v) CAT(convert_int, LANES)(v)
 #define CVT_U(v) CAT(convert_uint, LANES)(v)
@@ -64,6 +66,10 @@ typedef CAT(uint, LANES) vu;
 #undef CVT_F
 #undef CVT_I
 #undef CVT_U
+#undef AS_VF
+#undef AS_VI
+#define AS_VF(v) as_float(v)
+#define AS_VI(v) as_int(v)
 #define CVT_F(v) convert_float(v)
 #define CVT_I(v) convert_int(v)
 #define CVT_U(v) convert_uint(v)
@@ -93,6 +99,28 @@ inline void sincos_turns(vf t, vf *sn, vf *cs) {
                + h2 * (-2.7557319e-7f + h2 * 2.0876757e-9f)))));
     *sn = 2.0f * s * c;
     *cs = 1.0f - 2.0f * s * s;
+}
+
+/* e^-x for x >= 0 (0 from x = 87 on), without the library exp: 2^t with
+ * t = -x log2(e) split into a whole n and f in [-1/2, 1/2), 2^f by its Taylor
+ * polynomial (relative error < 2e-7) and 2^n put into the exponent bits. */
+inline vf exp_neg(vf x) {
+    vf t = fmin(x, 87.0f) * -1.44269504089f;
+    vf n = floor(t + 0.5f);
+    vf f = (t - n) * 0.69314718056f;
+    vf q = 1.0f + f * (1.0f + f * (0.5f + f * (1.6666667e-1f + f * (4.1666667e-2f
+               + f * (8.3333333e-3f + f * (1.3888889e-3f + f * 1.9841270e-4f))))));
+    vf scale = AS_VF((CVT_I(n) + 127) << 23);
+    return select(q * scale, (vf)0.0f, x >= 87.0f);
+}
+
+/* z^(1/3) for z > 0, without the library: a guess from the exponent bits (within
+ * 4%), then three Newton steps (relative error < 1e-7). */
+inline vf cbrt_pos(vf z) {
+    vf y = AS_VF(AS_VI(z) / 3 + 709921077);
+    for (int k = 0; k < 3; k++)
+        y = (2.0f * y + z / (y * y)) * (1.0f / 3.0f);
+    return y;
 }
 
 /* 1/x for x > 0: the device's fast reciprocal and one Newton step (full float

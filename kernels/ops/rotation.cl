@@ -1,4 +1,4 @@
-/* ops/rotation.cl: circle, vortex and turn (marblevideo/ops/rotation.py): rotate
+/* ops/rotation.cl: circle, vortex, turn, stir and oseen (marblevideo/ops/rotation.py): rotate
  * P' - C by -theta, theta = alpha*lambda/(d + lambda)/R, d = |R - r| (circle)
  * or R (vortex: r = 0 and R >= 0 make them one formula).
  * p: cx, cy, r, alpha*lambda / (2 pi), lambda  (theta in turns) */
@@ -25,4 +25,37 @@ inline void op_turn(OP_ARGS) {
     vf qx = *x - p[0], qy = *y - p[1];
     *x = p[0] + qx * p[2] + qy * p[3];
     *y = p[1] - qx * p[3] + qy * p[2];
+}
+
+/* Rotate the lanes' points about (cx, cy) by `turns` (whole turns, clockwise on
+ * screen; from 2^23 turns up float32 holds whole turns only: no rotation). */
+inline void turn_about(vf *x, vf *y, float cx, float cy, vf turns) {
+    vf qx = *x - cx, qy = *y - cy;
+    vf sn, cs;
+    sincos_turns(clamp(turns, -8388608.0f, 8388608.0f), &sn, &cs);
+    *x = cx + qx * cs - qy * sn;
+    *y = cy + qx * sn + qy * cs;
+}
+
+/* stir: rotate P' - C by -theta, theta = alpha sum_i sign(r_i) e^(-|R - |r_i|| / L) / R
+ * (0 at R = 0). p: cx, cy, alpha / (2 pi), 1/L, where the radii start in lists, n */
+inline void op_stir(OP_ARGS) {
+    vf qx = *x - p[0], qy = *y - p[1];
+    vf R = sqrt(qx * qx + qy * qy);
+    const int at = (int)p[4], n = (int)p[5];
+    vf sum = (vf)0.0f;
+    for (int k = 0; k < n; k++) {
+        const float r = lists[at + k];
+        sum += copysign(1.0f, r) * exp_neg(fabs(R - fabs(r)) * p[3]);
+    }
+    turn_about(x, y, p[0], p[1], -p[2] * sum * recip(fmax(R, 1e-30f)));
+}
+
+/* oseen: rotate P' - C by -theta, theta = G (a + c R^(3/2))^(-4/3), a = (4 nu)^(3/4),
+ * c = (2 pi / T)^(3/4). p: cx, cy, G / (2 pi) (0 when T = 0), a, c */
+inline void op_oseen(OP_ARGS) {
+    vf qx = *x - p[0], qy = *y - p[1];
+    vf R = sqrt(qx * qx + qy * qy);
+    vf z = p[3] + p[4] * R * sqrt(R);
+    turn_about(x, y, p[0], p[1], -p[2] * recip(z * cbrt_pos(z)));
 }

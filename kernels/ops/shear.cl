@@ -1,5 +1,6 @@
-/* ops/shear.cl: tine, comb and wave (marblevideo/ops/shear.py): a shift along a
- * fixed direction that depends only on the coordinate across it, subtracted. */
+/* ops/shear.cl: tine, comb, wave, shift and rake (marblevideo/ops/shear.py): a
+ * shift along a fixed direction that depends only on the coordinate across it,
+ * subtracted. */
 
 /* tine: P = P' - alpha*lambda / (d + lambda) * M, d the distance to the tine
  * line. p: ax, ay, mx, my, nx, ny, alpha*lambda, lambda */
@@ -28,4 +29,23 @@ inline void op_wave(OP_ARGS) {
     vf s = p[0] * sin_turns(v * p[1] + p[2]);
     *x -= s * p[3];
     *y -= s * p[4];
+}
+
+/* shift: the tank moved; P = P' - offset. p: dx, dy */
+inline void op_shift(OP_ARGS) {
+    *x -= p[0];
+    *y -= p[1];
+}
+
+/* rake: P = P' - alpha * sum_i exp(-|d_i| / L) * M, d_i = (P' - A) . N - o_i.
+ * p: ax, ay, mx, my, nx, ny, alpha, 1/L, where the offsets o_i start in lists, n */
+inline void op_rake(OP_ARGS) {
+    vf across = (*x - p[0]) * p[4] + (*y - p[1]) * p[5];
+    const int at = (int)p[8], n = (int)p[9];
+    vf sum = (vf)0.0f;
+    for (int k = 0; k < n; k++)
+        sum += exp_neg(fabs(across - lists[at + k]) * p[7]);
+    vf s = p[6] * sum;
+    *x -= s * p[2];
+    *y -= s * p[3];
 }

@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from marblevideo.ops import ink, rotation, shear
+from marblevideo.ops import ink, jiggle, rotation, shear
 from marblevideo.ops.base import (
     COLOR_SLOTS,
     EXAMPLE_CANVAS,
@@ -21,7 +21,7 @@ from marblevideo.ops.base import (
     slider_range,
 )
 
-FAMILIES = (ink, shear, rotation)
+FAMILIES = (ink, shear, rotation, jiggle)
 
 
 def _register(families) -> dict[str, OpDef]:

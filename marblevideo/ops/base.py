@@ -241,3 +241,6 @@ LAMBDA = Param(
     "Sharpness, > 0: the shift falls to half at distance lambda.",
     "length",
 )
+FALLOFF = Param(
+    "falloff", "positive", "Fall-off length L > 0: the pull is alpha e^(-d/L).", "length"
+)

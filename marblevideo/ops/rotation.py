@@ -1,7 +1,7 @@
-"""Rotations: ``circle``, ``vortex`` and ``turn`` turn a point about a centre C
-by an angle that depends only on its distance R from C (a constant for
-``turn``), which the rotation keeps: the angle computed at P' is the angle at
-P and the inverse turns back exactly."""
+"""Rotations: ``circle``, ``vortex``, ``turn``, ``stir`` and ``oseen`` turn a point
+about a centre C by an angle that depends only on its distance R from C (a
+constant for ``turn``), which the rotation keeps: the angle computed at P' is
+the angle at P and the inverse turns back exactly."""
 
 from __future__ import annotations
 
@@ -13,9 +13,11 @@ from marblevideo.ops.base import (
     ALPHA,
     ANGLE,
     CENTER,
+    FALLOFF,
     LAMBDA,
     RADIUS,
     OpDef,
+    Param,
     Points,
     Values,
     direction,
@@ -107,4 +109,103 @@ TURN = OpDef(
     example={"type": "turn", "center": [40, 30], "angle": 35},
 )
 
-OPS = (CIRCLE, VORTEX, TURN)
+
+def _rotate_by(theta_of, sign: float):
+    """P' = C + rot(P - C, theta(R)) (sign 1) or back (sign -1), theta 0 at R = 0."""
+
+    def move(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
+        cx, cy = v["center"]
+        qx, qy = x - cx, y - cy
+        big_r = np.hypot(qx, qy)
+        theta = sign * theta_of(v, big_r)
+        c, s = np.cos(theta), np.sin(theta)
+        return cx + (qx * c - qy * s), cy + (qx * s + qy * c)
+
+    return move
+
+
+def _stir_theta(v: Values, big_r: np.ndarray) -> np.ndarray:
+    """alpha * sum_i sign(r_i) exp(-|R - |r_i|| / L) / R, 0 at R = 0."""
+    arc = np.zeros(np.shape(big_r))
+    for r in v["radii"]:
+        arc += math.copysign(1.0, r) * np.exp(-np.abs(big_r - abs(r)) / v["falloff"])
+    arc *= v["alpha"]
+    return np.divide(arc, big_r, out=np.zeros_like(arc), where=big_r > 0)
+
+
+def pack_stir(v: Values, lists: list) -> tuple[float, ...]:
+    """cx, cy, alpha / (2 pi) (turns), 1/falloff, where the radii start in ``lists``,
+    how many."""
+    at = len(lists)
+    lists.extend(float(r) for r in v["radii"])
+    return (*v["center"], v["alpha"] / (2 * math.pi), 1.0 / v["falloff"], at, len(v["radii"]))
+
+
+STIR = OpDef(
+    type="stir",
+    help="Tines moved along concentric circles around `center` (each ring its own way).",
+    params=(
+        CENTER,
+        Param(
+            "radii",
+            "nonzeroList",
+            "Radii of the rings in canvas units; a negative radius -r is a ring of "
+            "radius r moved the other way.",
+        ),
+        TURNS.but(help="Arc length of the motion at a ring; positive turns clockwise on screen."),
+        FALLOFF,
+    ),
+    progress=(("alpha", "linear"),),
+    pack=pack_stir,
+    inverse=_rotate_by(_stir_theta, -1.0),
+    forward=_rotate_by(_stir_theta, 1.0),
+    example={"type": "stir", "center": [40, 30], "radii": [8, -16, 24], "alpha": 9, "falloff": 3},
+)
+
+
+def _oseen_theta(v: Values, big_r: np.ndarray) -> np.ndarray:
+    """G ((4 nu)^(3/4) + (2 pi R^2 / T)^(3/4))^(-4/3); 0 when T = 0."""
+    g, nu, t = v["circulation"], v["viscosity"], v["time"]
+    if t <= 0:
+        return np.zeros(np.shape(big_r))
+    return g * ((4 * nu) ** 0.75 + (2 * math.pi * big_r**2 / t) ** 0.75) ** (-4.0 / 3.0)
+
+
+def pack_oseen(v: Values, lists: list) -> tuple[float, ...]:
+    """cx, cy, G / (2 pi) (turns; 0 when T = 0), (4 nu)^(3/4), (2 pi / T)^(3/4), so that
+    theta = G (a + c R^(3/2))^(-4/3)."""
+    t = v["time"]
+    if t <= 0:
+        return (*v["center"], 0.0, 1.0, 0.0)
+    g = v["circulation"] / (2 * math.pi)
+    return (*v["center"], g, (4 * v["viscosity"]) ** 0.75, (2 * math.pi / t) ** 0.75)
+
+
+OSEEN = OpDef(
+    type="oseen",
+    help="A decaying viscous (Lamb-Oseen) vortex: a free vortex far out, a rigid turn at the core.",
+    params=(
+        CENTER,
+        Param(
+            "circulation",
+            "number",
+            "Circulation G in canvas units^2 per second; positive turns clockwise.",
+            "area",
+        ),
+        Param("viscosity", "positive", "Viscosity nu > 0 in canvas units^2 per second.", "area"),
+        Param("time", "nonnegative", "Seconds the vortex has acted, T >= 0.", "time"),
+    ),
+    progress=(("time", "linear"),),
+    pack=pack_oseen,
+    inverse=_rotate_by(_oseen_theta, -1.0),
+    forward=_rotate_by(_oseen_theta, 1.0),
+    example={
+        "type": "oseen",
+        "center": [40, 30],
+        "circulation": 4000,
+        "viscosity": 300,
+        "time": 2,
+    },
+)
+
+OPS = (CIRCLE, VORTEX, TURN, STIR, OSEEN)

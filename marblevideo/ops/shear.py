@@ -1,7 +1,7 @@
-"""Shears: ``tine``, ``comb`` and ``wave`` move a point along a fixed direction by
-a shift that depends only on its coordinate across that direction, so the
-shift computed at P' equals the shift at P and the inverse subtracts it
-exactly."""
+"""Shears: ``tine``, ``comb``, ``wave``, ``rake`` and ``shift`` move a point along a
+fixed direction by a shift that depends only on its coordinate across that
+direction (a constant for ``shift``), so the shift computed at P' equals the
+shift at P and the inverse subtracts it exactly."""
 
 from __future__ import annotations
 
@@ -9,9 +9,11 @@ import math
 
 import numpy as np
 
+from marblevideo.limits import MAX_LIST
 from marblevideo.ops.base import (
     ALPHA,
     ANGLE,
+    FALLOFF,
     LAMBDA,
     POINT,
     OpDef,
@@ -116,4 +118,106 @@ WAVE = OpDef(
     example={"type": "wave", "amplitude": 6, "wavelength": 40, "phase": 30, "angle": 0},
 )
 
-OPS = (TINE, COMB, WAVE)
+
+def _offset(sign: float):
+    def move(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
+        dx, dy = v["offset"]
+        return x + sign * dx, y + sign * dy
+
+    return move
+
+
+SHIFT = OpDef(
+    type="shift",
+    help="The whole tank moved by `offset`.",
+    params=(Param("offset", "point", "The motion [dx, dy] in canvas units."),),
+    progress=(("offset", "linear"),),
+    pack=lambda v, lists: tuple(v["offset"]),
+    inverse=_offset(-1.0),
+    forward=_offset(1.0),
+    example={"type": "shift", "offset": [9, -6]},
+)
+
+
+def rake_offsets(v: Values) -> list[float]:
+    """A rake's tine offsets along N from its point: ``tines``, else ``count``
+    tines ``spacing`` apart, centred on the point."""
+    if "tines" in v:
+        return [float(o) for o in v["tines"]]
+    n, s = int(v["count"]), float(v["spacing"])
+    return [(k - (n - 1) / 2) * s for k in range(n)]
+
+
+def _rake_shift(v: Values, x: np.ndarray, y: np.ndarray, comb: bool = False):
+    """Shift along M: alpha * sum_i exp(-|d_i| / falloff), d_i = (P - A) . N - o_i."""
+    mx, my = direction(v["angle"])
+    ax, ay = v["point"]
+    across = (x - ax) * -my + (y - ay) * mx  # (P - A) . N
+    total = np.zeros(np.shape(across))
+    for offset in rake_offsets(v):  # one tine at a time: memory stays that of the points
+        total += np.exp(-np.abs(across - offset) / v["falloff"])
+    return v["alpha"] * total, mx, my
+
+
+def pack_rake(v: Values, lists: list) -> tuple[float, ...]:
+    """ax, ay, M, N, alpha, 1/falloff, where its offsets start in ``lists``, how many."""
+    ca, sa = direction(v["angle"])
+    offsets = rake_offsets(v)
+    at = len(lists)
+    lists.extend(offsets)
+    return (*v["point"], ca, sa, -sa, ca, v["alpha"], 1.0 / v["falloff"], at, len(offsets))
+
+
+def check_rake(op, tracks) -> list:
+    """``tines``, or ``spacing`` with ``count`` (at most MAX_LIST tines)."""
+    given = [name for name in ("tines", "spacing", "count") if name in op]
+    if "tines" in op and len(given) > 1:
+        return [([given[1]], "give the tines as `tines` or as `spacing` and `count`, not both")]
+    if "tines" not in op and len(given) < 2:
+        missing = "missing 'count'" if given == ["spacing"] else "missing 'spacing'"
+        if not given:
+            return [([], "missing 'tines' (or 'spacing' and 'count')")]
+        return [([given[0]], f"{missing}: a rake's tines are `tines` or `spacing` and `count`")]
+    if op.get("count", 0) > MAX_LIST:
+        return [(["count"], f"must be <= {MAX_LIST} (tines of one rake), got {op['count']}")]
+    return []
+
+
+RAKE = OpDef(
+    type="rake",
+    help="Several tines drawn at once along `angle`, each pulling with an exponential fall-off.",
+    params=(
+        POINT.but(help="A point [x, y] the tines' offsets are measured from (canvas units)."),
+        ANGLE.but(help="Direction of the motion in degrees: 0 is +x, 90 is +y (down)."),
+        ALPHA.but(help="Shift at a tine in canvas units; negative reverses the motion."),
+        FALLOFF,
+        Param(
+            "tines",
+            "numberList",
+            "Offsets of the tines from `point` across the motion (canvas units).",
+            optional=True,
+        ),
+        SPACING.but(
+            help="Distance between tines (with `count`, instead of `tines`).", optional=True
+        ),
+        Param(
+            "count", "count", "Number of tines, centred on `point` (with `spacing`).", optional=True
+        ),
+    ),
+    progress=(("alpha", "linear"),),
+    pack=pack_rake,
+    inverse=_shear(_rake_shift, -1.0),
+    forward=_shear(_rake_shift, 1.0),
+    check=check_rake,
+    example={
+        "type": "rake",
+        "point": [40, 30],
+        "angle": 0,
+        "alpha": 7,
+        "falloff": 4,
+        "spacing": 12,
+        "count": 5,
+    },
+)
+
+OPS = (TINE, COMB, WAVE, SHIFT, RAKE)
