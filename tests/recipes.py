@@ -121,3 +121,61 @@ def make_image(w: int, h: int, seed: int = 0, alpha: bool = False):
     b = 255.0 * ((np.hypot(xx - w / 2, yy - h / 2) / 7).astype(int) % 2)
     a = 255.0 * (xx / max(w - 1, 1)) if alpha else np.full_like(xx, 255.0)
     return np.stack([r, g, b, a], axis=2).round().astype(np.uint8)
+
+
+def random_value(rng, param, w: float, h: float):
+    """A random value of ``param`` for a w x h canvas, by its kind and slider law."""
+    size = min(w, h)
+    kind, law = param.kind, param.slider
+    if kind == "point":
+        if param.name == "offset":
+            return [float(rng.uniform(-0.2, 0.2) * w), float(rng.uniform(-0.2, 0.2) * h)]
+        return [float(rng.uniform(0, w)), float(rng.uniform(0, h))]
+    if kind == "color":
+        return _color(rng)
+    if kind == "count":
+        return int(rng.integers(1, 9))
+    if kind == "numberList":
+        return [float(v) for v in rng.uniform(-0.4, 0.4, int(rng.integers(1, 9))) * size]
+    if kind == "nonzeroList":
+        radii = rng.uniform(0.05, 0.45, int(rng.integers(1, 7))) * size
+        return [float(r if rng.random() < 0.6 else -r) for r in radii]
+    ranges = {
+        "angle": (-180, 360),
+        "phase": (0, 360),
+        "shift": (-0.2 * size, 0.2 * size),
+        "amplitude": (-0.05 * size, 0.05 * size),
+        "length": (0.05 * size, 0.4 * size),
+        "area": (-0.3 * size * size, 0.3 * size * size),
+        "time": (0.0, 3.0),
+    }
+    lo, hi = ranges[law]
+    if kind != "number":  # positive or nonnegative
+        lo, hi = max(lo, 0.0), max(hi, 1e-3)
+        if law == "area":
+            lo, hi = 0.01 * size * size, 0.1 * size * size
+        if kind == "positive":
+            lo = max(lo, 1e-3 * size)
+    return float(rng.uniform(lo, hi))
+
+
+def random_registry_op(rng, definition, w: float, h: float) -> dict:
+    """A random op of ``definition`` (any registered type): every required
+    parameter and some optional ones, numbers sometimes keyframed, sometimes a
+    start/end; the caller retries when the op's own check refuses it."""
+    op = {"type": definition.type}
+    for param in definition.params:
+        if param.optional and rng.random() < 0.5:
+            continue
+        value = random_value(rng, param, w, h)
+        if param.tracked and param.kind != "color" and rng.random() < 0.3:
+            value = _keyed(rng, value, 0.1 * abs(np.max(np.abs(value))) + 1e-3)
+            if isinstance(value, dict) and param.kind in ("positive", "nonnegative"):
+                for key in value["keys"]:  # positive kinds stay positive at every key
+                    key["v"] = abs(key["v"]) or 1e-3
+        op[param.name] = value
+    r = rng.random()
+    if r < 0.3:
+        op["start"] = float(rng.uniform(0, 1))
+        op["end"] = op["start"] + float(rng.uniform(0.2, 2))
+    return op

@@ -89,7 +89,8 @@ class Keep(logging.Handler):
 logger = logging.getLogger("marblevideo")
 logger.setLevel(logging.DEBUG)
 logger.addHandler(Keep())
-ops = ("drop", "spray", "tine", "comb", "wave", "circle", "vortex")
+from marblevideo.ops import REGISTRY
+ops = tuple(REGISTRY)  # every op section
 for lanes in (None, 1):
     renderer = Renderer(lanes=lanes)
     for structure in (
