@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 from marblevideo.errors import RecipeError, UsageError
-from marblevideo.ops import REGISTRY
+from marblevideo.ops import REGISTRY, recipe_types
 from marblevideo.recipe import Op, Recipe, load_recipe, parse_recipe
 from marblevideo.recipe.frame import FrameSpec
 from marblevideo.recipe.keyframes import EASE_NAMES
@@ -261,7 +261,7 @@ def test_bad_background_and_canvas():
 def test_unknown_op_type_suggests():
     assert op_fault({"type": "dorp"}) == (
         "swirl.json: ops[1].type: unknown op type 'dorp' (did you mean 'drop'?); "
-        f"expected one of {', '.join(REGISTRY)}"
+        f"expected one of {', '.join(recipe_types())}"
     )
 
 

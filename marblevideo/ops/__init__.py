@@ -20,6 +20,7 @@ from marblevideo.ops.base import (
     identity,
     slider_range,
 )
+from marblevideo.ops.layouts import LAYOUTS, LayoutDef, expand
 
 FAMILIES = (ink, shear, rotation, jiggle)
 
@@ -52,6 +53,18 @@ def op_types() -> tuple[str, ...]:
     return tuple(REGISTRY)
 
 
+def type_def(type_: str) -> OpDef | LayoutDef:
+    """The definition of an op type or of a drop layout (expanded at load)."""
+    if type_ in LAYOUTS:
+        return LAYOUTS[type_]
+    return op_def(type_)
+
+
+def recipe_types() -> tuple[str, ...]:
+    """Every type a recipe's ``ops`` may hold: the ops, then the layouts."""
+    return (*REGISTRY, *LAYOUTS)
+
+
 def is_ink(type_: str) -> bool:
     """Whether ops of ``type_`` are ink (end the walk with their colour)."""
     return op_def(type_).ink
@@ -61,6 +74,11 @@ __all__ = [
     "COLOR_SLOTS",
     "EXAMPLE_CANVAS",
     "FAMILIES",
+    "LAYOUTS",
+    "LayoutDef",
+    "expand",
+    "recipe_types",
+    "type_def",
     "KINDS",
     "NUMERIC_KINDS",
     "PSTRIDE",

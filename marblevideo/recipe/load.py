@@ -35,7 +35,7 @@ from jsonschema import Draft202012Validator, ValidationError
 
 from marblevideo.errors import RecipeError, UsageError
 from marblevideo.limits import MAX_DEPTH
-from marblevideo.ops import op_def
+from marblevideo.ops import LAYOUTS, expand, op_def, type_def
 from marblevideo.recipe.frame import FrameSpec, OpState
 from marblevideo.recipe.keyframes import Key, Track
 from marblevideo.recipe.schema import LIMIT, schema
@@ -250,7 +250,8 @@ def _params(op: dict) -> dict[str, Track]:
 
 def _build(doc: dict, source: str) -> Recipe:
     ops = []
-    for index, op in enumerate(doc["ops"]):
+    expanded = [d for op in doc["ops"] for d in (expand(op) if op["type"] in LAYOUTS else [op])]
+    for index, op in enumerate(expanded):
         params = _params(op)
         start, end = op.get("start"), op.get("end")
         ops.append(
@@ -319,9 +320,8 @@ def _semantic_faults(doc: dict) -> list[_Fault]:
     faults = []
     tracks: list[tuple[list, Any]] = [(["background"], doc.get("background"))]
     for i, op in enumerate(doc["ops"]):
-        tracks += [
-            (["ops", i, p.name], op[p.name]) for p in op_def(op["type"]).params if p.name in op
-        ]
+        params = type_def(op["type"]).params
+        tracks += [(["ops", i, p.name], op[p.name]) for p in params if p.tracked and p.name in op]
         if "end" in op and op["end"] <= op["start"]:
             message = f"must be > start ({_describe(op['start'])}), got {_describe(op['end'])}"
             faults.append(_make_fault(doc, ["ops", i, "end"], message))
@@ -339,8 +339,9 @@ def _semantic_faults(doc: dict) -> list[_Fault]:
     if faults:
         return faults
     for i, op in enumerate(doc["ops"]):  # the ops' own rules, on well-formed tracks
-        check = op_def(op["type"]).check
-        for path, message in check(op, _params(op)) if check is not None else ():
+        check = type_def(op["type"]).check
+        tracks = {} if op["type"] in LAYOUTS else _params(op)
+        for path, message in check(op, tracks) if check is not None else ():
             faults.append(_make_fault(doc, ["ops", i, *path], message))
     return faults
 

@@ -18,7 +18,7 @@ import copy
 from functools import lru_cache
 
 from marblevideo.limits import MAX_COUNT, MAX_LIST, NUMBER_LIMIT
-from marblevideo.ops import REGISTRY
+from marblevideo.ops import recipe_types, type_def
 from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.frame import EDGE_MODES
 from marblevideo.recipe.keyframes import EASE_NAMES
@@ -28,9 +28,6 @@ DRAFT = "https://json-schema.org/draft/2020-12/schema"
 
 #: Largest magnitude of any number (:data:`marblevideo.limits.NUMBER_LIMIT`).
 LIMIT = NUMBER_LIMIT
-
-#: Value kind of every op parameter, by op type (from the op registry).
-PARAM_KINDS: dict[str, dict[str, str]] = {name: d.kinds for name, d in REGISTRY.items()}
 
 _TIME_HELP = {
     "start": "Seconds: the op appears (progress p goes 0 -> 1) from here.",
@@ -69,7 +66,7 @@ def _track(kind: str) -> dict:
 
 
 def _op(op: str) -> dict:
-    definition = REGISTRY[op]
+    definition = type_def(op)
     props: dict = {"type": {"const": op}}
     for param in definition.params:
         kind = f"{param.kind}Param" if param.tracked else param.kind
@@ -155,7 +152,7 @@ def _build() -> dict:
         },
         "distribution": {"title": "distribution", "type": "string", "enum": ["uniform", "normal"]},
     }
-    used = {p.kind for d in REGISTRY.values() for p in d.params}
+    used = {p.kind for t in recipe_types() for p in type_def(t).params}
     unit = {"type": "number", "minimum": 0, "maximum": 1}
     defs: dict = {
         **kinds,
@@ -176,19 +173,19 @@ def _build() -> dict:
                 },
             ],
         },
-        **{op: _op(op) for op in REGISTRY},
+        **{op: _op(op) for op in recipe_types()},
         "op": {
             "type": "object",
             "required": ["type"],
             "properties": {
-                "type": {"title": "op type", "type": "string", "enum": list(REGISTRY)},
+                "type": {"title": "op type", "type": "string", "enum": list(recipe_types())},
             },
             "allOf": [
                 {
                     "if": {"properties": {"type": {"const": op}}, "required": ["type"]},
                     "then": _ref(op),
                 }
-                for op in REGISTRY
+                for op in recipe_types()
             ],
         },
     }
