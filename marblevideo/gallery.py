@@ -9,7 +9,8 @@ wave. The process as a video: ``marblevideo --ops samples/figure6.json -o proces
 The stages come from the recipe. Each op has a window: from its earliest
 time (``start`` or a key time) to its latest (``end``, ``start`` or a key
 time); an op with neither begins and ends when every op before it has
-ended. Walking the ops in order, an op opens a new stage when
+ended. The drops of one layout (``rings``, ``grid-drops``...) are one stage. Walking
+the other ops in order, an op opens a new stage when
 
 1. it starts no earlier than every earlier op ends (a pause, or one op
    following another end to start), or
@@ -63,7 +64,9 @@ def _letter(n: int) -> str:
 
 
 def _title(ops) -> str:
-    counts = Counter(op.type for op in ops)
+    counts = Counter(op.layout[0] if op.layout else op.type for op in ops)
+    if len(counts) == 1 and ops[0].layout:
+        return ops[0].layout[0]
     return ", ".join(k if n == 1 else f"{n} {k}s" for k, n in counts.items())
 
 
@@ -80,7 +83,10 @@ def stages(recipe: Recipe) -> list[Stage]:
             begin = finish = done
         ink = is_ink(op.type)
         center = tuple(op.params["center"].at(begin)) if ink else None
-        new = (
+        same_layout = (
+            op.layout is not None and previous is not None and op.layout == previous.layout
+        )
+        new = not same_layout and (
             not groups
             or begin >= done
             or ink != is_ink(previous.type)

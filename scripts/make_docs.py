@@ -34,6 +34,9 @@ SVG_STAGE = "e"
 #: seconds of samples/coffee.mp4 shown marbled by samples/swirl.json
 SWIRL_TIMES = (1.5, 3.0)
 JPEG_QUALITY = 85
+#: the classic-pattern samples the README shows, and the size of their pictures
+CLASSICS = ("nonpareil", "bouquet", "chevron", "spanish-wave", "stone-sprays")
+CLASSIC_SIZE = "360x240"
 #: what :func:`make` writes into docs/
 PICTURES = (
     "figure6.png",
@@ -44,6 +47,8 @@ PICTURES = (
     "figure6-e.svg",
     "coffee-comb-wave.jpg",
     "coffee-swirl.jpg",
+    *(f"{name}.jpg" for name in CLASSICS),
+    "bouquet-steps.jpg",
 )
 
 
@@ -150,6 +155,13 @@ def make(out: Path, tmp: Path) -> dict[str, str]:
     (stage,) = (s for s in stages(load_recipe(svg[svg.index("--ops") + 1])) if s.label == SVG_STAGE)
     svg_e = with_option(with_option(svg, "--size", "512x512"), "--time", f"{stage.time:g}")
     run(svg_e, out / "figure6-e.svg")
+
+    # the classic patterns, and the bouquet stage by stage
+    for name in CLASSICS:
+        run(with_option(readme_command(f"{name}.png"), "--size", CLASSIC_SIZE), tmp / f"{name}.png")
+        write(out / f"{name}.jpg", read_rgb(tmp / f"{name}.png"))
+    run(with_option(readme_command("bouquet-steps.png"), "--size", "120"), tmp / "steps.png")
+    write(out / "bouquet-steps.jpg", read_rgb(tmp / "steps.png"))
 
     # photos: the README's still command, and frames of the video through the API
     run(readme_command("out.png"), tmp / "comb-wave.png")

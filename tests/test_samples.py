@@ -16,7 +16,9 @@ from marblevideo.reference import render as reference_render
 SAMPLES = Path(__file__).resolve().parent.parent / "samples"
 
 
-@pytest.mark.parametrize("name", ["figure6.json", "swirl.json", "comb-wave.json"])
+@pytest.mark.parametrize(
+    "name", sorted(p.name for p in SAMPLES.glob("*.json") if p.name != "recipe.schema.json")
+)
 def test_samples_load_and_point_to_the_schema(name):
     recipe = load_recipe(SAMPLES / name)
     assert recipe.ops

@@ -53,13 +53,15 @@ DEFAULT_EDGES = "clamp"
 @dataclass(frozen=True)
 class Op:
     """One op of a recipe: its parameters as tracks, ``start``/``end`` in seconds
-    (None when absent) and its ``index`` in ``ops``."""
+    (None when absent), its ``index`` in ``ops`` and, for the drops a layout
+    stands for, ``layout``: the layout's type and index in the recipe file."""
 
     type: str
     params: dict[str, Track] = field(hash=False)
     start: float | None
     end: float | None
     index: int
+    layout: tuple[str, int] | None = None
 
     def progress(self, t: float) -> float:
         """The contract's p(t): 0 before ``start``, linear up to ``end``, then 1;
@@ -250,8 +252,12 @@ def _params(op: dict) -> dict[str, Track]:
 
 def _build(doc: dict, source: str) -> Recipe:
     ops = []
-    expanded = [d for op in doc["ops"] for d in (expand(op) if op["type"] in LAYOUTS else [op])]
-    for index, op in enumerate(expanded):
+    expanded = [
+        (d, (op["type"], n) if op["type"] in LAYOUTS else None)
+        for n, op in enumerate(doc["ops"])
+        for d in (expand(op) if op["type"] in LAYOUTS else [op])
+    ]
+    for index, (op, layout) in enumerate(expanded):
         params = _params(op)
         start, end = op.get("start"), op.get("end")
         ops.append(
@@ -261,6 +267,7 @@ def _build(doc: dict, source: str) -> Recipe:
                 start=None if start is None else float(start),
                 end=None if end is None else float(end),
                 index=index,
+                layout=layout,
             )
         )
     canvas = doc.get("canvas")
