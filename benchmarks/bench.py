@@ -14,6 +14,8 @@
 - numpy: our renderer against the same recipe computed per frame with NumPy
   float32 inverse maps and cv2.remap (one remap per RGSS subsample).
 - memory: peak RSS of the CLI marbling a 1080p clip of 10 s and of 10 minutes (--long).
+- pst: a pst-marble-style design (rings, two rakes, a stir, a Lamb-Oseen vortex)
+  at 1024x1024 in Table 1's columns, beside the 12-op row.
 - lanes: the vector width on this CPU: 16 against 8 lanes (and 4), for the code
   PoCL generates for this CPU and for an AVX2 CPU (POCL_KERNELLIB_NAME=avx2),
   each in a process of its own: a blank-sheet frame, a 720p frame over an input
@@ -101,6 +103,53 @@ def timings(fn, repeat: int = 21, warmup: int = 3) -> tuple[float, float]:
 
 def median_time(fn, repeat: int = 21, warmup: int = 3) -> float:
     return timings(fn, repeat, warmup)[1]
+
+
+def recipe_pst(antialias: str = "rgss") -> dict:
+    """A pst-marble-style design: 8 rings, two rakes of 32 tines there and back, a
+    stir of 8 rings, a Lamb-Oseen vortex (the revision-2 vocabulary)."""
+    palette = ["#1d3557", "#e9c46a", "#b23a48", "#f4f1de", "#2a9d8f", "#264653"]
+    return {
+        "marblevideo": 1,
+        "canvas": [1024, 1024],
+        "background": "#f3ead7",
+        "antialias": antialias,
+        "ops": [
+            {"type": "rings", "center": [512, 512], "width": 60, "count": 8, "colors": palette},
+            {"type": "rake", "point": [512, 512], "angle": 90, "alpha": 60, "falloff": 8,
+             "spacing": 32, "count": 32},
+            {"type": "rake", "point": [528, 512], "angle": 270, "alpha": 60, "falloff": 8,
+             "spacing": 32, "count": 32},
+            {"type": "stir", "center": [512, 512], "radii": [60, -120, 180, -240, 300, -360,
+             420, -480], "alpha": 40, "falloff": 20},
+            {"type": "oseen", "center": [512, 512], "circulation": 3.0e4, "viscosity": 500,
+             "time": 3},
+        ],
+    }  # fmt: skip
+
+
+def pst_row(device: str | None) -> None:
+    """The pst-style design at 1024x1024 in Table 1's columns, beside the 12-op row."""
+    adaptive, full = Renderer(device), Renderer(device, adaptive=False)
+    print(f"\n## A pst-style design (revision 2 ops), kernel fps on {adaptive.info.name}")
+    print("Each cell: ours best / median of 21 [full pattern, best]")
+    print("| recipe at 1024x1024 | " + " | ".join(COLUMNS) + " |")
+    print("|---|" + "---|" * len(COLUMNS))
+    for name, make in (("12 ops (Table 1)", recipe12), ("pst-style", recipe_pst)):
+        cells = []
+        for col in COLUMNS:
+            recipe = parse_recipe(make(col), "pst.json")
+            spec, geom = recipe.at(0), geometry(recipe.canvas, (1024, 1024))
+            frame = np.empty((1024, 1024, 4), np.uint8)
+            best, med = timings(lambda r=adaptive, s=spec, g=geom, f=frame: r.render(s, g, out=f))
+            cell = f"{1 / best:.0f} / {1 / med:.0f}"
+            if col != "none":
+                full_best, _ = timings(
+                    lambda s=spec, g=geom, f=frame: full.render(s, g, out=f), repeat=11
+                )
+                cell += f" [{1 / full_best:.0f}]"
+            cells.append(cell)
+        print(f"| {name} | " + " | ".join(cells) + " |", flush=True)
 
 
 def table1(device: str | None) -> None:
@@ -441,7 +490,13 @@ def main() -> None:
             for seconds in args.seconds:
                 e2e(args.device, seconds)
         else:
-            parts = {"table1": table1, "e2e": e2e, "numpy": numpy_baseline, "lanes": lanes}
+            parts = {
+                "table1": table1,
+                "pst": pst_row,
+                "e2e": e2e,
+                "numpy": numpy_baseline,
+                "lanes": lanes,
+            }
             parts[part](args.device)
 
 
