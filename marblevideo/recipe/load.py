@@ -3,7 +3,8 @@
 :func:`load_recipe` and :func:`parse_recipe` turn a JSON file or a Python dict
 into a :class:`Recipe`, validating it fully first: structure against the
 published JSON Schema (:mod:`marblevideo.recipe.schema`), then what a schema cannot
-say (key times strictly increasing, ``end`` > ``start``). The first fault in
+say (key times strictly increasing, ``end`` > ``start``, each op's own rules; the
+messages come from :mod:`marblevideo.recipe.faults`). The first fault in
 document order (structural faults before those) raises
 :class:`~marblevideo.errors.RecipeError`, whose text is
 ``FILE: json.path: what was expected, got what``, the path written like
@@ -21,24 +22,27 @@ giving the :class:`~marblevideo.recipe.frame.FrameSpec` the renderers read.
 
 from __future__ import annotations
 
-import difflib
 import json
 import math
 import numbers
 import os
-import re
 from dataclasses import dataclass, field
-from functools import lru_cache
 from typing import Any
-
-from jsonschema import Draft202012Validator, ValidationError
 
 from marblevideo.errors import RecipeError, UsageError
 from marblevideo.limits import MAX_DEPTH
 from marblevideo.ops import LAYOUTS, expand, op_def, type_def
+from marblevideo.recipe.faults import (
+    Fault,
+    NonFinite,
+    describe,
+    format_path,
+    make_fault,
+    schema_fault,
+    validator,
+)
 from marblevideo.recipe.frame import FrameSpec, OpState
 from marblevideo.recipe.keyframes import Key, Track
-from marblevideo.recipe.schema import LIMIT, schema
 
 DEFAULT_BACKGROUND = "#ffffff"
 #: Parameter kinds whose value is one number (the others are tuples).
@@ -136,19 +140,9 @@ class Recipe:
 # --------------------------------------------------------------------------- loading
 
 
-class _NonFinite:
-    """Stands in for a non-finite number so validation reports it where it is."""
-
-    def __init__(self, text: str):
-        self.text = text
-
-    def __repr__(self) -> str:
-        return self.text
-
-
-def _parse_float(text: str) -> float | _NonFinite:
+def _parse_float(text: str) -> float | NonFinite:
     value = float(text)
-    return value if math.isfinite(value) else _NonFinite(text)
+    return value if math.isfinite(value) else NonFinite(text)
 
 
 def load_recipe(path: str | os.PathLike[str]) -> Recipe:
@@ -165,7 +159,7 @@ def load_recipe(path: str | os.PathLike[str]) -> Recipe:
         raise UsageError(f"cannot read recipe {source}: {reason}") from None
     try:
         data = json.loads(
-            text, parse_constant=_NonFinite, parse_float=_parse_float, object_pairs_hook=_Object
+            text, parse_constant=NonFinite, parse_float=_parse_float, object_pairs_hook=_Object
         )
     except json.JSONDecodeError as exc:
         raise RecipeError(
@@ -183,7 +177,7 @@ def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
     """
     _check_depth(data, source)
     doc = _normalize(data)
-    faults = [_fault(error, doc) for error in _validator().iter_errors(doc)]
+    faults = [schema_fault(error, doc) for error in validator().iter_errors(doc)]
     if not faults:
         faults = _semantic_faults(doc)
     if faults:
@@ -212,7 +206,7 @@ def _check_depth(data: Any, source: str) -> None:
         if isinstance(node, dict):
             if getattr(node, "twice", None):
                 message = "given twice in one object (JSON would keep only the last)"
-                raise RecipeError(source, _format_path([*path, node.twice[0]]), message)
+                raise RecipeError(source, format_path([*path, node.twice[0]]), message)
             children = list(node.items())
         elif isinstance(node, (list, tuple)):
             children = list(enumerate(node))
@@ -220,13 +214,13 @@ def _check_depth(data: Any, source: str) -> None:
             continue
         if depth == MAX_DEPTH:
             message = f"nested too deeply: more than {MAX_DEPTH} levels of lists and objects"
-            raise RecipeError(source, _format_path(path), message)
+            raise RecipeError(source, format_path(path), message)
         stack.extend((child, [*path, key], depth + 1) for key, child in reversed(children))
 
 
 def _normalize(data: Any) -> Any:
     """JSON-shaped copy: tuples become lists, NumPy-style numbers int or float,
-    non-finite floats _NonFinite."""
+    non-finite floats NonFinite."""
     if isinstance(data, dict):
         return {k: _normalize(v) for k, v in data.items()}
     if isinstance(data, (list, tuple)):
@@ -234,7 +228,7 @@ def _normalize(data: Any) -> Any:
     if isinstance(data, numbers.Real) and not isinstance(data, (bool, int, float)):
         data = int(data) if isinstance(data, numbers.Integral) else float(data)
     if isinstance(data, float) and not math.isfinite(data):
-        return _NonFinite("NaN" if math.isnan(data) else "Infinity" if data > 0 else "-Infinity")
+        return NonFinite("NaN" if math.isnan(data) else "Infinity" if data > 0 else "-Infinity")
     return data
 
 
@@ -307,22 +301,10 @@ def _key(key: dict) -> Key:
     )
 
 
-# --------------------------------------------------------------------------- faults
+# --------------------------------------------------------------------------- rules
 
 
-@dataclass(frozen=True)
-class _Fault:
-    position: tuple[int, ...]  # document order: index of each step, then where in the node
-    path: str
-    message: str
-
-
-@lru_cache(maxsize=1)
-def _validator() -> Draft202012Validator:
-    return Draft202012Validator(schema())
-
-
-def _semantic_faults(doc: dict) -> list[_Fault]:
+def _semantic_faults(doc: dict) -> list[Fault]:
     """What the schema cannot check, on a structurally valid document."""
     faults = []
     tracks: list[tuple[list, Any]] = [(["background"], doc.get("background"))]
@@ -330,8 +312,8 @@ def _semantic_faults(doc: dict) -> list[_Fault]:
         params = type_def(op["type"]).params
         tracks += [(["ops", i, p.name], op[p.name]) for p in params if p.tracked and p.name in op]
         if "end" in op and op["end"] <= op["start"]:
-            message = f"must be > start ({_describe(op['start'])}), got {_describe(op['end'])}"
-            faults.append(_make_fault(doc, ["ops", i, "end"], message))
+            message = f"must be > start ({describe(op['start'])}), got {describe(op['end'])}"
+            faults.append(make_fault(doc, ["ops", i, "end"], message))
     for path, track in tracks:
         if not isinstance(track, dict):
             continue
@@ -339,168 +321,15 @@ def _semantic_faults(doc: dict) -> list[_Fault]:
         for k in range(1, len(keys)):
             if keys[k]["t"] <= keys[k - 1]["t"]:
                 message = (
-                    f"key times must increase strictly: got {_describe(keys[k]['t'])} "
-                    f"after {_describe(keys[k - 1]['t'])}"
+                    f"key times must increase strictly: got {describe(keys[k]['t'])} "
+                    f"after {describe(keys[k - 1]['t'])}"
                 )
-                faults.append(_make_fault(doc, [*path, "keys", k, "t"], message))
+                faults.append(make_fault(doc, [*path, "keys", k, "t"], message))
     if faults:
         return faults
     for i, op in enumerate(doc["ops"]):  # the ops' own rules, on well-formed tracks
         check = type_def(op["type"]).check
         tracks = {} if op["type"] in LAYOUTS else _params(op)
         for path, message in check(op, tracks) if check is not None else ():
-            faults.append(_make_fault(doc, ["ops", i, *path], message))
+            faults.append(make_fault(doc, ["ops", i, *path], message))
     return faults
-
-
-def _make_fault(doc: Any, path: list, message: str, tail: int | None = None) -> _Fault:
-    position = []
-    node = doc
-    for step in path:
-        position.append(list(node).index(step) if isinstance(node, dict) else step)
-        node = node[step]
-    if tail is not None:
-        position.append(tail)
-    return _Fault(tuple(position), _format_path(path), message)
-
-
-_PLAIN_KEY = re.compile(r"[A-Za-z_$][A-Za-z0-9_$]*")  # ASCII only: "²".isalnum() is True
-
-
-def _format_path(path: list) -> str:
-    out = ""
-    for step in path:
-        if isinstance(step, int):
-            out += f"[{step}]"
-        elif _PLAIN_KEY.fullmatch(step):
-            out += f".{step}" if out else step
-        else:
-            out += f"[{json.dumps(step, ensure_ascii=False)}]"
-    return out
-
-
-def _fault(error: ValidationError, doc: Any) -> _Fault:
-    """One schema error as a fault, descending into the anyOf branch the value meant."""
-    path = list(error.absolute_path)
-    kind, instance, bound = error.validator, error.instance, error.validator_value
-    if kind == "anyOf":
-        branches = _branches(error)
-        meant = [errors for errors in branches if not any(_mismatch(e) for e in errors)]
-        if meant:
-            return min((_fault(e, doc) for e in meant[0]), key=lambda f: f.position)
-        message = f"expected {' or '.join(_expected(error.schema))}, got {_describe(instance)}"
-        return _make_fault(doc, path, message)
-    if kind == "additionalProperties":
-        allowed = error.schema.get("properties", {})
-        extra = next(k for k in instance if k not in allowed)
-        message = f"unknown field {extra!r}" + _did_you_mean(extra, set(allowed) - set(instance))
-        return _make_fault(doc, path, message, list(instance).index(extra))
-    if kind == "required":
-        missing = next(k for k in bound if k not in instance)
-        return _make_fault(doc, path, f"missing required field {missing!r}", len(instance))
-    if kind == "dependentRequired":
-        field_, needs = next((k, v) for k, v in bound.items() if k in instance)
-        message = f"{field_!r} requires {needs[0]!r} (progress runs from start to end)"
-        return _make_fault(doc, path, message, list(instance).index(field_))
-    return _make_fault(doc, path, _message(kind, instance, bound, error.schema))
-
-
-def _message(kind: str, instance: Any, bound: Any, schema_: dict) -> str:
-    """The text for a leaf schema error: what was expected, got what."""
-    got = _describe(instance)
-    title = schema_.get("title")
-    if kind == "type":
-        return f"expected {_expected(schema_)[0]}, got {got}"
-    if kind in ("minimum", "maximum") and abs(bound) == LIMIT:
-        return f"too large: must be within -1e30..1e30 (float32 range), got {got}"
-    comparisons = {
-        "minimum": ">=",
-        "maximum": "<=",
-        "exclusiveMinimum": ">",
-        "exclusiveMaximum": "<",
-    }
-    if kind in comparisons:
-        return f"must be {comparisons[kind]} {_describe(bound)}, got {got}"
-    if kind in ("minItems", "maxItems"):
-        if title:
-            return f"expected {_article(title)}, got {got}"
-        return f"expected at least {bound} item{'s' * (bound != 1)}, got {got}"
-    if kind == "enum":
-        names = ", ".join(map(str, bound))
-        if isinstance(instance, str):
-            hint = _did_you_mean(instance, bound)
-            return f"unknown {title or 'value'} {instance!r}{hint}; expected one of {names}"
-        return f"expected one of {names}, got {got}"
-    if kind == "not" and isinstance(bound, dict) and "const" in bound:
-        return f"must not be {_describe(bound['const'])}, got {got}"
-    if kind == "const":
-        return f"unsupported {title or 'value'}: expected {_describe(bound)}, got {got}"
-    if kind == "pattern":
-        return f"expected {_article(title) if title else 'a match of ' + bound}, got {got}"
-    return f"{kind}: {got} is not valid"  # unreachable for the published schema
-
-
-def _branches(error: ValidationError) -> list[list[ValidationError]]:
-    grouped: dict[int, list[ValidationError]] = {}
-    for sub in error.context or ():
-        grouped.setdefault(sub.relative_schema_path[0], []).append(sub)
-    return [grouped[i] for i in sorted(grouped)]
-
-
-def _mismatch(error: ValidationError) -> bool:
-    """Whether the error says the value is of another JSON type than this branch takes."""
-    if error.relative_path:
-        return False
-    if error.validator == "type":
-        return True
-    if error.validator == "anyOf":
-        return all(any(_mismatch(e) for e in errors) for errors in _branches(error))
-    return False
-
-
-_TYPE_NOUNS = {
-    "number": "a number",
-    "integer": "an integer",
-    "string": "a string",
-    "array": "a list",
-    "object": "an object",
-    "boolean": "true or false",
-}
-
-
-def _expected(schema_: dict) -> list[str]:
-    """What a (sub)schema takes, as noun phrases."""
-    if "$ref" in schema_:
-        return _expected(_validator().schema["$defs"][schema_["$ref"].rsplit("/", 1)[1]])
-    if "title" in schema_:
-        return [_article(schema_["title"])]
-    if "anyOf" in schema_:
-        return [phrase for branch in schema_["anyOf"] for phrase in _expected(branch)]
-    return [_TYPE_NOUNS[schema_["type"]]]
-
-
-def _article(noun: str) -> str:
-    return ("an " if noun[0] in "aeiou" else "a ") + noun
-
-
-def _did_you_mean(word: str, choices: Any) -> str:
-    close = difflib.get_close_matches(word, [str(c) for c in choices], n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
-
-
-def _describe(value: Any) -> str:
-    """A JSON value as it appears in messages: 2.5, string 'abc', a list of 3, true."""
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if value is None:
-        return "null"
-    if isinstance(value, _NonFinite):
-        return f"{value.text} (not a finite number)"
-    if isinstance(value, (int, float)):
-        text = repr(value)
-        return text[:-2] if text.endswith(".0") else text
-    if isinstance(value, str):
-        return f"string {value!r}"
-    if isinstance(value, list):
-        return f"a list of {len(value)}" if value else "an empty list"
-    return "an object"
