@@ -29,7 +29,7 @@ from marblevideo.media.progress import Progress
 from marblevideo.media.tiled import TILED_ABOVE, can_stream, write_bands
 from marblevideo.media.tiled import band_rows as tiled_rows
 from marblevideo.opencl.program import Structure
-from marblevideo.outputs.svg import VectorStats, design_svg
+from marblevideo.outputs.svg import VectorStats, design_svg, pdf_writer
 
 
 def render_image(
@@ -109,19 +109,28 @@ def render_svg(
     tolerance: float = DEFAULT_TOLERANCE,
     overwrite: bool = False,
 ) -> VectorStats:
-    """Write a blank-sheet design as SVG (:mod:`marblevideo.outputs.svg`), atomically.
-    ``size`` is the SVG's width and height (default: the canvas); ``tolerance``
-    is in output pixels. Returns the :class:`~marblevideo.outputs.svg.VectorStats`."""
+    """Write a blank-sheet design as SVG (:mod:`marblevideo.outputs.svg`), or as PDF
+    when ``dst`` ends in .pdf (the same outlines through cairosvg, the optional
+    extra ``pdf``), atomically. ``size`` is the page's width and height in pixels
+    (default: the canvas); ``tolerance`` is in those pixels. Returns the
+    :class:`~marblevideo.outputs.svg.VectorStats` (``bytes``: the SVG's)."""
     recipe = as_recipe(recipe)
     dst = Path(dst)
     canvas = blank_canvas(recipe)
     check_output(dst, overwrite)
     if not (tolerance > 0 and np.isfinite(tolerance)):
         raise UsageError(f"--tolerance: must be a number > 0 (pixels), got {tolerance}")
+    pdf = dst.suffix.lower() == ".pdf"
+    if pdf:
+        to_pdf = pdf_writer()  # before the work: a missing extra is said at once
     t = recipe.end_time() if time is None else float(time)
     svg, stats = design_svg(recipe.at(t, canvas), size or blank_size(recipe), tolerance)
     with atomic_output(dst, overwrite) as tmp:
-        tmp.write_text(svg)
+        if pdf:
+            to_pdf(svg, tmp)
+            stats.bytes = tmp.stat().st_size
+        else:
+            tmp.write_text(svg)
     return stats
 
 

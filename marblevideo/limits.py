@@ -12,8 +12,9 @@ MAX_DEPTH = 32
 MAX_PIXELS = 1 << 28
 #: Largest output (or input) side, in pixels (OpenCL buffers and int indices).
 MAX_SIDE = 1 << 15
-#: SVG outlines lie within this many output pixels of the exact design.
-DEFAULT_TOLERANCE = 0.5
+#: SVG and PDF outlines lie within this many output pixels of the exact design
+#: (at the file's own size: 0.2 px at a 4x zoom).
+DEFAULT_TOLERANCE = 0.05
 #: Frame rate of a blank sheet rendered to video, and of the live test pattern.
 DEFAULT_FPS = 30.0
 #: Port of the live preview page (on 127.0.0.1).

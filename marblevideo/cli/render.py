@@ -2,7 +2,7 @@
 
 What is rendered follows from the files: an image input or a blank sheet to an
 image output is a still; a video input, or a blank sheet to a video output, is
-a video; an .svg output, ``--uv`` or ``--tolerance`` go to :mod:`.vectors`.
+a video; an .svg or .pdf output, ``--uv`` or ``--tolerance`` go to :mod:`.vectors`.
 """
 
 from __future__ import annotations
@@ -20,8 +20,9 @@ from marblevideo.cli.arguments import (
     parse_size,
     parse_view,
 )
+from marblevideo.cli.vectors import VECTOR_EXTENSIONS, render_extra
 from marblevideo.errors import UsageError
-from marblevideo.limits import DEFAULT_FPS
+from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.version import __version__
 
 VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm")
@@ -74,7 +75,7 @@ def _render_parser() -> argparse.ArgumentParser:
         "--tolerance",
         type=float,
         metavar="PX",
-        help="SVG output: outline tolerance in output pixels (default 0.5)",
+        help=f"SVG/PDF output: outline tolerance in output pixels (default {DEFAULT_TOLERANCE})",
     )
     z.add_argument(
         "--uv",
@@ -124,9 +125,7 @@ def render_command(argv: list[str]) -> int:
     recipe = as_recipe(args.ops)  # validated before any input is opened
     size = parse_size(args.size) if args.size else None
     out_ext = Path(args.output).suffix.lower()
-    if out_ext == ".svg" or args.uv or args.tolerance is not None:
-        from marblevideo.cli.vectors import render_extra
-
+    if out_ext in VECTOR_EXTENSIONS or args.uv or args.tolerance is not None:
         return render_extra(args, recipe, size, out_ext)
     if args.view and not is_image_path(args.output):
         raise UsageError(f"{args.output}: --view makes stills; give an image output")

@@ -1,4 +1,4 @@
-"""The CLI branch for SVG output, ``--tolerance`` and ``--uv``
+"""The CLI branch for SVG and PDF output, ``--tolerance`` and ``--uv``
 (kept apart from :mod:`marblevideo.cli` so that module stays small)."""
 
 from __future__ import annotations
@@ -11,6 +11,9 @@ from marblevideo.limits import DEFAULT_TOLERANCE
 from marblevideo.media.images import is_image_path
 from marblevideo.recipe import Recipe
 
+#: Outputs written as vectors.
+VECTOR_EXTENSIONS = (".svg", ".pdf")
+
 
 def render_extra(
     args: argparse.Namespace, recipe: Recipe, size: tuple[int, int] | None, out_ext: str
@@ -19,16 +22,16 @@ def render_extra(
     from marblevideo.cli.arguments import parse_view
 
     view = parse_view(args.view) if args.view else None
-    if args.tolerance is not None and out_ext != ".svg":
-        raise UsageError("--tolerance: applies to .svg outputs only")
-    if out_ext == ".svg":
+    if args.tolerance is not None and out_ext not in VECTOR_EXTENSIONS:
+        raise UsageError("--tolerance: applies to .svg and .pdf outputs only")
+    if out_ext in VECTOR_EXTENSIONS:
         if args.input is not None:
             raise UsageError(
                 f"{args.output}: a recipe rendered over an input cannot be vectorized; "
-                "SVG output takes a blank-sheet recipe (no input)"
+                "SVG and PDF output take a blank-sheet recipe (no input)"
             )
         if args.uv or view:
-            raise UsageError(f"{args.output}: --uv and --view do not apply to SVG output")
+            raise UsageError(f"{args.output}: --uv and --view do not apply to SVG or PDF output")
         stats = render_svg(
             recipe,
             args.output,

@@ -32,11 +32,24 @@ def drop_forward(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
     """P' = C + (P - C) sqrt(1 + r^2 / |P - C|^2); C + (r, 0) at P = C."""
     cx, cy = v["center"]
     r = float(v["radius"])
-    qx, qy = x - cx, y - cy
-    r2 = qx * qx + qy * qy
-    at_c = r2 == 0
-    k = np.sqrt(1 + np.divide(r * r, r2, out=np.zeros_like(r2), where=~at_c))
-    return np.where(at_c, cx + r, cx + qx * k), np.where(at_c, cy, cy + qy * k)
+    shape = np.broadcast_shapes(np.shape(x), np.shape(y))
+    qx = np.broadcast_to(np.asarray(x, np.float64), shape).reshape(-1) - cx
+    qy = np.broadcast_to(np.asarray(y, np.float64), shape).reshape(-1) - cy
+    k = qx * qx
+    k += qy * qy
+    at_c = k == 0
+    if at_c.any():
+        k[at_c] = 1.0  # any finite value: the point is placed below
+    np.divide(r * r, k, out=k)
+    k += 1.0
+    np.sqrt(k, out=k)
+    qx *= k
+    qx += cx
+    qy *= k
+    qy += cy
+    if at_c.any():
+        qx[at_c], qy[at_c] = cx + r, cy
+    return qx.reshape(shape), qy.reshape(shape)
 
 
 def drop_inverse(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
