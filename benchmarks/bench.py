@@ -16,6 +16,9 @@
 - memory: peak RSS of the CLI marbling a 1080p clip of 10 s and of 10 minutes (--long).
 - pst: a pst-marble-style design (rings, two rakes, a stir, a Lamb-Oseen vortex)
   at 1024x1024 in Table 1's columns, beside the 12-op row.
+- svg: SVG export of every bundled blank-sheet sample (time, vertices, size,
+  and agreement with the raster render at 2x and 4x, beside the raster's own
+  RGSS), and Figure 6 at 1024 and 4096 px by tolerance.
 - lanes: the vector width on this CPU: 16 against 8 lanes (and 4), for the code
   PoCL generates for this CPU and for an AVX2 CPU (POCL_KERNELLIB_NAME=avx2),
   each in a process of its own: a blank-sheet frame, a 720p frame over an input
@@ -173,6 +176,79 @@ def table1(device: str | None) -> None:
                 cell += f" [{1 / full_best:.0f}]"
             cells.append(f"{cell} \\| {ref}")
         print(f"| {size[0]}x{size[1]} | " + " | ".join(cells) + " |", flush=True)
+
+
+#: the bundled blank-sheet samples the svg part measures
+SVG_SAMPLES = ("figure6", "nonpareil", "bouquet", "chevron", "spanish-wave", "stone-sprays")
+
+
+def svg_part(device: str | None) -> None:
+    """SVG export of every bundled blank-sheet sample: time, vertices and size at
+    the default tolerance, and fidelity when zoomed, beside the raster renderer's
+    own RGSS; then Figure 6 at 1024 px and at 4096 px at three tolerances."""
+    import dataclasses
+
+    import cairosvg
+
+    from marblevideo.limits import DEFAULT_TOLERANCE
+    from marblevideo.outputs.svg import design_svg
+    from marblevideo.recipe import load_recipe
+
+    def raster_svg(svg: str, size: tuple[int, int], k: int = 1) -> np.ndarray:
+        png = cairosvg.svg2png(
+            bytestring=svg.encode(), output_width=size[0] * k, output_height=size[1] * k
+        )
+        bgr = cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_COLOR)
+        rgb = cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB)
+        return cv2.resize(rgb, size, interpolation=cv2.INTER_AREA) if k > 1 else rgb
+
+    def within(a: np.ndarray, b: np.ndarray, levels: int = 24) -> float:
+        d = np.abs(a[..., :3].astype(int) - b[..., :3].astype(int)).max(axis=-1)
+        return 100 * float((d <= levels).mean())
+
+    renderer = Renderer(device)
+    print(f"\n## SVG export at the default tolerance ({DEFAULT_TOLERANCE} px), raster on "
+          f"{renderer.info.name}")  # fmt: skip
+    print("Each sample's SVG at its canvas size, rasterized by cairosvg at 2x and 4x, against the")
+    print("16-sample (grid4) raster render there: % of pixels within 24 levels, rasterized by area")
+    print("(4x4 supersampled: the outlines) / directly (what a viewer shows), beside the raster")
+    print("renderer's own RGSS against grid4 (the baseline: its antialiasing of the same design).")
+    print("| sample | size | time | vertices (refined) | SVG | 2x: area / direct / RGSS "
+          "| 4x: area / direct / RGSS |")  # fmt: skip
+    print("|---|---|---|---|---|---|---|")
+    for name in SVG_SAMPLES:
+        recipe = load_recipe(ROOT / "samples" / f"{name}.json")
+        spec = recipe.at(recipe.end_time())
+        base = tuple(int(v) for v in spec.canvas)
+        t = time.perf_counter()
+        svg, stats = design_svg(spec, base)
+        took = time.perf_counter() - t
+        cells = []
+        for scale in (2, 4):
+            size = (base[0] * scale, base[1] * scale)
+            geom = geometry(spec.canvas, size)
+            grid4 = renderer.render(dataclasses.replace(spec, antialias="grid4"), geom)
+            rgss = renderer.render(dataclasses.replace(spec, antialias="rgss"), geom)
+            cells.append(
+                f"{within(raster_svg(svg, size, 4), grid4):.2f} / "
+                f"{within(raster_svg(svg, size), grid4):.2f} / {within(rgss, grid4):.2f}"
+            )
+        row = [f"{base[0]}x{base[1]}", f"{took:.1f} s"]
+        row += [f"{stats.vertices} ({stats.refined_vertices})", f"{stats.bytes / 1024:.0f} KiB"]
+        print(f"| {name} | " + " | ".join(row + cells) + " |", flush=True)
+    print("\nFigure 6 (samples/figure6.json), time and vertices by size and tolerance:")
+    print("| size | tolerance | time | vertices (refined) | SVG |")
+    print("|---|---|---|---|---|")
+    recipe = load_recipe(ROOT / "samples" / "figure6.json")
+    spec = recipe.at(recipe.end_time())
+    for side, tol in ((1024, 0.5), (1024, DEFAULT_TOLERANCE), (4096, DEFAULT_TOLERANCE),
+                      (4096, DEFAULT_TOLERANCE / 2)):  # fmt: skip
+        t = time.perf_counter()
+        _, stats = design_svg(spec, (side, side), tol)
+        took = time.perf_counter() - t
+        row = [f"{side} px", f"{tol:g} px", f"{took:.1f} s"]
+        row += [f"{stats.vertices} ({stats.refined_vertices})", f"{stats.bytes / 1024:.0f} KiB"]
+        print("| " + " | ".join(row) + " |", flush=True)
 
 
 LANES_CASES = ("blank 1024^2 RGSS", "720p walk", "720p reused", "720p planar walk")
@@ -496,6 +572,7 @@ def main() -> None:
                 "e2e": e2e,
                 "numpy": numpy_baseline,
                 "lanes": lanes,
+                "svg": svg_part,
             }
             parts[part](args.device)
 
