@@ -8,6 +8,8 @@ job checks its output, then its input, before OpenCL starts.
 from __future__ import annotations
 
 import os
+import sys
+from collections.abc import Callable
 from pathlib import Path
 
 import numpy as np
@@ -15,14 +17,22 @@ import numpy as np
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.marbler import (
-    BlankFrames,
     Marbler,
     RecipeLike,
+    SheetFrames,
     as_recipe,
     blank_canvas,
     blank_size,
 )
-from marblevideo.media.images import read_image, write_image
+from marblevideo.media.decode import grab_frame, open_input, stdin_source
+from marblevideo.media.formats import (
+    is_image_name,
+    is_local,
+    is_sequence,
+    is_stdio,
+    still_extension,
+)
+from marblevideo.media.images import decode_image, encode_image, read_image, write_image
 from marblevideo.media.inputs import check_input
 from marblevideo.media.output import atomic_output, check_output
 from marblevideo.media.progress import Progress
@@ -30,6 +40,7 @@ from marblevideo.media.tiled import TILED_ABOVE, can_stream, write_bands
 from marblevideo.media.tiled import band_rows as tiled_rows
 from marblevideo.opencl.program import Structure
 from marblevideo.outputs.svg import VectorStats, design_svg, pdf_writer
+from marblevideo.recipe.frame import stretch_note
 
 
 def render_image(
@@ -53,33 +64,54 @@ def render_still(
     time: float | None = None,
     size: tuple[int, int] | None = None,
     view: tuple[float, float, float, float] | None = None,
+    fit: str | None = None,
+    format: str | None = None,  # noqa: A002 - the option's name, as av.open's
+    rate: float | None = None,
     overwrite: bool = False,
     device: str | None = None,
     progress: str = "off",
     band_rows: int | None = None,
-) -> Path:
-    """Render an image file (or a blank sheet) to an image file, atomically.
+    notify: Callable[[str], None] | None = None,
+) -> Path | str:
+    """Render a still (PNG, JPEG, TIFF, WebP) atomically, of an image file, of a
+    blank sheet, or of one frame of a video (a frame grab: the frame shown at
+    ``time``, default the first, marbled at its own time; from a file, an
+    image sequence read at ``rate`` frames per second, ``-`` or a URL).
+    ``src`` ``-`` is standard input (a still or a video); ``dst`` ``-`` is
+    standard output, in ``format`` (png, jpeg, tiff). ``fit`` (stretch, crop,
+    pad) places an input of another aspect than ``size``; ``notify`` takes
+    one-line notices (a stretched input).
 
     PNG and TIFF outputs over :data:`marblevideo.media.tiled.TILED_ABOVE` pixels (or any,
     given ``band_rows``) are rendered in bands and written progressively, so
     their size is not bounded by memory; ``progress`` (a
     :class:`~marblevideo.media.progress.Progress` mode) reports the bands."""
     recipe = as_recipe(recipe)
-    dst = Path(dst)
-    inputs = [src] if src is not None else []
+    ext = still_extension(dst, format)
+    to_stdout = is_stdio(dst)
+    inputs = [src] if is_local(src) else []
     if src is None:
         blank_canvas(recipe)
-    check_output(dst, overwrite, inputs)
-    if src is not None:  # before the build, which an early exit would wait for
-        check_input(src, "an image")
-    marbler = Marbler(recipe, device=device)
-    marbler.renderer.prebuild(Structure.of(recipe, src is not None))  # while the image loads
-    image, has_alpha = (None, False) if src is None else read_image(src)
-    fmt = dst.suffix.lower()
+    if not to_stdout:
+        dst = check_output(dst, overwrite, inputs)
+    if is_local(src) and not is_sequence(src):  # before the build, which an exit would wait for
+        check_input(src, "an image" if is_image_name(src) else "a video")
+    marbler = Marbler(recipe, device=device, fit=fit or "stretch")
+    marbler.renderer.prebuild(Structure.of(recipe, src is not None))  # while the input loads
+    image, has_alpha, time = still_input(src, time, rate)
+    if image is not None and size is not None and fit is None and notify is not None:
+        note = stretch_note((image.shape[1], image.shape[0]), size)
+        if note:
+            notify(note)
     out_size = size or (
         (image.shape[1], image.shape[0]) if image is not None else blank_size(recipe)
     )
-    if can_stream(fmt) and (band_rows or out_size[0] * out_size[1] > TILED_ABOVE):
+    if to_stdout:
+        out = marbler.render(image, time, size, view)
+        sys.stdout.buffer.write(encode_image(out, ext, has_alpha, "-"))
+        sys.stdout.buffer.flush()
+        return "-"
+    if can_stream(ext) and (band_rows or out_size[0] * out_size[1] > TILED_ABOVE):
         rows = band_rows or tiled_rows(out_size[0])
         total = -(-out_size[1] // rows)
         with (
@@ -92,12 +124,32 @@ def render_still(
                     yield band
                     bar.update()
 
-            write_bands(tmp, fmt, *out_size, 4 if has_alpha else 3, counted())
+            write_bands(tmp, ext, *out_size, 4 if has_alpha else 3, counted())
         return dst
     out = marbler.render(image, time, size, view)
     with atomic_output(dst, overwrite, inputs) as tmp:
-        write_image(tmp, out, alpha=has_alpha, fmt=dst.suffix, name=dst)
+        write_image(tmp, out, alpha=has_alpha, fmt=ext, name=dst)
     return dst
+
+
+def still_input(
+    src: str | os.PathLike | None, time: float | None, rate: float | None
+) -> tuple[np.ndarray | None, bool, float | None]:
+    """(the RGBA image or None, whether it has alpha, the recipe's time) of a
+    still's input: a still image, or the frame of a video shown at ``time``
+    (whose own time the recipe takes)."""
+    if src is None:
+        return None, False, time
+    stream = None
+    if is_stdio(src):
+        data, stream = stdin_source()
+        if data is not None:
+            return (*decode_image(data, "-"), time)
+    elif is_image_name(src):
+        return (*read_image(src), time)
+    with open_input(src, rate, stream) as container:
+        t, rgba = grab_frame(container, time)
+    return rgba, False, t
 
 
 def render_svg(
@@ -181,36 +233,67 @@ def render_video(
     *,
     device: str | None = None,
     duration: float | None = None,
-    fps: float = DEFAULT_FPS,
+    fps: float | None = None,
     **options,
 ):
-    """Marble every frame of the video ``src`` into ``dst`` at its own time, keeping
-    audio and timing; with ``src=None`` render the recipe's process on a blank sheet
-    for ``duration`` seconds (default: the whole animation plus one second) at ``fps``.
-    ``options`` are the fields of :class:`marblevideo.media.video.VideoOptions`
-    (codec, crf, preset, pix_fmt, encoder_opts, audio, start, end, size, overwrite,
-    quiet, progress, verbose). Returns the job's :class:`marblevideo.media.video.Stats`."""
+    """Write a video (any output of :mod:`marblevideo.media.formats`: a file, a GIF,
+    an image sequence ``name_%04d.png``, or ``-`` for standard output in
+    ``format``), atomically:
+
+    - ``src`` a video (a file, an image sequence read at ``fps``, ``-`` or a
+      URL): every frame marbled at its own time, audio and timing kept; with
+      ``fps`` the frame rate is converted (ffmpeg's fps filter); ``duration``
+      stops after that many seconds from ``start``;
+    - ``src`` a still image (a file, or on ``-``): the recipe animated over it;
+    - ``src=None``: the recipe's process on a blank sheet;
+
+    the last two for ``duration`` seconds (default: the animation plus one
+    second) at ``fps`` (default 30). ``options`` are the fields of
+    :class:`marblevideo.media.video.VideoOptions` (codec, crf, preset, pix_fmt,
+    encoder_opts, audio, start, end, size, fit, format, overwrite, quiet,
+    progress, verbose, notify). Returns the job's
+    :class:`marblevideo.media.video.Stats`."""
     from marblevideo.media.encode import plan_output
-    from marblevideo.media.pipeline import render_blank, transcode
+    from marblevideo.media.pipeline import render_sheet, transcode
 
     recipe = as_recipe(recipe)
     if src is None:
         blank_canvas(recipe)
-    opts = _video_options(options)
+    image, stream = None, None
+    if is_stdio(src):
+        data, stream = stdin_source()
+        image = None if data is None else decode_image(data, "-")[0]
+    opts = _video_options({**options, "fps": fps})
+    still = src is not None and (image is not None or is_image_name(src))
+    if src is not None and not still and duration is not None:
+        if opts.end is not None:
+            raise UsageError("--duration and --end: give one")
+        opts.end = (opts.start or 0) + duration
+    if (src is None or still) and (opts.start is not None or opts.end is not None):
+        raise UsageError("--start and --end apply to a video input; use --duration")
     # the cheap checks first (the encoder is tried too): an exit during the build
     # below waits for it
     plan = plan_output(dst, opts)
-    check_output(dst, opts.overwrite, [] if src is None else [src])
-    if src is not None:
-        check_input(src, "a video")
-    marbler = Marbler(recipe, device=device)
-    # the program builds (without the GIL) while the video opens
+    inputs = [src] if is_local(src) else []
+    if not (plan.stream or plan.sequence):
+        check_output(dst, opts.overwrite, inputs)
+    if is_local(src) and not is_sequence(src):
+        check_input(src, "an image" if still else "a video")
+    marbler = Marbler(recipe, device=device, fit=opts.fit or "stretch")
+    # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))
-    if src is None:
-        duration = recipe.end_time() + 1.0 if duration is None else duration
-        size = opts.size or blank_size(recipe)
-        return render_blank(dst, BlankFrames(marbler, size), duration, fps, opts, plan=plan)
-    return transcode(src, dst, marbler.transform(opts.size), opts, plan=plan)
+    if src is not None and not still:
+        return transcode(src, dst, marbler.transform(opts.size), opts, plan=plan, stream=stream)
+    if still and image is None:
+        image = read_image(src)[0]
+    duration = recipe.end_time() + 1.0 if duration is None else duration
+    size = opts.size or (blank_size(recipe) if image is None else image.shape[1::-1])
+    frames = SheetFrames(marbler, tuple(size), image)
+    note = None
+    if image is not None and opts.size is not None and opts.fit is None:
+        note = stretch_note(image.shape[1::-1], opts.size)
+    notes = (note,) if note else ()
+    return render_sheet(dst, frames, duration, fps or DEFAULT_FPS, opts, plan=plan, notes=notes)
 
 
 def marbled_frames(

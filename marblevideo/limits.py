@@ -23,3 +23,5 @@ DEFAULT_PORT = 8765
 MAX_LIST = 256
 #: Largest count in a recipe (a layout's drops, a rake's tines up to MAX_LIST).
 MAX_COUNT = 4096
+#: A URL input whose reads stall this long fails (seconds).
+URL_TIMEOUT = 30

@@ -1,6 +1,6 @@
 """A recipe bound to an OpenCL renderer (:class:`Marbler`), and its forms for the
-video pipeline: an input's frames (:class:`VideoTransform`) and a blank sheet's
-(:class:`BlankFrames`).
+video pipeline: an input's frames (:class:`VideoTransform`) and a still's or a
+blank sheet's (:class:`SheetFrames`).
 
 Times are seconds; images are RGBA uint8 arrays (H, W, 4). A still is rendered
 at ``time`` or, without it, at the recipe's end (the finished design).
@@ -8,16 +8,17 @@ at ``time`` or, without it, at the recipe's end (the finished design).
 
 from __future__ import annotations
 
+import dataclasses
 import os
 from collections.abc import Callable
 
 import numpy as np
 
-from marblevideo.errors import RecipeError
+from marblevideo.errors import RecipeError, UsageError
 from marblevideo.media.yuv import YuvMatrix, split_i420
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
-from marblevideo.recipe.frame import FrameSpec, Geometry, geometry
+from marblevideo.recipe.frame import FIT_MODES, FrameSpec, Geometry, geometry
 
 RecipeLike = Recipe | dict | str | os.PathLike
 
@@ -47,7 +48,10 @@ class Marbler:
     """A recipe bound to an OpenCL renderer.
 
     ``render`` makes one frame; ``transform`` returns the callable that the
-    video pipeline calls per frame (RGBA frame, time) -> RGBA frame.
+    video pipeline calls per frame (RGBA frame, time) -> RGBA frame. ``fit``
+    (:data:`~marblevideo.recipe.frame.FIT_MODES`) says how an input of another
+    aspect than the output fills it; with "pad" what lies outside the input is
+    the recipe's background, whatever its ``edges``.
     """
 
     def __init__(
@@ -56,9 +60,13 @@ class Marbler:
         renderer: Renderer | None = None,
         device: str | None = None,
         adaptive: bool | None = None,
+        fit: str = "stretch",
     ):
+        if fit not in FIT_MODES:
+            raise UsageError(f"--fit: expected one of {', '.join(FIT_MODES)}, got {fit!r}")
         self.recipe = as_recipe(recipe)
         self.renderer = renderer or Renderer(device, adaptive=adaptive)
+        self.fit = fit
         self._geometry: dict[tuple, Geometry] = {}
 
     def geometry(
@@ -71,7 +79,8 @@ class Marbler:
         geom = self._geometry.get(key)
         if geom is None:
             canvas = self.canvas(input_size)
-            geom = self._geometry[key] = geometry(canvas, out_size, input_size, view)
+            geom = geometry(canvas, out_size, input_size, view, self.fit)
+            self._geometry[key] = geom
         return geom
 
     def canvas(self, input_size: tuple[int, int] | None) -> tuple[float, float]:
@@ -103,7 +112,10 @@ class Marbler:
         t = self.recipe.end_time() if time is None else float(time)
         if size is None:
             size = input_size or blank_size(self.recipe)
-        return self.recipe.at(t, self.canvas(input_size)), self.geometry(size, input_size, view)
+        spec = self.recipe.at(t, self.canvas(input_size))
+        if self.fit == "pad" and input_size is not None:
+            spec = dataclasses.replace(spec, edges="background")
+        return spec, self.geometry(size, input_size, view)
 
     def render_bands(
         self,
@@ -169,25 +181,35 @@ class VideoTransform:
         )
 
 
-class BlankFrames:
-    """A :class:`Marbler`'s blank sheet at ``size`` as frames of a video: called
-    as ``(t) -> rgba``; :meth:`i420` renders and converts on the device."""
+class SheetFrames:
+    """A :class:`Marbler`'s frames at ``size`` over one still ``image`` (RGBA), or
+    over the blank sheet when it is None, as the frames of a video: called as
+    ``(t) -> rgba``; :meth:`i420` renders and converts on the device (blank
+    sheet only)."""
 
-    def __init__(self, marbler: Marbler, size: tuple[int, int]):
-        self.marbler, self.size = marbler, size
+    def __init__(self, marbler: Marbler, size: tuple[int, int], image: np.ndarray | None = None):
+        self.marbler, self.size, self.image = marbler, size, image
+        #: a recipe that does not move makes one frame, given again
+        self.still: np.ndarray | None = None
 
     def __call__(self, t: float) -> np.ndarray:
-        return self.marbler.render(None, t, self.size)
+        if self.still is not None:
+            return self.still
+        frame = self.marbler.render(self.image, t, self.size)
+        if not self.marbler.recipe.is_animated:
+            self.still = frame
+        return frame
 
     def i420(self, t: float, matrix: YuvMatrix) -> np.ndarray | None:
-        """The frame at ``t`` as I420 in ``matrix``; None for odd sizes (no I420)."""
+        """The frame at ``t`` as I420 in ``matrix``; None where it cannot (odd
+        sizes, an image)."""
         started = self.i420_start(t, matrix)
         return None if started is None else started()
 
     def i420_start(self, t: float, matrix: YuvMatrix) -> Callable[[], np.ndarray] | None:
         """:meth:`i420` queued on the device: a function that waits for the frame
-        and returns it, or None for odd sizes."""
-        if self.size[0] % 2 or self.size[1] % 2:
+        and returns it, or None where it cannot."""
+        if self.image is not None or self.still is not None or self.size[0] % 2 or self.size[1] % 2:
             return None
         spec, geom = self.marbler.frame_for(None, t, self.size, None)
         return self.marbler.renderer.render_i420(spec, geom, None, None, matrix, wait=False)

@@ -146,7 +146,8 @@ def test_no_overwrite_without_y(cli, tmp_path):
     write_recipe(tmp_path, RECIPE)
     for name in ("o.png", "o.mp4"):
         (tmp_path / name).write_bytes(b"precious bytes")
-        proc = cli("--ops", "r.json", "-o", name, "--duration", "0.2")
+        timing = ["--duration", "0.2"] if name.endswith(".mp4") else []
+        proc = cli("--ops", "r.json", "-o", name, *timing)
         assert proc.returncode == 2 and "-y" in one_line(proc)
         assert (tmp_path / name).read_bytes() == b"precious bytes"
     assert files(tmp_path) == ["o.mp4", "o.png", "r.json"]

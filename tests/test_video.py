@@ -18,7 +18,7 @@ from clips import picture, probe, write_clip
 from tolerances import LOSSY_MEAN, LOSSY_MEAN_RESAMPLED
 
 from marblevideo.errors import MediaError, OutputExistsError, UsageError
-from marblevideo.media.pipeline import _Pipeline, _Stopped, iter_frames, render_blank, transcode
+from marblevideo.media.pipeline import _Pipeline, _Stopped, iter_frames, render_sheet, transcode
 from marblevideo.media.progress import Progress
 from marblevideo.media.video import QUEUE_FRAMES, VideoOptions
 
@@ -271,7 +271,7 @@ def test_iter_frames(cfr):
     assert np.abs(got[0][1][..., :3].astype(int) - (255 - picture(13, 96, 64))).mean() < LOSSY_MEAN
 
 
-def test_render_blank(tmp_path):
+def test_render_sheet(tmp_path):
     seen: list[float] = []
 
     def render_at(t):
@@ -280,7 +280,7 @@ def test_render_blank(tmp_path):
         img[..., 0] = int(t * 100)
         return img
 
-    stats = render_blank(tmp_path / "blank.webm", render_at, 0.5, 24, quiet())
+    stats = render_sheet(tmp_path / "blank.webm", render_at, 0.5, 24, quiet())
     out = probe(tmp_path / "blank.webm")
     assert seen == [i / 24 for i in range(12)] and stats.frames == 12
     assert stats.duration == pytest.approx(0.5) and stats.size == (64, 48)

@@ -17,7 +17,7 @@ from tolerances import (
 )
 
 from marblevideo.marbler import Marbler
-from marblevideo.media.pipeline import render_blank, transcode
+from marblevideo.media.pipeline import render_sheet, transcode
 from marblevideo.media.video import VideoOptions
 from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, packed_i420, split_i420
 from marblevideo.opencl.renderer import Renderer
@@ -466,7 +466,7 @@ class RgbaInFlight(Logged):
 
 
 class BlankInFlight(Logged):
-    """Blank frames, as render_blank's render_at, with i420 and i420_start."""
+    """Blank frames, as render_sheet's render_at, with i420 and i420_start."""
 
     def __init__(self):
         super().__init__()
@@ -510,7 +510,7 @@ def test_pipeline_keeps_one_frame_in_flight(tmp_path, flight, alone, i420_frames
 
 def test_blank_video_keeps_one_frame_in_flight(tmp_path):
     render_at = BlankInFlight()
-    stats = render_blank(tmp_path / "blank.mkv", render_at, 0.4, 10, _lossless())
+    stats = render_sheet(tmp_path / "blank.mkv", render_at, 0.4, 10, _lossless())
     assert stats.frames == stats.i420_frames == 4 and render_at.log == IN_FLIGHT_LOG
     for i, frame in enumerate(_planes(tmp_path / "blank.mkv")):
         assert np.array_equal(frame, render_at.i420(i / 10, MATRICES[0]))

@@ -67,7 +67,9 @@ def add_encoder_arguments(group, preset_default: str) -> None:
     group.add_argument("--codec", help="video encoder (default: libx264; libvpx-vp9 for .webm)")
     group.add_argument("--crf", type=int, help="constant quality (default as ffmpeg: 23 for x264)")
     group.add_argument("--preset", help=f"x264/x265 preset (default {preset_default})")
-    group.add_argument("--pix-fmt", default="yuv420p", help="encoded pixel format (yuv420p)")
+    group.add_argument(
+        "--pix-fmt", help="encoded pixel format (default yuv420p; GIF pal8, APNG rgb24)"
+    )
     group.add_argument(
         "--encoder-opt",
         action="append",

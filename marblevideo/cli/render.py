@@ -1,8 +1,9 @@
 """``marblevideo [INPUT] --ops RECIPE -o OUTPUT``: render a still, a video, an SVG.
 
-What is rendered follows from the files: an image input or a blank sheet to an
-image output is a still; a video input, or a blank sheet to a video output, is
-a video; an .svg or .pdf output, ``--uv`` or ``--tolerance`` go to :mod:`.vectors`.
+What is rendered follows from the files (:mod:`.applies`): an image output is
+a still (of an image, a blank sheet, or a video's frame); a video output is a
+video (of a video, a still animated, or a blank sheet); an .svg or .pdf
+output, ``--uv`` or ``--tolerance`` go to :mod:`.vectors`.
 """
 
 from __future__ import annotations
@@ -11,6 +12,7 @@ import argparse
 import sys
 from pathlib import Path
 
+from marblevideo.cli.applies import check_options
 from marblevideo.cli.arguments import (
     Parser,
     add_encoder_arguments,
@@ -20,12 +22,13 @@ from marblevideo.cli.arguments import (
     parse_size,
     parse_view,
 )
-from marblevideo.cli.vectors import VECTOR_EXTENSIONS, render_extra
+from marblevideo.cli.vectors import render_extra
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
+from marblevideo.media.formats import is_stdio
+from marblevideo.recipe.frame import FIT_MODES
 from marblevideo.version import __version__
 
-VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm")
 EPILOG = """\
 examples:
   marblevideo in.mp4 --ops samples/swirl.json -o out.mp4
@@ -48,22 +51,41 @@ def _render_parser() -> argparse.ArgumentParser:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument("input", nargs="?", help="image or video to marble; omit for a blank sheet")
+    p.add_argument(
+        "input",
+        nargs="?",
+        help="image, video, image sequence (name_%%04d.png), URL, or - (standard input); "
+        "omit for a blank sheet",
+    )
     p.add_argument("--ops", required=True, metavar="RECIPE", help="recipe JSON file")
     p.add_argument(
         "-o",
         "--output",
         required=True,
-        help="output file; the format follows "
-        "the extension (.png .jpg .tif .webp | .mp4 .mov .mkv .webm)",
+        help="output; the format follows the extension: stills .png .jpg .tif .webp, "
+        "video .mp4 .mov .mkv .webm .gif .apng, an image sequence name_%%04d.png, "
+        "vectors .svg .pdf, or - (standard output, with --format)",
     )
     p.add_argument("-y", "--overwrite", action="store_true", help="replace an existing output")
     p.add_argument("--size", metavar="WxH", help="output size (default: input or canvas)")
     p.add_argument(
+        "--fit",
+        choices=FIT_MODES,
+        help="an input of another aspect than --size: stretch it (default), crop it to "
+        "fill, or pad it with the recipe's background",
+    )
+    p.add_argument(
+        "--format",
+        metavar="NAME",
+        help="output format by name, for -o - (matroska, nut, mpegts, y4m, mp4, gif, ...; "
+        "png, jpeg, tiff for a still) or to force one (webp: an animated WebP)",
+    )
+    p.add_argument(
         "--time",
         type=float,
         metavar="T",
-        help="stills: render at T seconds (default: the end of the animation)",
+        help="stills: render at T seconds (default: the end of the animation; "
+        "from a video, its frame at T, default the first)",
     )
     z = p.add_argument_group("vectors, zoom, textures")
     z.add_argument(
@@ -92,18 +114,19 @@ def _render_parser() -> argparse.ArgumentParser:
         "--duration",
         type=float,
         metavar="S",
-        help="blank sheet to video: length (default: the animation plus 1 s)",
+        help="length: of a blank sheet or a still animated (default: the animation plus "
+        "1 s); of a video input, from --start",
     )
     v.add_argument(
         "--fps",
         type=float,
-        default=DEFAULT_FPS,
-        help=f"blank sheet to video: frame rate ({DEFAULT_FPS:g})",
+        help=f"frame rate: of a blank sheet or a still animated ({DEFAULT_FPS:g}); converts "
+        f"a video's (as ffmpeg's fps filter); the rate an image sequence is read at "
+        f"({DEFAULT_FPS:g})",
     )
     v.add_argument(
         "--audio",
         choices=("copy", "aac", "none"),
-        default="copy",
         help="copy audio bit-exact (default), re-encode to AAC, or drop it",
     )
     add_encoder_arguments(v, preset_default="medium")
@@ -116,70 +139,77 @@ def _render_parser() -> argparse.ArgumentParser:
     return p
 
 
+def _say(message: str) -> None:
+    print(f"marblevideo: {message}", file=sys.stderr)
+
+
+def _where(dst) -> str:
+    return "standard output" if is_stdio(dst) else str(dst)
+
+
 def render_command(argv: list[str]) -> int:
     from marblevideo.api import as_recipe, render_still
-    from marblevideo.media.images import is_image_path
 
     args = _render_parser().parse_args(argv)
     configure_logging(args.verbose)
     recipe = as_recipe(args.ops)  # validated before any input is opened
     size = parse_size(args.size) if args.size else None
-    out_ext = Path(args.output).suffix.lower()
-    if out_ext in VECTOR_EXTENSIONS or args.uv or args.tolerance is not None:
-        return render_extra(args, recipe, size, out_ext)
-    if args.view and not is_image_path(args.output):
-        raise UsageError(f"{args.output}: --view makes stills; give an image output")
-    if is_image_path(args.output):
-        if args.input is not None and not is_image_path(args.input):
-            raise UsageError(f"{args.input}: stills take an image input (.png .jpg .tif .webp)")
-        render_still(
+    job, _ = check_options(args)
+    if job in ("vectors", "uv") or args.tolerance is not None:
+        return render_extra(args, recipe, size, Path(args.output).suffix.lower())
+    for flag, value in (("--fps", args.fps), ("--duration", args.duration)):
+        if value is not None and not value > 0:
+            raise UsageError(f"{flag}: must be > 0, got {value:g}")
+    if job == "still":
+        dst = render_still(
             args.input,
             recipe,
             args.output,
             time=args.time,
             size=size,
             view=parse_view(args.view) if args.view else None,
+            fit=args.fit,
+            format=args.format,
+            rate=args.fps,
             overwrite=args.overwrite,
             device=args.device,
             progress="off" if args.quiet else args.progress,
+            notify=None if args.quiet else _say,
         )
         if not args.quiet:
-            print(f"wrote {args.output}", file=sys.stderr)
+            print(f"wrote {_where(dst)}", file=sys.stderr)
         return 0
-    if out_ext in VIDEO_EXTENSIONS:
-        from marblevideo.api import render_video
+    if args.view:
+        raise UsageError(f"{args.output}: --view makes stills; give an image output")
+    from marblevideo.api import render_video
 
-        stats = render_video(
-            args.input,
-            recipe,
-            args.output,
-            device=args.device,
-            duration=args.duration,
-            fps=args.fps,
-            **_video_options(args, size),
-        )
-        if not args.quiet:
-            print(f"marblevideo: {stats.summary(args.output)}", file=sys.stderr)
-        return 0
-    raise UsageError(f"{args.output}: unknown output extension {out_ext or '(none)'!r}")
+    stats = render_video(
+        args.input,
+        recipe,
+        args.output,
+        device=args.device,
+        duration=args.duration,
+        fps=args.fps,
+        **_video_options(args, size),
+    )
+    if not args.quiet:
+        print(f"marblevideo: {stats.summary(_where(args.output))}", file=sys.stderr)
+    return 0
 
 
 def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> dict:
-    opts = parse_encoder_opts(args.encoder_opt)
-    if args.fps <= 0:
-        raise UsageError(f"--fps: must be > 0, got {args.fps}")
-    if args.duration is not None and args.duration <= 0:
-        raise UsageError(f"--duration: must be > 0, got {args.duration}")
     return dict(
         codec=args.codec,
         crf=args.crf,
         preset=args.preset,
         pix_fmt=args.pix_fmt,
-        encoder_opts=opts,
-        audio=args.audio,
+        encoder_opts=parse_encoder_opts(args.encoder_opt),
+        audio=args.audio or "copy",
         start=args.start,
         end=args.end,
         size=size,
+        fit=args.fit,
+        format=args.format,
         overwrite=args.overwrite,
         quiet=args.quiet,
         progress=args.progress,

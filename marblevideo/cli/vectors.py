@@ -8,11 +8,9 @@ import sys
 
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_TOLERANCE
+from marblevideo.media.formats import VECTOR_EXTENSIONS
 from marblevideo.media.images import is_image_path
 from marblevideo.recipe import Recipe
-
-#: Outputs written as vectors.
-VECTOR_EXTENSIONS = (".svg", ".pdf")
 
 
 def render_extra(

@@ -5,12 +5,13 @@ first recorded frame's, in milliseconds (time base 1/1000), so the file plays
 back at the pace it was shown, dropped frames included as gaps. Encoder
 settings are the file mode's, checked by :func:`marblevideo.video.plan_output`
 (--codec, --crf, --preset, --pix-fmt, --encoder-opt), and frames are written
-by its :class:`~marblevideo.media.encode.Encoder`.
+by its writers (:func:`marblevideo.media.sinks.video_writer`: a file, a GIF,
+an image sequence, standard output).
 
 Encoding runs in its own thread behind a small bounded queue; a frame that
 finds the queue full is dropped and counted (``dropped``), so a slow encoder
-never holds back the live picture. The file goes through
-:func:`marblevideo.output.atomic_output`: :meth:`Recorder.close` with
+never holds back the live picture. A file goes through
+:func:`marblevideo.media.output.atomic_output`: :meth:`Recorder.close` with
 ``ok=True`` finalizes and renames it; ``ok=False`` removes it.
 """
 
@@ -22,12 +23,11 @@ import queue
 import threading
 from fractions import Fraction
 
-import av
 import numpy as np
 
-from marblevideo.media.encode import Encoder, plan_output
-from marblevideo.media.output import atomic_output
-from marblevideo.media.video import Stats, VideoItem, VideoOptions, notifier
+from marblevideo.media.encode import plan_output
+from marblevideo.media.sinks import video_writer
+from marblevideo.media.video import Stats, VideoItem, VideoOptions
 
 TIME_BASE = Fraction(1, 1000)
 QUEUE = 8
@@ -53,11 +53,8 @@ class Recorder:
     def start(self, width: int, height: int, fps: float) -> None:
         """Open the (temporary) output for frames of ``width`` x ``height``."""
         self._started = True
-        tmp = self._stack.enter_context(atomic_output(self.dst, self.options.overwrite))
-        out = av.open(str(tmp), "w", format=self.plan.format, options=self.plan.container_options)
-        self._stack.callback(out.close)
-        self._writer = Encoder(
-            out, self.plan, self.options, self.stats, notifier(self.options, self.stats)
+        self._writer = self._stack.enter_context(
+            video_writer(self.dst, self.plan, self.options, self.stats)
         )
         rate = Fraction(fps).limit_denominator(1001) if fps > 0 else None
         self._writer.open_video(width, height, TIME_BASE, rate, {})

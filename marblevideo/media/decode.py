@@ -1,33 +1,100 @@
-"""Decoding: an input opened with PyAV, its frames upright (rotation applied) as
+"""Decoding: an input opened with PyAV (a file, an image sequence, standard
+input or a URL), its frames upright (rotation applied) as
 RGBA, or as I420 planes that are views of the decoded frame, and its audio in
 demux order, trimmed to a range of the input's clock."""
 
 from __future__ import annotations
 
+import contextlib
 import os
+import sys
 from collections.abc import Iterator
 from fractions import Fraction
+from pathlib import Path
 
 import av
 import numpy as np
 
-from marblevideo.errors import MediaError
+from marblevideo.errors import MediaError, UsageError
+from marblevideo.limits import DEFAULT_FPS, URL_TIMEOUT
+from marblevideo.media.formats import frame_field, is_sequence, is_stdio, is_url, sequence_names
 from marblevideo.media.inputs import check_input
 from marblevideo.media.video import AudioItem, VideoItem
 from marblevideo.media.yuv import FORMATS, YuvMatrix
 
 
-def open_input(src: str | os.PathLike) -> av.container.InputContainer:
-    """Open a file with a video stream, or raise MediaError with one line."""
-    path = check_input(src, "a video")
+class _Replay:
+    """A stream read again from its start: the bytes already read (``head``), then
+    the rest of ``raw``. No ``seek``: PyAV treats it as a pipe."""
+
+    def __init__(self, raw, head: bytes):
+        self.raw, self.head = raw, head
+
+    def read(self, size: int = -1) -> bytes:
+        if self.head:
+            cut = len(self.head) if size < 0 else size
+            out, self.head = self.head[:cut], self.head[cut:]
+            return out
+        return self.raw.read(size)
+
+
+#: How a still image's first bytes look (PNG, JPEG, TIFF, WebP).
+_IMAGE_MAGIC = (b"\x89PNG", b"\xff\xd8\xff", b"II*\x00", b"MM\x00*")
+
+
+def stdin_source() -> tuple[bytes | None, _Replay | None]:
+    """Standard input as (the whole of a still image's bytes, None), or (None, a
+    readable stream for PyAV) for anything else."""
+    raw = sys.stdin.buffer
+    head = raw.read(16)
+    if not head:
+        raise MediaError("-: standard input is empty")
+    if head.startswith(_IMAGE_MAGIC) or (head[:4] == b"RIFF" and head[8:12] == b"WEBP"):
+        return head + raw.read(), None
+    return None, _Replay(raw, head)
+
+
+def open_input(
+    src: str | os.PathLike, rate: float | None = None, stream=None
+) -> av.container.InputContainer:
+    """Open a video input, or raise MediaError with one line: a file, an image
+    sequence (``name_%04d.png``, read at ``rate`` frames per second, numbered
+    from its first file), standard input (``-``, or ``stream`` from
+    :func:`stdin_source`), or a URL."""
+    options, fmt = {}, None
+    if is_stdio(src):
+        target = stream if stream is not None else stdin_source()[1]
+        if target is None:
+            raise MediaError("-: standard input holds a still image, not a video")
+    elif is_url(src):
+        target = os.fspath(src)
+        options = {"rw_timeout": str(URL_TIMEOUT * 1_000_000)}  # microseconds
+    elif is_sequence(src):
+        target, fmt = os.fspath(src), "image2"
+        options = {"framerate": f"{rate or DEFAULT_FPS:g}", "start_number": str(_first(src))}
+    else:
+        target = str(check_input(src, "a video"))
     try:
-        container = av.open(str(path))
+        container = av.open(target, format=fmt, options=options)
     except av.error.FFmpegError as exc:
         raise MediaError(f"{src}: not a readable video ({exc.strerror})") from None
     if not container.streams.video:
         container.close()
         raise MediaError(f"{src}: no video stream")
     return container
+
+
+def _first(pattern: str | os.PathLike) -> int:
+    """The number of a sequence's first file; UsageError (like a missing file)
+    when it has none."""
+    folder = Path(pattern).parent if str(Path(pattern).parent) else Path(".")
+    names = sequence_names(pattern, os.listdir(folder)) if folder.is_dir() else []
+    if not names:
+        raise UsageError(f"{pattern}: no files of this image sequence")
+    match = frame_field(pattern)
+    head = len(Path(pattern).name[: match.start()])
+    tail = len(Path(pattern).name) - match.end()
+    return min(int(n[head : len(n) - tail]) for n in names)
 
 
 def frame_planes(frame: av.VideoFrame) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -83,7 +150,9 @@ class Reader:
         """Yield video and audio items in demux order (audio held until the origin is known)."""
         if self.start:
             target = self.clock + int(self.start / self.tb)
-            self.container.seek(target, stream=self.video, backward=True, any_frame=False)
+            # a pipe cannot seek: the frames before start are then decoded and dropped
+            with contextlib.suppress(av.error.FFmpegError, OSError):
+                self.container.seek(target, stream=self.video, backward=True, any_frame=False)
         streams = [self.video] + [self.container.streams[i] for i in self.audio]
         for stream in streams[1:]:
             if self.audio[stream.index] != "copy":
@@ -174,14 +243,48 @@ class Reader:
         return pts - round((self.origin + float(self.clock * self.tb)) / time_base)
 
 
-def estimate_frames(reader: Reader) -> int | None:
+def estimate_frames(reader: Reader, fps: float | None = None) -> int | None:
+    """About how many frames the range holds (at ``fps`` where the rate is
+    converted); None where the input does not say."""
     video = reader.video
-    rate = video.average_rate or video.guessed_rate
+    rate = fps or video.average_rate or video.guessed_rate
     if video.duration and rate:
         total = float(video.duration * video.time_base)
     elif reader.container.duration and rate:
         total = reader.container.duration / av.time_base
     else:
-        return video.frames or None
+        return None if fps else video.frames or None
     end = min(reader.end, total) if reader.end is not None else total
     return max(0, round((end - (reader.start or 0)) * float(rate)))
+
+
+def grab_frame(container, time: float | None) -> tuple[float, np.ndarray]:
+    """The frame shown at ``time`` seconds on the input's clock (the clock of the
+    transform's ``t``; default: the first frame), as (its time, upright RGBA).
+    UsageError when ``time`` is after the last frame."""
+    reader = Reader(container, None, None, {})
+    video = reader.video
+    if time:
+        with contextlib.suppress(av.error.FFmpegError, OSError):  # a pipe cannot seek
+            container.seek(reader.clock + int(time / reader.tb), stream=video, backward=True)
+    shown: tuple[float, av.VideoFrame] | None = None
+    for packet in container.demux(video):
+        for frame in reader._decode(packet):
+            if frame.pts is None:
+                continue
+            t = reader.seconds(frame.pts)
+            if time is None or (shown is not None and t > time + 1e-6):
+                return (t, upright(frame)) if time is None else (shown[0], upright(shown[1]))
+            if t > time + 1e-6:  # the first frame is after ``time``: the video starts there
+                return t, upright(frame)
+            shown = (t, frame)
+    if shown is None:
+        raise MediaError(f"{container.name}: no video frames")
+    t, frame = shown
+    rate = video.average_rate or video.guessed_rate
+    end = t + (float(frame.duration * video.time_base) if frame.duration else 0.0)
+    if not frame.duration and rate:
+        end = t + 1 / float(rate)
+    if time > end + 1e-6:
+        raise UsageError(f"--time {time:g}: after the last frame (shown {t:.3f}..{end:.3f} s)")
+    return t, upright(frame)

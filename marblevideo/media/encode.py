@@ -15,10 +15,19 @@ import numpy as np
 
 from marblevideo.errors import UsageError
 from marblevideo.media.encoders import check_encoder, option_table, quiet_environment, quiet_options
+from marblevideo.media.formats import (
+    EXTENSION_FORMATS,
+    FORMATS,
+    is_sequence,
+    is_stdio,
+    output_format,
+)
+from marblevideo.media.palette import PaletteFrames
 from marblevideo.media.progress import MODES
 from marblevideo.media.video import (
     AUDIO_MODES,
     AudioItem,
+    Span,
     Stats,
     VideoItem,
     VideoOptions,
@@ -26,13 +35,6 @@ from marblevideo.media.video import (
 )
 from marblevideo.media.yuv import packed_i420
 
-# extension -> (FFmpeg muxer, default video encoder, audio re-encoder)
-CONTAINERS = {
-    ".mp4": ("mp4", "libx264", "aac"),
-    ".mov": ("mov", "libx264", "aac"),
-    ".mkv": ("matroska", "libx264", "aac"),
-    ".webm": ("webm", "libvpx-vp9", "libopus"),
-}
 # encoder -> its defaults, as ffmpeg's (VP9: constant quality needs b=0)
 ENCODER_DEFAULTS = {
     "libx264": {"crf": "23", "preset": "medium"},
@@ -43,65 +45,79 @@ PRESET_CODECS = ("libx264", "libx265")
 COLOR_FIELDS = ("color_range", "colorspace", "color_primaries", "color_trc")
 
 
-def default_codec(dst: str | os.PathLike) -> str | None:
-    """The video encoder an output's extension gets by default (None: unknown)."""
-    container = CONTAINERS.get(Path(dst).suffix.lower())
-    return None if container is None else container[1]
+def default_codec(dst: str | os.PathLike, forced: str | None = None) -> str | None:
+    """The video encoder an output gets by default (None: no video format)."""
+    name = output_format(dst, forced)
+    return None if name is None else FORMATS[name].codec
 
 
 @dataclass
 class OutputPlan:
-    """Validated output settings (:func:`plan_output`), used by :class:`Encoder`."""
+    """Validated output settings (:func:`plan_output`), used by the writers
+    (:mod:`marblevideo.media.sinks`). ``format`` is the FFmpeg muxer (``image2``
+    for an image sequence, which OpenCV writes); ``audio_encoder`` None: the
+    output holds no audio; ``palette``: a GIF palette computed for the clip;
+    ``stream``: written to standard output."""
 
     format: str
     codec: str
     pix_fmt: str
     codec_options: dict[str, str]
     container_options: dict[str, str]
-    audio_encoder: str
+    audio_encoder: str | None
     supported: set[str]
     even: tuple[bool, bool]  # width, height must be even
+    sequence: bool = False
+    palette: bool = False
+    stream: bool = False
 
 
 def plan_output(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
     """Check every output setting before anything is opened; UsageError on a bad one."""
-    ext = Path(dst).suffix.lower()
-    if ext not in CONTAINERS:
-        known = ", ".join(CONTAINERS)
-        raise UsageError(f"{dst}: unknown output extension {ext or '(none)'!r}; use one of {known}")
-    fmt, default_codec, audio_encoder = CONTAINERS[ext]
-    name = options.codec or default_codec
-    try:
-        codec = av.Codec(name, "w")
-    except (ValueError, av.error.FFmpegError):
-        raise UsageError(f"unknown video encoder {name!r}") from None
-    if codec.type != "video":
-        raise UsageError(f"{name!r} is not a video encoder")
-    with av.open(io.BytesIO(), "w", format=fmt) as probe:
-        supported = set(probe.supported_codecs)
-    if codec.canonical_name not in supported and codec.name not in supported:
-        raise UsageError(f"{ext} files cannot hold {codec.canonical_name} video ({name})")
-    try:
-        pix = av.VideoFormat(options.pix_fmt)
-    except (ValueError, av.error.FFmpegError):
-        raise UsageError(f"unknown pixel format {options.pix_fmt!r}") from None
-    formats = [f.name for f in codec.video_formats or ()]
-    if formats and options.pix_fmt not in formats:
-        raise UsageError(f"{name} cannot encode {options.pix_fmt}; it takes {', '.join(formats)}")
-    table = option_table(name)
-    has_preset = name in PRESET_CODECS if table is None else "preset" in table
-    if options.preset is not None and not has_preset:
-        raise UsageError(f"--preset: {name} has no presets; use --encoder-opt")
+    check_range(options.start, options.end)
     if options.audio not in AUDIO_MODES:
         raise UsageError(f"audio must be one of {', '.join(AUDIO_MODES)}, got {options.audio!r}")
-    if options.audio == "aac" and "aac" not in supported:
-        raise UsageError(f"{ext} files cannot hold AAC audio; use audio copy (re-encodes) or none")
     if options.progress not in MODES:
         raise UsageError(f"progress must be one of {', '.join(MODES)}, got {options.progress!r}")
-    check_range(options.start, options.end)
     if options.size is not None and (len(options.size) != 2 or min(options.size) < 1):
         raise UsageError(f"size must be two positive integers, got {options.size!r}")
-    codec_options = dict(ENCODER_DEFAULTS.get(name, {}))
+    if is_sequence(dst) and options.format is None:
+        return _sequence_plan(dst, options)
+    name = output_format(dst, options.format)
+    if name is None:
+        if is_stdio(dst):
+            raise UsageError("-o -: name the stream's format with --format (e.g. matroska, nut)")
+        ext = Path(dst).suffix.lower()
+        known = ", ".join(EXTENSION_FORMATS)
+        raise UsageError(f"{dst}: unknown output extension {ext or '(none)'!r}; use one of {known}")
+    fmt = FORMATS[name]
+    codec_name = options.codec or fmt.codec
+    try:
+        codec = av.Codec(codec_name, "w")
+    except (ValueError, av.error.FFmpegError):
+        raise UsageError(f"unknown video encoder {codec_name!r}") from None
+    if codec.type != "video":
+        raise UsageError(f"{codec_name!r} is not a video encoder")
+    with av.open(io.BytesIO(), "w", format=fmt.muxer) as probe:
+        supported = set(probe.supported_codecs)
+    if codec.canonical_name not in supported and codec.name not in supported:
+        raise UsageError(f"{name} cannot hold {codec.canonical_name} video ({codec_name})")
+    pix_fmt = options.pix_fmt or (fmt.pix_fmt if codec_name == fmt.codec else "yuv420p")
+    try:
+        pix = av.VideoFormat(pix_fmt)
+    except (ValueError, av.error.FFmpegError):
+        raise UsageError(f"unknown pixel format {pix_fmt!r}") from None
+    palette = codec_name == "gif"
+    formats = [f.name for f in codec.video_formats or ()]
+    if formats and pix_fmt not in formats:
+        raise UsageError(f"{codec_name} cannot encode {pix_fmt}; it takes {', '.join(formats)}")
+    table = option_table(codec_name)
+    has_preset = codec_name in PRESET_CODECS if table is None else "preset" in table
+    if options.preset is not None and not has_preset:
+        raise UsageError(f"--preset: {codec_name} has no presets; use --encoder-opt")
+    if options.audio == "aac" and (fmt.audio is None or "aac" not in supported):
+        raise UsageError(f"--audio aac: {name} cannot hold AAC audio; use copy or none")
+    codec_options = dict(ENCODER_DEFAULTS.get(codec_name, {}))
     given: dict[str, tuple[str, str]] = {}  # option -> (the flag that set it, its value)
     if options.crf is not None:
         given["crf"] = ("--crf", str(options.crf))
@@ -110,14 +126,39 @@ def plan_output(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
     for key, value in options.encoder_opts.items():
         given[str(key)] = ("--encoder-opt", str(value))
     codec_options.update({key: value for key, (_, value) in given.items()})
-    codec_options = quiet_options(name, codec_options, options.verbose)
-    quiet_environment(name, options.verbose)  # before the probe: SVT-AV1 reads it once
-    check_encoder(name, options.pix_fmt, codec_options, given, table)
-    container_options = {"movflags": "+faststart"} if fmt in ("mp4", "mov") else {}
-    even = (pix.chroma_width(2) < 2, pix.chroma_height(2) < 2)
+    codec_options = quiet_options(codec_name, codec_options, options.verbose)
+    quiet_environment(codec_name, options.verbose)  # before the probe: SVT-AV1 reads it once
+    check_encoder(codec_name, pix_fmt, codec_options, given, table)
+    stream = is_stdio(dst)
+    even = (pix.chroma_width(2) < 2, pix.chroma_height(2) < 2) if not palette else (False, False)
     return OutputPlan(
-        fmt, name, options.pix_fmt, codec_options, container_options, audio_encoder, supported, even
+        fmt.muxer,
+        codec_name,
+        pix_fmt,
+        codec_options,
+        dict(fmt.stream_options if stream else fmt.file_options),
+        fmt.audio,
+        supported,
+        even,
+        palette=palette,
+        stream=stream,
     )
+
+
+def _sequence_plan(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
+    """An image sequence: OpenCV writes each frame as a still (no encoder settings)."""
+    for flag, value in (
+        ("--codec", options.codec),
+        ("--crf", options.crf),
+        ("--preset", options.preset),
+        ("--pix-fmt", options.pix_fmt),
+        ("--encoder-opt", options.encoder_opts or None),
+    ):
+        if value is not None:
+            raise UsageError(f"{flag}: {dst} is an image sequence, written as stills")
+    if options.audio == "aac":
+        raise UsageError(f"--audio aac: {dst} is an image sequence, which holds no audio")
+    return OutputPlan("image2", "", "rgb24", {}, {}, None, set(), (False, False), sequence=True)
 
 
 def frame_of(array: np.ndarray, format: str, height: int) -> av.VideoFrame:
@@ -148,7 +189,8 @@ class Encoder:
         self.colors: dict[str, int] = {}
         self.audio_out: dict[int, av.stream.Stream] = {}
         self.held: list[AudioItem] = []  # audio that arrived before the first frame
-        self.span: list[int] = []  # first pts, last pts, end of the last frame
+        self.span = Span()
+        self.palette: PaletteFrames | None = None  # GIF: frames wait for the clip's palette
 
     def open_video(self, width: int, height: int, time_base: Fraction, rate, colors: dict) -> None:
         """Add the video stream (then the audio ones, so video is stream 0)."""
@@ -173,6 +215,8 @@ class Encoder:
             setattr(ctx, key, value)
         self.stream = stream
         self.stats.size = (ctx.width, ctx.height)
+        if self.plan.palette:
+            self.palette = PaletteFrames(ctx.width, ctx.height, time_base)
 
     def open_audio(self, sources: dict[int, tuple[av.stream.Stream, str]]) -> None:
         for index, (template, how) in sources.items():
@@ -191,6 +235,11 @@ class Encoder:
     def video(self, item: VideoItem) -> None:
         if item.shape != self.shape:
             raise ValueError(f"transform changed frame size: {item.shape} after {self.shape}")
+        if self.palette is not None:
+            self.palette.add(item.rgba, item.pts, item.duration)
+            self.stats.frames += 1
+            self.span.extend(item)
+            return
         if item.i420 is not None:
             frame = frame_of(packed_i420(item.i420), "yuv420p", self.shape[0])
             self.stats.i420_frames += 1
@@ -211,16 +260,7 @@ class Encoder:
             frame.duration = item.duration
         self.out.mux(self.stream.encode(frame))
         self.stats.frames += 1
-        self._extend(item)
-
-    def _extend(self, item: VideoItem) -> None:
-        """Track the span of the frames written (a frame without a duration lasts
-        as long as the gap before it)."""
-        if not self.span:
-            self.span = [item.pts, item.pts, item.pts + item.duration]
-            return
-        step = item.duration or item.pts - self.span[1]
-        self.span[1:] = [item.pts, max(self.span[2], item.pts + step)]
+        self.span.extend(item)
 
     def audio(self, item: AudioItem) -> None:
         stream = self.audio_out[item.index]
@@ -235,11 +275,12 @@ class Encoder:
             self.stats.audio_packets += len(packets)
 
     def flush(self) -> None:
+        if self.palette is not None:
+            self.palette.finish(lambda frame: self.out.mux(self.stream.encode(frame)))
         if self.stream is not None:
             self.out.mux(self.stream.encode(None))
-        if self.span:
-            time_base = self.stream.codec_context.time_base
-            self.stats.duration = float((self.span[2] - self.span[0]) * time_base)
+        if self.stream is not None:
+            self.stats.duration = self.span.seconds(self.stream.codec_context.time_base)
         for stream in self.audio_out.values():
             if stream.codec_context.is_encoder:
                 packets = stream.encode(None)
@@ -247,17 +288,24 @@ class Encoder:
                 self.stats.audio_packets += len(packets)
 
 
-def audio_plan(container, plan: OutputPlan, options: VideoOptions, ext: str, say) -> dict[int, str]:
-    """Input audio stream index -> "copy" or the encoder to re-encode it with."""
-    if options.audio == "none":
+def audio_plan(
+    container, plan: OutputPlan, options: VideoOptions, name: str, say
+) -> dict[int, str]:
+    """Input audio stream index -> "copy" or the encoder to re-encode it with.
+    ``name`` names the output in notices."""
+    if options.audio == "none" or not container.streams.audio:
+        return {}
+    if plan.audio_encoder is None:
+        what = "an image sequence" if plan.sequence else f"{plan.format} output"
+        say(f"{what} holds no audio: the input's audio is left out")
         return {}
     audio = {}
     for stream in container.streams.audio:
-        name = stream.codec_context.name
-        if options.audio == "copy" and name in plan.supported:
+        codec = stream.codec_context.name
+        if options.audio == "copy" and codec in plan.supported:
             audio[stream.index] = "copy"
         else:
             if options.audio == "copy":
-                say(f"{ext} files cannot hold {name} audio: re-encoding it to {plan.audio_encoder}")
+                say(f"{name} cannot hold {codec} audio: re-encoding it to {plan.audio_encoder}")
             audio[stream.index] = plan.audio_encoder
     return audio

@@ -15,9 +15,9 @@ import numpy as np
 
 from marblevideo.errors import MediaError, UsageError
 from marblevideo.limits import MAX_PIXELS
+from marblevideo.media.formats import IMAGE_EXTENSIONS
 from marblevideo.media.inputs import check_input
 
-IMAGE_EXTENSIONS = frozenset({".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp"})
 ALPHA_EXTENSIONS = frozenset({".png", ".tif", ".tiff", ".webp"})
 #: Largest input image accepted, in pixels (about 16k x 16k).
 
@@ -42,29 +42,58 @@ def is_image_path(path: str | os.PathLike) -> bool:
 
 def read_image(path: str | os.PathLike) -> tuple[np.ndarray, bool]:
     """(RGBA uint8 array, whether the file had alpha)."""
-    cv2 = opencv()
     path = check_input(path, "an image")
     try:
         data = np.fromfile(path, dtype=np.uint8)
-        image = cv2.imdecode(data, cv2.IMREAD_UNCHANGED)
-    except cv2.error as exc:
-        if "MAX_IMAGE_PIXELS" in str(exc):  # refused from the header, nothing allocated
-            raise MediaError(f"{path}: image is over the limit of {MAX_PIXELS} pixels") from None
-        msg = str(exc).strip().splitlines()[-1] if str(exc).strip() else "cannot decode"
-        raise MediaError(f"{path}: cannot decode image ({msg})") from None
     except OSError as exc:
         raise MediaError(f"{path}: cannot read: {exc.strerror}") from None
+    return decode_image(data, path)
+
+
+def decode_image(data: bytes | np.ndarray, name: str | os.PathLike) -> tuple[np.ndarray, bool]:
+    """An encoded still (PNG, JPEG, TIFF, WebP bytes) as (RGBA uint8 array, whether
+    it had alpha); ``name`` names it in messages."""
+    cv2 = opencv()
+    try:
+        image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_UNCHANGED)
+    except cv2.error as exc:
+        if "MAX_IMAGE_PIXELS" in str(exc):  # refused from the header, nothing allocated
+            raise MediaError(f"{name}: image is over the limit of {MAX_PIXELS} pixels") from None
+        msg = str(exc).strip().splitlines()[-1] if str(exc).strip() else "cannot decode"
+        raise MediaError(f"{name}: cannot decode image ({msg})") from None
     if image is None:
-        raise MediaError(f"{path}: not a readable image (or over {MAX_PIXELS} pixels)")
+        raise MediaError(f"{name}: not a readable image (or over {MAX_PIXELS} pixels)")
     if image.dtype == np.uint16:
         image = (image >> 8).astype(np.uint8)
     elif image.dtype != np.uint8:
-        raise MediaError(f"{path}: unsupported sample type {image.dtype}; use 8 or 16 bits")
+        raise MediaError(f"{name}: unsupported sample type {image.dtype}; use 8 or 16 bits")
     if image.ndim == 2:
         return cv2.cvtColor(image, cv2.COLOR_GRAY2RGBA), False
     if image.shape[2] == 4:
         return cv2.cvtColor(image, cv2.COLOR_BGRA2RGBA), True
     return cv2.cvtColor(image, cv2.COLOR_BGR2RGBA), False
+
+
+def encode_image(
+    rgba: np.ndarray, ext: str, alpha: bool = True, name: str | os.PathLike = "image"
+) -> bytes:
+    """``rgba`` encoded as the still format of extension ``ext``; alpha only when
+    asked and the format holds it. ``name`` names it in messages."""
+    cv2 = opencv()
+    ext = ext.lower()
+    if ext not in IMAGE_EXTENSIONS:
+        raise UsageError(f"{name}: unknown image extension {ext!r}")
+    if alpha and ext in ALPHA_EXTENSIONS:
+        pixels = cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGRA)
+    else:
+        pixels = cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGR)
+    params = [cv2.IMWRITE_JPEG_QUALITY, 95] if ext in (".jpg", ".jpeg") else []
+    if ext == ".webp":
+        params = [cv2.IMWRITE_WEBP_QUALITY, 101 if alpha else 95]
+    ok, encoded = cv2.imencode(ext, pixels, params)
+    if not ok:
+        raise MediaError(f"{name}: cannot encode as {ext}")
+    return encoded.tobytes()
 
 
 def write_image(
@@ -77,23 +106,10 @@ def write_image(
     """Write ``rgba``; alpha only when asked and the format holds it.
     ``fmt`` is the extension deciding the format (default: the path's); ``name``
     the file named in messages (default: ``path``; the target of a temporary file)."""
-    cv2 = opencv()
     path = Path(path)
-    ext = (fmt or path.suffix).lower()
-    if ext not in IMAGE_EXTENSIONS:
-        raise UsageError(f"{path}: unknown image extension {ext!r}")
-    if alpha and ext in ALPHA_EXTENSIONS:
-        pixels = cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGRA)
-    else:
-        pixels = cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGR)
-    params = [cv2.IMWRITE_JPEG_QUALITY, 95] if ext in (".jpg", ".jpeg") else []
-    if ext == ".webp":
-        params = [cv2.IMWRITE_WEBP_QUALITY, 101 if alpha else 95]
-    ok, encoded = cv2.imencode(ext, pixels, params)
-    if not ok:
-        raise MediaError(f"{name or path}: cannot encode as {ext}")
+    data = encode_image(rgba, fmt or path.suffix, alpha, name or path)
     try:
         with open(path, "wb") as f:  # not ndarray.tofile: its errors carry no errno
-            f.write(encoded.tobytes())
+            f.write(data)
     except OSError as exc:
         raise MediaError(f"{name or path}: cannot write: {exc.strerror or exc}") from None

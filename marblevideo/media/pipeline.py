@@ -70,7 +70,6 @@ import queue
 import threading
 import time
 from collections.abc import Callable, Iterator
-from fractions import Fraction
 from pathlib import Path
 from typing import Protocol, runtime_checkable
 
@@ -81,8 +80,11 @@ from marblevideo.errors import MediaError, UsageError
 from marblevideo.media.decode import Reader, estimate_frames, open_input
 from marblevideo.media.encode import COLOR_FIELDS, Encoder, OutputPlan, audio_plan, plan_output
 from marblevideo.media.encoders import library_logs
-from marblevideo.media.output import atomic_output, check_output
+from marblevideo.media.formats import is_local, is_sequence
+from marblevideo.media.output import check_output
 from marblevideo.media.progress import Progress, progress_mode
+from marblevideo.media.retime import rate_fraction, retimed
+from marblevideo.media.sinks import SequenceWriter, video_writer
 from marblevideo.media.video import (
     QUEUE_FRAMES,
     AudioItem,
@@ -94,6 +96,7 @@ from marblevideo.media.video import (
     say,
 )
 from marblevideo.media.yuv import YuvMatrix, split_i420
+from marblevideo.recipe.frame import stretch_note
 
 Transform = Callable[[np.ndarray, float], np.ndarray]
 """``transform(rgba, t) -> rgba``; it may also be a :class:`PlanarTransform`, a
@@ -124,7 +127,7 @@ class RgbaStart(Protocol):
 
 @runtime_checkable
 class PlanarSource(Protocol):
-    """Frames of a blank sheet (:func:`render_blank`) that can come as I420."""
+    """Frames of a blank sheet (:func:`render_sheet`) that can come as I420."""
 
     def i420(self, t: float, matrix: YuvMatrix) -> np.ndarray | None: ...
 
@@ -215,18 +218,18 @@ def _check_frame(rgba) -> np.ndarray:
 
 
 def _run(
-    out_path: Path,
+    writer: Encoder | SequenceWriter,
     plan: OutputPlan,
     options: VideoOptions,
-    stats: Stats,
     produce: Callable[[], Iterator[VideoItem | AudioItem]],
     transform: Callable[[VideoItem], Callable[[], None] | None],
-    setup: Callable[[Encoder, VideoItem], None],
+    setup: Callable[[Encoder | SequenceWriter, VideoItem], None],
     total: int | None,
 ) -> None:
-    """Decode (``produce``) -> transform (this thread, in place) -> encode, with bounded
-    queues. ``transform`` may return a function that finishes the item: it is
-    called once the next frame has been started (one frame in flight)."""
+    """Decode (``produce``) -> transform (this thread, in place) -> encode (``writer``,
+    :mod:`marblevideo.media.sinks`), with bounded queues. ``transform`` may return a
+    function that finishes the item: it is called once the next frame has been
+    started (one frame in flight)."""
     pipe = _Pipeline()
     decoded: queue.Queue = queue.Queue(QUEUE_FRAMES)
     marbled: queue.Queue = queue.Queue(QUEUE_FRAMES)
@@ -235,9 +238,6 @@ def _run(
         for item in produce():
             pipe.put(decoded, item)
         pipe.put(decoded, _END)
-
-    out = av.open(str(out_path), "w", format=plan.format, options=plan.container_options)
-    writer = Encoder(out, plan, options, stats, notifier(options, stats))
 
     def encode():
         try:
@@ -256,9 +256,9 @@ def _run(
                 raise MediaError("no video frames to write (check start and end)")
             writer.flush()
         except av.error.FFmpegError as exc:
-            raise MediaError(f"{plan.codec} encoding failed: {exc.strerror}") from None
+            what = plan.codec or plan.format
+            raise MediaError(f"{what} encoding failed: {exc.strerror}") from None
 
-    ok = False
     try:
         with Progress(total, mode=progress_mode(options.progress, options.quiet)) as bar:
             pipe.start("decode", decode)
@@ -285,17 +285,11 @@ def _run(
             for thread in pipe.threads:
                 while thread.is_alive():  # short joins keep Ctrl-C responsive
                     thread.join(pipe.POLL)
-            ok = pipe.error is None
     except _Stopped:
         pass  # a stage failed: its error is raised below
     finally:
         pipe.stop.set()
         pipe.join()
-        try:
-            out.close()
-        except av.error.FFmpegError as exc:
-            if ok:
-                raise MediaError(f"cannot finish the output: {exc.strerror}") from None
     if pipe.error is not None:
         raise pipe.error
 
@@ -307,8 +301,16 @@ def transcode(
     options: VideoOptions | None = None,
     *,
     plan: OutputPlan | None = None,
+    stream=None,
 ) -> Stats:
     """Write ``dst``: every frame of ``src`` (in ``start``..``end``) through ``transform``.
+
+    ``src`` is a file, an image sequence, ``-`` (standard input; ``stream`` is
+    :func:`~marblevideo.media.decode.stdin_source`'s when it was read already)
+    or a URL; ``dst`` a file, an image sequence or ``-`` (standard output, in
+    ``options.format``). With ``options.fps`` the frame rate is converted
+    (:mod:`marblevideo.media.retime`); for an image sequence it is the rate
+    the images are read at instead.
 
     Raises UsageError (bad options, output = input), OutputExistsError,
     MediaError (unreadable input, encoder failure); exceptions from
@@ -319,11 +321,15 @@ def transcode(
     options = options or VideoOptions()
     began = time.monotonic()
     plan = plan or plan_output(dst, options)
-    check_output(dst, options.overwrite, [src])
+    inputs = [src] if is_local(src) else []
+    if not (plan.stream or plan.sequence):
+        check_output(dst, options.overwrite, inputs)
     stats = Stats()
-    with open_input(src) as container:
+    sequence_in = is_sequence(src)
+    with open_input(src, options.fps, stream) as container:
         say = notifier(options, stats)
-        audio = audio_plan(container, plan, options, Path(dst).suffix, say)
+        name = "standard output" if plan.stream else f"{Path(dst).suffix} files"
+        audio = audio_plan(container, plan, options, name, say)
         encoders = set(audio.values()) - {"copy"}
         stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
         vin = container.streams.video[0]
@@ -339,13 +345,29 @@ def transcode(
             audio,
             planar is not None and out_matrix is not None,
         )
+        convert = options.fps is not None and not sequence_in
+        time_base, rate = vin.time_base, vin.average_rate or vin.guessed_rate
+        if convert:
+            rate = rate_fraction(options.fps)
+            time_base = 1 / rate
+
+        def produce() -> Iterator[VideoItem | AudioItem]:
+            items = reader.items()
+            return retimed(items, vin.time_base, options.fps) if convert else items
 
         start = None
         if planar is not None and isinstance(transform, PlanarStart):
             start = transform.i420_start
         rgba_start = transform.rgba_start if isinstance(transform, RgbaStart) else None
 
+        first = [True]
+
         def marble(item: VideoItem) -> Callable[[], None] | None:
+            if first[0] and options.size is not None and options.fit is None:
+                note = stretch_note(item.shape[::-1], tuple(options.size))
+                if note:
+                    say(note)
+            first[0] = False
             if item.i420 is not None:
                 if start is None:
                     item.i420 = _check_i420(planar(item.i420, item.t, item.matrix, out_matrix))
@@ -358,23 +380,17 @@ def transcode(
             started = _started(rgba_start(item.rgba, item.t), "rgba")
             return lambda: setattr(item, "rgba", _check_frame(started()))
 
-        def setup(writer: Encoder, first: VideoItem) -> None:
+        def setup(writer: Encoder | SequenceWriter, first: VideoItem) -> None:
             height, width = first.shape
-            rate = vin.average_rate or vin.guessed_rate
-            writer.open_video(width, height, vin.time_base, rate, colors)
+            writer.open_video(width, height, time_base, rate, colors)
             writer.open_audio({i: (container.streams[i], how) for i, how in audio.items()})
 
-        with atomic_output(dst, options.overwrite, [src]) as tmp, library_logs(options.verbose):
-            _run(
-                tmp,
-                plan,
-                options,
-                stats,
-                reader.items,
-                marble,
-                setup,
-                estimate_frames(reader),
-            )
+        total = estimate_frames(reader, options.fps if convert else None)
+        with (
+            video_writer(dst, plan, options, stats, inputs) as writer,
+            library_logs(options.verbose),
+        ):
+            _run(writer, plan, options, produce, marble, setup, total)
         if reader.rotation:
             say(f"input rotated {reader.rotation} degrees: frames turned upright")
         stats.corrupt_packets = reader.corrupt
@@ -401,7 +417,7 @@ def iter_frames(
             say(options, stats, f"{src}: skipped {reader.corrupt} corrupt packet(s)")
 
 
-def render_blank(
+def render_sheet(
     dst: str | os.PathLike,
     render_at: Callable[[float], np.ndarray],
     duration: float,
@@ -409,8 +425,11 @@ def render_blank(
     options: VideoOptions | None = None,
     *,
     plan: OutputPlan | None = None,
+    notes: tuple[str, ...] = (),
 ) -> Stats:
-    """Write ``dst`` from frames ``render_at(i / fps)``, ``i = 0 .. ceil(duration * fps) - 1``.
+    """Write ``dst`` from frames ``render_at(i / fps)``, ``i = 0 .. ceil(duration * fps) - 1``
+    (a blank sheet's, or a still's: :class:`marblevideo.marbler.SheetFrames`),
+    telling ``notes`` first.
 
     Constant frame rate (time base 1/fps for integer rates), no audio, colours
     untagged (BT.601, limited range). For a yuv420p output, ``render_at.i420(t,
@@ -426,7 +445,9 @@ def render_blank(
     began = time.monotonic()
     plan = plan or plan_output(dst, options)
     stats = Stats()
-    rate = Fraction(fps).limit_denominator(1001)
+    for note in notes:
+        say(options, stats, note)
+    rate = rate_fraction(fps)
     count = int(np.ceil(duration * fps - 1e-9))
     planar = None
     if plan.pix_fmt == "yuv420p" and isinstance(render_at, PlanarSource):
@@ -456,7 +477,10 @@ def render_blank(
         height, width = first.shape
         writer.open_video(width, height, 1 / rate, rate, {})
 
-    with atomic_output(dst, options.overwrite) as tmp, library_logs(options.verbose):
-        _run(tmp, plan, options, stats, produce, render, setup, count)
+    with (
+        video_writer(dst, plan, options, stats) as writer,
+        library_logs(options.verbose),
+    ):
+        _run(writer, plan, options, produce, render, setup, count)
     stats.seconds = time.monotonic() - began
     return stats

@@ -26,7 +26,7 @@ class VideoOptions:
     codec: str | None = None  # --codec: encoder name; default from the extension
     crf: int | None = None  # --crf: constant quality (x264 23, x265 28, VP9 31)
     preset: str | None = None  # --preset: x264/x265 speed preset (medium)
-    pix_fmt: str = "yuv420p"  # --pix-fmt
+    pix_fmt: str | None = None  # --pix-fmt; default the format's (yuv420p, GIF pal8, APNG rgb24)
     encoder_opts: dict[str, str] = field(default_factory=dict)  # --encoder-opt KEY=VALUE
     audio: str = "copy"  # --audio copy|aac|none
     start: float | None = None  # --start: seconds on the input's clock
@@ -37,6 +37,9 @@ class VideoOptions:
     progress: str = "auto"  # --progress auto|bar|json|off
     notify: Callable[[str], None] | None = None  # one-line notices; default stderr
     verbose: bool = False  # --verbose: the encoder libraries' and FFmpeg's own log lines
+    format: str | None = None  # --format: the output format by name (needed for -o -)
+    fps: float | None = None  # --fps: convert a video's rate; an image sequence's input rate
+    fit: str | None = None  # --fit stretch|crop|pad: an input of another aspect than --size
 
 
 @dataclass
@@ -92,6 +95,25 @@ class AudioItem:
 
     index: int  # input stream index
     payload: av.Packet | av.AudioFrame  # packet to copy or frame to encode
+
+
+class Span:
+    """The span of the frames written, in their time base: first pts, last pts,
+    end of the last frame (a frame without a duration lasts as long as the gap
+    before it)."""
+
+    def __init__(self):
+        self.bounds: list[int] = []
+
+    def extend(self, item: VideoItem) -> None:
+        if not self.bounds:
+            self.bounds = [item.pts, item.pts, item.pts + item.duration]
+            return
+        step = item.duration or item.pts - self.bounds[1]
+        self.bounds[1:] = [item.pts, max(self.bounds[2], item.pts + step)]
+
+    def seconds(self, time_base) -> float:
+        return float((self.bounds[2] - self.bounds[0]) * time_base) if self.bounds else 0.0
 
 
 def say(options: VideoOptions, stats: Stats, message: str) -> None:

@@ -22,6 +22,10 @@ from dataclasses import dataclass, field
 Value = float | tuple[float, ...]
 
 EDGE_MODES = ("clamp", "repeat", "mirror", "background")
+#: How an input of another aspect than the output fills it (``--fit``): stretched
+#: per axis (the contract's), scaled to cover it and cropped, or scaled to fit
+#: inside it on the recipe's background.
+FIT_MODES = ("stretch", "crop", "pad")
 
 
 @dataclass(frozen=True)
@@ -63,6 +67,15 @@ class Geometry:
     to_input: tuple[float, float, float, float]
 
 
+def stretch_note(input_size: tuple[int, int], out_size: tuple[int, int]) -> str | None:
+    """The notice for an input stretched to an output of another aspect (over 1 %),
+    or None."""
+    (iw, ih), (w, h) = input_size, out_size
+    if abs((w / h) / (iw / ih) - 1) <= 0.01:
+        return None
+    return f"{iw}x{ih} stretched to {w}x{h} (another aspect; --fit crop or pad keeps it)"
+
+
 def fit(canvas: tuple[float, float], w: int, h: int) -> tuple[float, float, float]:
     """Scale and offsets that show ``canvas`` uniformly scaled and centred in w x h:
     output point o = s * c + (dx, dy)."""
@@ -76,6 +89,7 @@ def geometry(
     out_size: tuple[int, int],
     input_size: tuple[int, int] | None = None,
     view: tuple[float, float, float, float] | None = None,
+    fit_mode: str = "stretch",
 ) -> Geometry:
     """Build the maps for an output of ``out_size`` = (w, h).
 
@@ -83,19 +97,33 @@ def geometry(
     geometry). With ``view`` = (x, y, w, h) in canvas units, that window is
     fitted instead (deep zoom); the input stays attached to the canvas as in
     the unzoomed frame. An input fills the (unzoomed) output frame, stretched
-    per axis when its aspect differs.
+    per axis when its aspect differs (``fit_mode`` "stretch", the contract's).
+    With "crop" or "pad" the frame of the input's own size, made as the
+    contract says, is scaled uniformly to cover the output (cropped) or to fit
+    inside it (centred; what lies outside the input is then the renderer's
+    ``edges`` business, and the marbler uses the background).
     """
     w, h = out_size
-    s, dx, dy = fit(canvas, w, h)
+    if input_size is not None and fit_mode in ("crop", "pad"):
+        iw, ih = input_size
+        pick = max if fit_mode == "crop" else min
+        k = pick(w / iw, h / ih)  # input frame -> output
+        ex, ey = (w - k * iw) / 2.0, (h - k * ih) / 2.0
+        s, dx, dy = fit(canvas, iw, ih)  # canvas -> input frame
+        unzoomed = (1.0 / (k * s), 1.0 / (k * s), (-ex / k - dx) / s, (-ey / k - dy) / s)
+        to_input = (s, s, dx, dy)
+    else:
+        s, dx, dy = fit(canvas, w, h)
+        unzoomed = (1.0 / s, 1.0 / s, -dx / s, -dy / s)
+        if input_size is None:
+            to_input = (s, s, dx, dy)
+        else:
+            kx, ky = input_size[0] / w, input_size[1] / h
+            to_input = (s * kx, s * ky, dx * kx, dy * ky)
     if view is None:
-        to_canvas = (1.0 / s, 1.0 / s, -dx / s, -dy / s)
+        to_canvas = unzoomed
     else:
         vx, vy, vw, vh = view
         vs, vdx, vdy = fit((vw, vh), w, h)
         to_canvas = (1.0 / vs, 1.0 / vs, vx - vdx / vs, vy - vdy / vs)
-    if input_size is None:
-        to_input = (s, s, dx, dy)
-    else:
-        kx, ky = input_size[0] / w, input_size[1] / h
-        to_input = (s * kx, s * ky, dx * kx, dy * ky)
     return Geometry(w, h, to_canvas, to_input)

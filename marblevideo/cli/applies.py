@@ -1,0 +1,86 @@
+"""Which options a job takes: every option given applies to the job the files
+make, or the command exits 2 saying why (no option is ignored in silence).
+
+Jobs: a *still* (an image output; from an image, a blank sheet, or a frame of
+a video), a *video* (a video output; from a video, a still, or a blank sheet),
+*vectors* (.svg, .pdf; from a blank sheet) and a *UV pass* (``--uv``).
+Inputs: none (a blank sheet), a still image, a video (a file, an image
+sequence, a URL) or ``-`` (standard input: a still or a video, known once read).
+"""
+
+from __future__ import annotations
+
+import argparse
+
+from marblevideo.errors import UsageError
+from marblevideo.media.formats import (
+    is_image_name,
+    is_sequence,
+    is_stdio,
+    output_kind,
+)
+
+ENCODER_FLAGS = (
+    ("codec", "--codec"),
+    ("crf", "--crf"),
+    ("preset", "--preset"),
+    ("pix_fmt", "--pix-fmt"),
+    ("encoder_opt", "--encoder-opt"),
+)
+
+
+def input_kind(src: str | None) -> str:
+    """ "blank", "image", "video" or "stdin"."""
+    if src is None:
+        return "blank"
+    if is_stdio(src):
+        return "stdin"
+    return "image" if is_image_name(src) else "video"
+
+
+def job_kind(args: argparse.Namespace) -> str:
+    """ "still", "video", "vectors" or "uv"."""
+    if args.uv:
+        return "uv"
+    kind = output_kind(args.output, args.format)
+    return "vectors" if kind == "vector" else kind
+
+
+def check_options(args: argparse.Namespace) -> tuple[str, str]:
+    """(job, input kind) of the command line; UsageError for an option given that
+    the job does not take."""
+    job, source = job_kind(args), input_kind(args.input)
+    out = args.output
+    if job != "video":
+        for name, flag in (*ENCODER_FLAGS, ("audio", "--audio")):
+            if getattr(args, name) not in (None, []):
+                raise UsageError(f"{flag}: applies to video outputs; {out} is not one")
+        for name, flag in (("start", "--start"), ("end", "--end")):
+            if getattr(args, name) is not None:
+                raise UsageError(f"{flag}: applies to video outputs; for {out} use --time")
+        if args.duration is not None:
+            raise UsageError(f"--duration: applies to video outputs; {out} is not one")
+        if args.fps is not None and not (job == "still" and is_sequence(args.input)):
+            raise UsageError(
+                f"--fps: applies to video outputs (and image-sequence inputs); {out} is not one"
+            )
+    else:
+        if args.time is not None:
+            raise UsageError(f"--time: makes stills; for {out} use --start and --end")
+        if source in ("blank", "image"):
+            what = "a blank sheet" if source == "blank" else f"{args.input}, a still"
+            for name, flag in (("start", "--start"), ("end", "--end")):
+                if getattr(args, name) is not None:
+                    raise UsageError(f"{flag}: {what} has no timeline; use --duration")
+            if args.audio is not None:
+                raise UsageError(f"--audio: {what} has no audio")
+        if args.duration is not None and args.end is not None:
+            raise UsageError("--duration and --end: give one")
+    if args.fit is not None:
+        if source == "blank":
+            raise UsageError("--fit: places an input; a blank sheet has none")
+        if args.size is None:
+            raise UsageError("--fit: goes with --size (without it the output is the input's size)")
+    if args.format is not None and job in ("vectors", "uv"):
+        raise UsageError(f"--format: {out} is written as its extension says")
+    return job, source
