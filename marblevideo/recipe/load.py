@@ -32,6 +32,7 @@ from typing import Any
 from marblevideo.errors import RecipeError, UsageError
 from marblevideo.limits import MAX_DEPTH
 from marblevideo.ops import LAYOUTS, expand, op_def, type_def
+from marblevideo.recipe.colors import color_components
 from marblevideo.recipe.faults import (
     Fault,
     NonFinite,
@@ -95,7 +96,8 @@ class Op:
 class Recipe:
     """A validated recipe. ``canvas`` is None when the recipe leaves it to the input.
 
-    ``source`` is the name used in messages (the file as given, or ``<dict>``).
+    ``source`` is the name used in messages (the file as given, or ``<dict>``);
+    ``description`` is the recipe's own (empty if it gives none; not rendered).
     """
 
     ops: tuple[Op, ...]
@@ -104,6 +106,7 @@ class Recipe:
     antialias: str = DEFAULT_ANTIALIAS
     edges: str = DEFAULT_EDGES
     source: str = "<dict>"
+    description: str = ""
 
     @classmethod
     def from_dict(cls, data: object, source: str = "<dict>") -> Recipe:
@@ -272,13 +275,14 @@ def _build(doc: dict, source: str) -> Recipe:
         antialias=doc.get("antialias", DEFAULT_ANTIALIAS),
         edges=doc.get("edges", DEFAULT_EDGES),
         source=source,
+        description=doc.get("description", ""),
     )
 
 
 def _components(value: Any) -> tuple[float, ...]:
-    """A valid number, point or color as a tuple of floats ("#rrggbb" -> 0..255)."""
+    """A valid number, point or color as a tuple of floats (colors 0..255)."""
     if isinstance(value, str):
-        return tuple(float(int(value[i : i + 2], 16)) for i in (1, 3, 5))
+        return color_components(value)
     if isinstance(value, list):
         return tuple(float(c) for c in value)
     return (float(value),)
