@@ -186,9 +186,11 @@ def _article(noun: str) -> str:
     return ("an " if noun[0] in "aeiou" else "a ") + noun
 
 
-def did_you_mean(word: str, choices: Any) -> str:
-    close = difflib.get_close_matches(word, [str(c) for c in choices], n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+def did_you_mean(word: str, choices: Any, n: int = 1) -> str:
+    """`` (did you mean 'a'?)`` (or ``'a' or 'b'``) for the up to ``n`` choices
+    closest to ``word``; empty when none is close."""
+    close = difflib.get_close_matches(word, [str(c) for c in choices], n=n)
+    return f" (did you mean {' or '.join(map(repr, close))}?)" if close else ""
 
 
 def describe(value: Any) -> str:

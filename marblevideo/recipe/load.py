@@ -29,6 +29,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Any
 
+from marblevideo.bundled import preset_name, presets, recipe_file
 from marblevideo.errors import RecipeError, UsageError
 from marblevideo.limits import MAX_DEPTH
 from marblevideo.ops import LAYOUTS, expand, op_def, type_def
@@ -37,6 +38,7 @@ from marblevideo.recipe.faults import (
     Fault,
     NonFinite,
     describe,
+    did_you_mean,
     format_path,
     make_fault,
     schema_fault,
@@ -149,16 +151,23 @@ def _parse_float(text: str) -> float | NonFinite:
 
 
 def load_recipe(path: str | os.PathLike[str]) -> Recipe:
-    """Read, validate and build the recipe file at ``path`` (named as given in messages).
+    """Read, validate and build the recipe file at ``path`` (named as given in
+    messages) or, when no such file exists, the preset ``path`` names (a bundled
+    sample recipe: ``"swirl"`` or ``"swirl.json"``, named by its file).
 
     Raises UsageError if the file cannot be read, RecipeError if it is not a valid recipe.
     """
+    path = recipe_file(path)
     source = os.fspath(path)
     try:
         with open(path, encoding="utf-8-sig") as f:
             text = f.read()
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        stem = preset_name(source)
+        if isinstance(exc, FileNotFoundError) and stem is not None:
+            reason += f", nor a preset of that name{did_you_mean(stem, presets(), n=3)}; "
+            reason += "`marblevideo presets` lists them"
         raise UsageError(f"cannot read recipe {source}: {reason}") from None
     try:
         data = json.loads(
