@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from marblevideo import load_recipe
+
 ROOT = Path(__file__).resolve().parent.parent
 
 
@@ -38,6 +40,8 @@ SKIPPED = {
     ),
 }
 VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm")
+#: Commands that print (to stdout) instead of writing an output file.
+PRINTING = (["devices"], ["schema"], ["presets"], ["ops"])
 SMALL = 64  # the longest side of any output
 
 
@@ -71,6 +75,14 @@ def small_size(text: str | None) -> str:
     return f"{max(2, round(w * scale / 2) * 2)}x{max(2, round(h * scale / 2) * 2)}"
 
 
+def redirected(command: str) -> tuple[str, str | None]:
+    """The command without a final ``> FILE``, and FILE (None without one)."""
+    words = shlex.split(command)
+    if len(words) > 2 and words[-2] == ">":
+        return shlex.join(words[:-2]), words[-1]
+    return command, None
+
+
 def quick(command: str) -> list[str]:
     """The command made quick: small outputs, short videos, live runs of one second."""
     words = shlex.split(command)
@@ -85,7 +97,7 @@ def quick(command: str) -> list[str]:
             args = setting(args, "--port", "0")  # any free port
         if args[1] == "test":
             args = setting(args, "--size", "64x48")
-    elif args[:1] not in (["devices"], ["schema"]):
+    elif args[:1] not in PRINTING:
         size = args[args.index("--size") + 1] if "--size" in args else None
         if "--uv" not in args:  # a UV pass sets its own (small) size
             args = setting(args, "--size", small_size(size))
@@ -105,6 +117,7 @@ def test_readme_command_runs(command, tmp_path):
     if command in SKIPPED:
         pytest.skip(SKIPPED[command])
     (tmp_path / "samples").symlink_to(ROOT / "samples")
+    command, target = redirected(command)
     argv = quick(command)
     proc = subprocess.run(
         argv,
@@ -117,5 +130,9 @@ def test_readme_command_runs(command, tmp_path):
     assert proc.returncode == 0, f"{shlex.join(argv[2:])}: {proc.stderr}"
     if "-o" in argv:
         assert (tmp_path / argv[argv.index("-o") + 1]).stat().st_size > 0
-    if argv[3:4] in (["devices"], ["schema"]):
+    if argv[3:4] in PRINTING:
         assert proc.stdout.strip()
+    if target is not None:  # what the shell would write; a recipe must load
+        (tmp_path / target).write_text(proc.stdout)
+        if target.endswith(".json") and argv[3:4] == ["presets"]:
+            load_recipe(tmp_path / target)

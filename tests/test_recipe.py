@@ -96,7 +96,7 @@ def test_python_api_accepts_tuples_and_from_dict():
     state = parse_recipe(recipe_with(numpy_values)).at(0).ops[0]
     assert state["radius"] == 2.0 and state["color"] == (1.0, 2.0, 3.0)
     with pytest.raises(
-        RecipeError, match=r"radius: expected a number or a keyframe track, got NaN"
+        RecipeError, match=r"radius: expected a number or a keyframe track \{.*\}, got NaN"
     ):
         parse_recipe(recipe_with({**OPS["drop"], "radius": np.float32("nan")}))
 
@@ -212,7 +212,8 @@ def test_circle_radius_zero_is_allowed():
 
 def test_wrong_types():
     assert op_fault(OPS["tine"], angle="abc") == (
-        "swirl.json: ops[1].angle: expected a number or a keyframe track, got string 'abc'"
+        'swirl.json: ops[1].angle: expected a number or a keyframe track {"keys": [...]}, '
+        "got string 'abc'"
     )
     assert op_fault(OPS["tine"], point=[1, "2"]) == (
         "swirl.json: ops[1].point[1]: expected a number, got string '2'"
@@ -235,13 +236,18 @@ def test_booleans_are_not_numbers():
 @pytest.mark.parametrize(
     ("color", "path", "expected"),
     [
-        ("#ff00", "color", "expected a color \"#rrggbb\", got string '#ff00'"),
-        ("#gg0000", "color", "expected a color \"#rrggbb\", got string '#gg0000'"),
+        ("#ff00", "color", 'expected "#rrggbb" or "#rgb" (hex digits), got string \'#ff00\''),
+        ("#gg0000", "color", 'expected "#rrggbb" or "#rgb" (hex digits), got string \'#gg0000\''),
         ([0, 0, 256], "color[2]", "must be <= 255, got 256"),
         ([0, -1, 0], "color[1]", "must be >= 0, got -1"),
         ([0, 1.5, 0], "color[1]", "expected an integer, got 1.5"),
         ([0, 0], "color", "expected a color [r, g, b], got a list of 2"),
-        (7, "color", 'expected a color ("#rrggbb" or [r, g, b]) or a keyframe track, got 7'),
+        (
+            7,
+            "color",
+            'expected a color ("#rrggbb", "#rgb", a CSS color name or [r, g, b]) '
+            'or a keyframe track {"keys": [...]}, got 7',
+        ),
     ],
 )
 def test_bad_colors(color, path, expected):
@@ -249,8 +255,8 @@ def test_bad_colors(color, path, expected):
 
 
 def test_bad_background_and_canvas():
-    assert fault(recipe_with(background="white")).startswith(
-        "swirl.json: background: expected a color \"#rrggbb\", got string 'white'"
+    assert fault(recipe_with(background="whit")).startswith(
+        "swirl.json: background: unknown color 'whit' (did you mean 'white'?)"
     )
     assert fault({"canvas": [0, 10], "ops": []}) == "swirl.json: canvas[0]: must be > 0, got 0"
     assert fault({"canvas": [10], "ops": []}) == (
@@ -369,7 +375,7 @@ def test_start_and_end():
 
 def test_non_finite_and_huge_numbers_from_python():
     assert op_fault(OPS["drop"], radius=math.nan) == (
-        "swirl.json: ops[1].radius: expected a number or a keyframe track, "
+        'swirl.json: ops[1].radius: expected a number or a keyframe track {"keys": [...]}, '
         "got NaN (not a finite number)"
     )
     assert op_fault(OPS["drop"], center=[0, -math.inf]) == (

@@ -1,5 +1,6 @@
 """The command line: ``marblevideo [INPUT] --ops RECIPE -o OUTPUT`` (:mod:`.render`),
-``devices`` and ``schema`` (:mod:`.info`), ``live`` (:mod:`.live`).
+``devices`` and ``schema`` (:mod:`.info`), ``presets`` and ``ops`` (:mod:`.catalog`),
+``live`` (:mod:`.live`).
 
 Exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143
 interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
@@ -25,13 +26,31 @@ def _schema(argv: list[str]) -> int:
     return schema_command(argv)
 
 
+def _presets(argv: list[str]) -> int:
+    from marblevideo.cli.catalog import presets_command
+
+    return presets_command(argv)
+
+
+def _ops(argv: list[str]) -> int:
+    from marblevideo.cli.catalog import ops_command
+
+    return ops_command(argv)
+
+
 def _live(argv: list[str]) -> int:
     from marblevideo.cli.live import run_live
 
     return run_live(argv)
 
 
-COMMANDS = {"devices": _devices, "schema": _schema, "live": _live}
+COMMANDS = {
+    "devices": _devices,
+    "schema": _schema,
+    "presets": _presets,
+    "ops": _ops,
+    "live": _live,
+}
 
 
 def _on_sigterm(signum, frame):

@@ -47,7 +47,9 @@ def build_parser() -> argparse.ArgumentParser:
         help="camera index or /dev/videoN, a video file or URL, or 'test' (default: camera 0)",
     )
     p.add_argument("--source", dest="source_opt", metavar="SOURCE", help="same as SOURCE")
-    p.add_argument("--ops", required=True, metavar="RECIPE", help="recipe JSON file (watched)")
+    p.add_argument(
+        "--ops", required=True, metavar="RECIPE", help="recipe JSON file (watched) or preset"
+    )
     p.add_argument("--preview", action="store_true", help="serve a preview page on 127.0.0.1")
     p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"preview port ({DEFAULT_PORT})")
     p.add_argument("--vcam", action="store_true", help="send frames to a virtual camera")
@@ -100,6 +102,7 @@ def recorder_for(args):
 
 def run_live(argv: list[str]) -> int:
     """The ``live`` command; returns the exit status (MarbleError propagates)."""
+    from marblevideo.bundled import recipe_file
     from marblevideo.recipe import load_recipe
 
     args = build_parser().parse_args(argv)
@@ -107,6 +110,7 @@ def run_live(argv: list[str]) -> int:
     if args.source and args.source_opt and args.source != args.source_opt:
         raise UsageError("give the source once: SOURCE or --source")
     spec = args.source_opt or args.source or "0"
+    args.ops = recipe_file(args.ops)  # a preset's file, when no file of that name exists
     load_recipe(args.ops)  # a bad recipe is refused before anything opens (exit 2)
     size = parse_size(args.size) if args.size else None
     if args.fps is not None and args.fps <= 0:

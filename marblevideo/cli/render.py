@@ -34,6 +34,9 @@ examples:
   marblevideo in.mp4 --ops samples/swirl.json -o out.mp4
   marblevideo photo.jpg --ops samples/comb-wave.json -o out.png --time 2
   marblevideo --ops samples/figure6.json -o design.png --size 2048x2048
+  marblevideo --ops bouquet -o bouquet.png    a preset (a bundled recipe) by name
+  marblevideo presets            list the presets; presets NAME prints one's JSON
+  marblevideo ops                list the op types and their parameters (ops TYPE: one)
   marblevideo devices            list OpenCL devices
   marblevideo devices --check    test each device against the NumPy reference
   marblevideo schema             print the recipe's JSON Schema

@@ -230,7 +230,9 @@ POINT = Param(
     "point", "point", "A point [x, y] on the line, in canvas units (origin top-left, y down)."
 )
 RADIUS = Param("radius", "positive", "Radius in canvas units.", "length")
-COLOR = Param("color", "color", 'Ink color, "#rrggbb" or [r, g, b] with 0..255 integers.')
+COLOR = Param(
+    "color", "color", 'Ink color: "#rrggbb", "#rgb", a CSS color name or [r, g, b] (0..255).'
+)
 ANGLE = Param("angle", "number", "Direction in degrees: 0 points to +x, 90 to +y (down).", "angle")
 ALPHA = Param(
     "alpha", "number", "Maximum shift in canvas units; negative reverses the motion.", "shift"

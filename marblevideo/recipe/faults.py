@@ -14,7 +14,8 @@ from typing import Any
 
 from jsonschema import Draft202012Validator, ValidationError
 
-from marblevideo.recipe.schema import LIMIT, schema
+from marblevideo.recipe.colors import CSS_NAMES, SHAPES
+from marblevideo.recipe.schema import COLOR_TITLE, LIMIT, schema
 
 
 class NonFinite:
@@ -69,6 +70,8 @@ def schema_fault(error: ValidationError, doc: Any) -> Fault:
     """One schema error as a fault, descending into the anyOf branch the value meant."""
     path = list(error.absolute_path)
     kind, instance, bound = error.validator, error.instance, error.validator_value
+    if kind == "anyOf" and isinstance(instance, str) and error.schema.get("title") == COLOR_TITLE:
+        return make_fault(doc, path, color_message(instance))
     if kind == "anyOf":
         branches = _branches(error)
         meant = [errors for errors in branches if not any(_mismatch(e) for e in errors)]
@@ -91,6 +94,18 @@ def schema_fault(error: ValidationError, doc: Any) -> Fault:
     return make_fault(doc, path, _message(kind, instance, bound, error.schema))
 
 
+def color_message(text: str) -> str:
+    """Why the string ``text`` is not a colour, with the nearest CSS name if any."""
+    if text.startswith("#"):
+        return f'expected "#rrggbb" or "#rgb" (hex digits), got string {text!r}'
+    squashed = "".join(c for c in text.lower() if c.isalpha())  # "Light Blue", "light-blue"
+    if squashed in CSS_NAMES:
+        hint = f" (did you mean {squashed!r}?)"
+    else:
+        hint = did_you_mean(squashed or text, CSS_NAMES)
+    return f"unknown color {text!r}{hint}; expected {SHAPES}"
+
+
 def _message(kind: str, instance: Any, bound: Any, schema_: dict) -> str:
     """The text for a leaf schema error: what was expected, got what."""
     got = describe(instance)
@@ -111,6 +126,8 @@ def _message(kind: str, instance: Any, bound: Any, schema_: dict) -> str:
         if title:
             return f"expected {_article(title)}, got {got}"
         return f"expected at least {bound} item{'s' * (bound != 1)}, got {got}"
+    if kind == "maxLength":
+        return f"too long: at most {bound} characters, got {len(instance)}"
     if kind == "enum":
         names = ", ".join(map(str, bound))
         if isinstance(instance, str):
@@ -169,9 +186,11 @@ def _article(noun: str) -> str:
     return ("an " if noun[0] in "aeiou" else "a ") + noun
 
 
-def did_you_mean(word: str, choices: Any) -> str:
-    close = difflib.get_close_matches(word, [str(c) for c in choices], n=1)
-    return f" (did you mean {close[0]!r}?)" if close else ""
+def did_you_mean(word: str, choices: Any, n: int = 1) -> str:
+    """`` (did you mean 'a'?)`` (or ``'a' or 'b'``) for the up to ``n`` choices
+    closest to ``word``; empty when none is close."""
+    close = difflib.get_close_matches(word, [str(c) for c in choices], n=n)
+    return f" (did you mean {' or '.join(map(repr, close))}?)" if close else ""
 
 
 def describe(value: Any) -> str:

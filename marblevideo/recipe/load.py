@@ -29,13 +29,16 @@ import os
 from dataclasses import dataclass, field
 from typing import Any
 
+from marblevideo.bundled import preset_name, presets, recipe_file
 from marblevideo.errors import RecipeError, UsageError
 from marblevideo.limits import MAX_DEPTH
 from marblevideo.ops import LAYOUTS, expand, op_def, type_def
+from marblevideo.recipe.colors import color_components
 from marblevideo.recipe.faults import (
     Fault,
     NonFinite,
     describe,
+    did_you_mean,
     format_path,
     make_fault,
     schema_fault,
@@ -95,7 +98,8 @@ class Op:
 class Recipe:
     """A validated recipe. ``canvas`` is None when the recipe leaves it to the input.
 
-    ``source`` is the name used in messages (the file as given, or ``<dict>``).
+    ``source`` is the name used in messages (the file as given, or ``<dict>``);
+    ``description`` is the recipe's own (empty if it gives none; not rendered).
     """
 
     ops: tuple[Op, ...]
@@ -104,6 +108,7 @@ class Recipe:
     antialias: str = DEFAULT_ANTIALIAS
     edges: str = DEFAULT_EDGES
     source: str = "<dict>"
+    description: str = ""
 
     @classmethod
     def from_dict(cls, data: object, source: str = "<dict>") -> Recipe:
@@ -146,16 +151,23 @@ def _parse_float(text: str) -> float | NonFinite:
 
 
 def load_recipe(path: str | os.PathLike[str]) -> Recipe:
-    """Read, validate and build the recipe file at ``path`` (named as given in messages).
+    """Read, validate and build the recipe file at ``path`` (named as given in
+    messages) or, when no such file exists, the preset ``path`` names (a bundled
+    sample recipe: ``"swirl"`` or ``"swirl.json"``, named by its file).
 
     Raises UsageError if the file cannot be read, RecipeError if it is not a valid recipe.
     """
+    path = recipe_file(path)
     source = os.fspath(path)
     try:
         with open(path, encoding="utf-8-sig") as f:
             text = f.read()
     except (OSError, UnicodeDecodeError) as exc:
         reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+        stem = preset_name(source)
+        if isinstance(exc, FileNotFoundError) and stem is not None:
+            reason += f", nor a preset of that name{did_you_mean(stem, presets(), n=3)}; "
+            reason += "`marblevideo presets` lists them"
         raise UsageError(f"cannot read recipe {source}: {reason}") from None
     try:
         data = json.loads(
@@ -272,13 +284,14 @@ def _build(doc: dict, source: str) -> Recipe:
         antialias=doc.get("antialias", DEFAULT_ANTIALIAS),
         edges=doc.get("edges", DEFAULT_EDGES),
         source=source,
+        description=doc.get("description", ""),
     )
 
 
 def _components(value: Any) -> tuple[float, ...]:
-    """A valid number, point or color as a tuple of floats ("#rrggbb" -> 0..255)."""
+    """A valid number, point or color as a tuple of floats (colors 0..255)."""
     if isinstance(value, str):
-        return tuple(float(int(value[i : i + 2], 16)) for i in (1, 3, 5))
+        return color_components(value)
     if isinstance(value, list):
         return tuple(float(c) for c in value)
     return (float(value),)

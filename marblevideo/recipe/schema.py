@@ -9,7 +9,8 @@ Each op is dispatched on its ``type`` with ``if``/``then``, so editors complete
 the fields of the op being written and errors name that op's own fields. Every
 numeric parameter, point and color may be a keyframe track. The ops, their
 parameters' kinds (``$defs`` entries) and help texts come from the op registry
-(:mod:`marblevideo.ops`).
+(:mod:`marblevideo.ops`). A color's CSS names are an ``enum`` (editors complete
+it) and, for any case, a pattern (:mod:`marblevideo.recipe.colors`).
 """
 
 from __future__ import annotations
@@ -20,6 +21,7 @@ from functools import lru_cache
 from marblevideo.limits import MAX_COUNT, MAX_LIST, NUMBER_LIMIT
 from marblevideo.ops import recipe_types, type_def
 from marblevideo.recipe.antialias import PATTERNS
+from marblevideo.recipe.colors import CSS_NAMES, HEX_PATTERN, NAME_PATTERN, SHAPES
 from marblevideo.recipe.frame import EDGE_MODES
 from marblevideo.recipe.keyframes import EASE_NAMES
 
@@ -28,6 +30,10 @@ DRAFT = "https://json-schema.org/draft/2020-12/schema"
 
 #: Largest magnitude of any number (:data:`marblevideo.limits.NUMBER_LIMIT`).
 LIMIT = NUMBER_LIMIT
+#: The title of a color in the schema (and so in messages).
+COLOR_TITLE = f"color ({SHAPES})"
+#: Longest ``description``, in characters.
+MAX_DESCRIPTION = 200
 
 _TIME_HELP = {
     "start": "Seconds: the op appears (progress p goes 0 -> 1) from here.",
@@ -55,7 +61,7 @@ def _track(kind: str) -> dict:
         "additionalProperties": False,
     }
     return {
-        "title": "keyframe track",
+        "title": 'keyframe track {"keys": [...]}',
         "description": 'Keyframes {"keys": [{"t": 0, "v": ...}, ...]}; before the first key the '
         "first value, after the last the last.",
         "type": "object",
@@ -99,9 +105,11 @@ def _build() -> dict:
             "maxItems": 2,
         },
         "color": {
-            "title": 'color ("#rrggbb" or [r, g, b])',
+            "title": COLOR_TITLE,
             "anyOf": [
-                {"title": 'color "#rrggbb"', "type": "string", "pattern": "^#[0-9a-fA-F]{6}$"},
+                {"title": 'color "#rrggbb" or "#rgb"', "type": "string", "pattern": HEX_PATTERN},
+                {"title": "CSS color name", "type": "string", "enum": list(CSS_NAMES)},
+                {"title": "CSS color name (any case)", "type": "string", "pattern": NAME_PATTERN},
                 {
                     "title": "color [r, g, b]",
                     "type": "array",
@@ -198,6 +206,11 @@ def _build() -> dict:
         "type": "object",
         "properties": {
             "$schema": {"type": "string", "description": "Ignored; lets editors find this schema."},
+            "description": {
+                "type": "string",
+                "maxLength": MAX_DESCRIPTION,
+                "description": "One line on what the recipe makes; ignored by the renderer.",
+            },
             "marblevideo": {
                 "title": "recipe format version",
                 "type": "integer",
