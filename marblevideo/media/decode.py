@@ -54,6 +54,33 @@ def stdin_source() -> tuple[bytes | None, _Replay | None]:
     return None, _Replay(raw, head)
 
 
+def input_name(container: av.container.InputContainer) -> str:
+    """How messages name an input: its path or URL, ``-`` for standard input."""
+    return "-" if container.name in ("", "<none>") else container.name
+
+
+def packets(container: av.container.InputContainer, streams) -> Iterator[av.Packet]:
+    """``container.demux(streams)``; a demuxer's failure is a MediaError in one
+    line (from a pipe, with the usual cause: an MP4 whose index comes last)."""
+    demuxed = container.demux(streams)
+    while True:
+        try:
+            packet = next(demuxed)
+        except StopIteration:
+            return
+        except av.error.FFmpegError as exc:
+            hint = ""
+            if container.format.name.startswith("mov") and not os.path.isfile(container.name):
+                hint = (
+                    "; an MP4 or MOV read from a pipe needs its index first "
+                    "(-movflags +faststart), or send Matroska or NUT"
+                )
+            raise MediaError(
+                f"{input_name(container)}: cannot read: {exc.strerror}{hint}"
+            ) from None
+        yield packet
+
+
 def open_input(
     src: str | os.PathLike, rate: float | None = None, stream=None
 ) -> av.container.InputContainer:
@@ -85,12 +112,12 @@ def open_input(
 
 
 def _first(pattern: str | os.PathLike) -> int:
-    """The number of a sequence's first file; UsageError (like a missing file)
+    """The number of a sequence's first file; MediaError (like a missing file)
     when it has none."""
     folder = Path(pattern).parent if str(Path(pattern).parent) else Path(".")
     names = sequence_names(pattern, os.listdir(folder)) if folder.is_dir() else []
     if not names:
-        raise UsageError(f"{pattern}: no files of this image sequence")
+        raise MediaError(f"{pattern}: no files of this image sequence")
     match = frame_field(pattern)
     head = len(Path(pattern).name[: match.start()])
     tail = len(Path(pattern).name) - match.end()
@@ -159,7 +186,7 @@ class Reader:
                 stream.thread_type = "AUTO"
         held: list[AudioItem] = []
         done = {s.index: False for s in streams}
-        for packet in self.container.demux(streams):
+        for packet in packets(self.container, streams):
             index = packet.stream.index
             if done[index]:
                 if all(done.values()):
@@ -212,7 +239,9 @@ class Reader:
             self.corrupt += 1
             return []
         except av.error.FFmpegError as exc:
-            raise MediaError(f"{self.container.name}: cannot decode: {exc.strerror}") from None
+            raise MediaError(
+                f"{input_name(self.container)}: cannot decode: {exc.strerror}"
+            ) from None
 
     def _video_item(self, frame: av.VideoFrame, t: float) -> VideoItem:
         if self.rotation is None:
@@ -268,7 +297,7 @@ def grab_frame(container, time: float | None) -> tuple[float, np.ndarray]:
         with contextlib.suppress(av.error.FFmpegError, OSError):  # a pipe cannot seek
             container.seek(reader.clock + int(time / reader.tb), stream=video, backward=True)
     shown: tuple[float, av.VideoFrame] | None = None
-    for packet in container.demux(video):
+    for packet in packets(container, video):
         for frame in reader._decode(packet):
             if frame.pts is None:
                 continue
@@ -279,7 +308,7 @@ def grab_frame(container, time: float | None) -> tuple[float, np.ndarray]:
                 return t, upright(frame)
             shown = (t, frame)
     if shown is None:
-        raise MediaError(f"{container.name}: no video frames")
+        raise MediaError(f"{input_name(container)}: no video frames")
     t, frame = shown
     rate = video.average_rate or video.guessed_rate
     end = t + (float(frame.duration * video.time_base) if frame.duration else 0.0)

@@ -99,7 +99,7 @@ def plan_output(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
     if codec.type != "video":
         raise UsageError(f"{codec_name!r} is not a video encoder")
     with av.open(io.BytesIO(), "w", format=fmt.muxer) as probe:
-        supported = set(probe.supported_codecs)
+        supported = set(probe.supported_codecs) | fmt.also_holds
     if codec.canonical_name not in supported and codec.name not in supported:
         raise UsageError(f"{name} cannot hold {codec.canonical_name} video ({codec_name})")
     pix_fmt = options.pix_fmt or (fmt.pix_fmt if codec_name == fmt.codec else "yuv420p")

@@ -29,7 +29,9 @@ _URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
 class OutputFormat:
     """A video output format: FFmpeg muxer, default video encoder and pixel
     format, the audio re-encoder (None: the format holds no audio), container
-    options for a file and for a stream that cannot seek."""
+    options for a file and for a stream that cannot seek, and the codecs it holds
+    beyond those FFmpeg's muxer answers for (``supported_codecs`` lists only a
+    muxer's defaults where it cannot be asked, as MPEG-TS)."""
 
     muxer: str
     codec: str
@@ -37,10 +39,31 @@ class OutputFormat:
     file_options: dict[str, str] = field(default_factory=dict)
     stream_options: dict[str, str] = field(default_factory=dict)
     pix_fmt: str = "yuv420p"
+    also_holds: frozenset[str] = frozenset()
 
 
 _MP4 = {"movflags": "+faststart"}
 _MP4_STREAM = {"movflags": "frag_keyframe+empty_moov+default_base_moof"}
+#: What FFmpeg's MPEG-TS muxer writes (libavformat/mpegtsenc.c's stream types).
+_TS_CODECS = frozenset(
+    [
+        "h264",
+        "hevc",
+        "vvc",
+        "av1",
+        "mpeg1video",
+        "mpeg2video",
+        "mpeg4",
+        "vc1",
+        "dirac",
+        "aac",
+        "mp2",
+        "mp3",
+        "ac3",
+        "eac3",
+        "opus",
+    ]
+)
 #: Output formats by name (the name ``--format`` takes).
 FORMATS = {
     "mp4": OutputFormat("mp4", "libx264", "aac", _MP4, _MP4_STREAM),
@@ -48,11 +71,12 @@ FORMATS = {
     "matroska": OutputFormat("matroska", "libx264", "aac"),
     "webm": OutputFormat("webm", "libvpx-vp9", "libopus"),
     "nut": OutputFormat("nut", "libx264", "aac"),
-    "mpegts": OutputFormat("mpegts", "libx264", "aac"),
-    "yuv4mpegpipe": OutputFormat("yuv4mpegpipe", "rawvideo", None),
+    "mpegts": OutputFormat("mpegts", "libx264", "aac", also_holds=_TS_CODECS),
+    "yuv4mpegpipe": OutputFormat("yuv4mpegpipe", "wrapped_avframe", None),
     "gif": OutputFormat("gif", "gif", None, pix_fmt="pal8"),
-    "apng": OutputFormat("apng", "apng", None, pix_fmt="rgb24"),
-    "webp": OutputFormat("webp", "libwebp_anim", None),
+    # animations loop forever, as GIF's muxer does by default
+    "apng": OutputFormat("apng", "apng", None, {"plays": "0"}, {"plays": "0"}, "rgb24"),
+    "webp": OutputFormat("webp", "libwebp_anim", None, {"loop": "0"}, {"loop": "0"}),
 }
 #: Still encodings ``--format`` names for a still written to standard output.
 STILL_FORMATS = {"png": ".png", "jpeg": ".jpg", "jpg": ".jpg", "tiff": ".tif", "tif": ".tif"}
