@@ -256,10 +256,10 @@ def _media_cases(folder: Path, clip: Path) -> dict[str, tuple[str, int, str]]:
     with av_audio_only(folder / "audio.mp4"):
         pass
     return {
-        "missing video": ("nope.mp4", 2, "no such file"),
-        "missing image": ("nope.png", 2, "no such file"),
-        "folder video": ("dir.mp4", 2, "folder"),
-        "folder image": ("dir.png", 2, "folder"),
+        "missing video": ("nope.mp4", 1, "no such file"),
+        "missing image": ("nope.png", 1, "no such file"),
+        "folder video": ("dir.mp4", 1, "folder"),
+        "folder image": ("dir.png", 1, "folder"),
         "empty video": ("empty.mp4", 1, "empty"),
         "empty image": ("empty.png", 1, "empty"),
         "text video": ("text.mp4", 1, "not a readable video"),

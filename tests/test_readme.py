@@ -39,7 +39,7 @@ SKIPPED = {
         "needs camera 0 and a v4l2loopback virtual camera"
     ),
 }
-VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm")
+VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm", ".gif", ".apng", ".nut")
 #: Commands that print (to stdout) instead of writing an output file.
 PRINTING = (["devices"], ["schema"], ["presets"], ["ops"])
 SMALL = 64  # the longest side of any output
@@ -75,12 +75,35 @@ def small_size(text: str | None) -> str:
     return f"{max(2, round(w * scale / 2) * 2)}x{max(2, round(h * scale / 2) * 2)}"
 
 
-def redirected(command: str) -> tuple[str, str | None]:
-    """The command without a final ``> FILE``, and FILE (None without one)."""
+def redirected(command: str) -> tuple[str, str | None, str | None]:
+    """The command without its final ``> FILE`` and ``< FILE``, and those FILEs
+    (standard output's, standard input's; None without one)."""
     words = shlex.split(command)
-    if len(words) > 2 and words[-2] == ">":
-        return shlex.join(words[:-2]), words[-1]
-    return command, None
+    found = {">": None, "<": None}
+    while len(words) > 2 and words[-2] in found:
+        found[words[-2]] = words[-1]
+        words = words[:-2]
+    return shlex.join(words), found[">"], found["<"]
+
+
+def sequence_inputs(argv: list[str], folder: Path) -> None:
+    """Make the image sequence a command reads (``name_%04d.png``): three frames
+    of samples/coffee.jpg, as an earlier command of the README would have."""
+    import cv2
+
+    from marblevideo.media.formats import is_sequence, sequence_name
+
+    if len(argv) > 3 and is_sequence(argv[3]):
+        image = cv2.imread(str(ROOT / "samples" / "coffee.jpg"))
+        for number in (1, 2, 3):
+            cv2.imwrite(str(folder / sequence_name(argv[3], number)), image)
+
+
+def written(folder: Path, name: str) -> Path:
+    """The file an ``-o name`` wrote (a sequence's first frame)."""
+    from marblevideo.media.formats import is_sequence, sequence_name
+
+    return folder / (sequence_name(name, 1) if is_sequence(name) else name)
 
 
 def quick(command: str) -> list[str]:
@@ -102,7 +125,7 @@ def quick(command: str) -> list[str]:
         if "--uv" not in args:  # a UV pass sets its own (small) size
             args = setting(args, "--size", small_size(size))
         if Path(args[args.index("-o") + 1]).suffix in VIDEO_EXTENSIONS:
-            video_in = args[0].endswith(VIDEO_EXTENSIONS)
+            video_in = args[0].endswith(VIDEO_EXTENSIONS) or "%" in args[0]
             args = setting(args, "--end" if video_in else "--duration", "0.3")
     return [sys.executable, "-m", module, *args]
 
@@ -117,22 +140,25 @@ def test_readme_command_runs(command, tmp_path):
     if command in SKIPPED:
         pytest.skip(SKIPPED[command])
     (tmp_path / "samples").symlink_to(ROOT / "samples")
-    command, target = redirected(command)
+    command, target, source = redirected(command)
     argv = quick(command)
+    sequence_inputs(argv, tmp_path)
     proc = subprocess.run(
         argv,
         cwd=tmp_path,
+        input=(tmp_path / source).read_bytes() if source else None,
         capture_output=True,
-        text=True,
         timeout=120,
         env={**os.environ, "PYTHONPATH": str(ROOT)},
     )
-    assert proc.returncode == 0, f"{shlex.join(argv[2:])}: {proc.stderr}"
-    if "-o" in argv:
-        assert (tmp_path / argv[argv.index("-o") + 1]).stat().st_size > 0
+    stderr = proc.stderr.decode(errors="replace")
+    assert proc.returncode == 0, f"{shlex.join(argv[2:])}: {stderr}"
+    if "-o" in argv and argv[argv.index("-o") + 1] != "-":
+        assert written(tmp_path, argv[argv.index("-o") + 1]).stat().st_size > 0
     if argv[3:4] in PRINTING:
         assert proc.stdout.strip()
     if target is not None:  # what the shell would write; a recipe must load
-        (tmp_path / target).write_text(proc.stdout)
+        (tmp_path / target).write_bytes(proc.stdout)
+        assert proc.stdout
         if target.endswith(".json") and argv[3:4] == ["presets"]:
             load_recipe(tmp_path / target)
