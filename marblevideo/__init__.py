@@ -27,6 +27,7 @@ _LAZY = {
     "render_still": "marblevideo.api",
     "render_video": "marblevideo.api",
     "marbled_frames": "marblevideo.api",
+    "run_batch": "marblevideo.batch",
 }
 
 
@@ -49,6 +50,7 @@ __all__ = [
     "render_image",
     "render_still",
     "render_video",
+    "run_batch",
     "samples_path",
     "MarbleError",
     "MediaError",

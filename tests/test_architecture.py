@@ -25,6 +25,7 @@ LAYERS = {
     "marbler": 6,
     "api": 7,
     "live": 8,
+    "batch": 8,
     "cli": 9,
     "gallery": 10,
     "version": 0,

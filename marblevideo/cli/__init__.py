@@ -1,6 +1,6 @@
 """The command line: ``marblevideo [INPUT] --ops RECIPE -o OUTPUT`` (:mod:`.render`),
 ``devices`` and ``schema`` (:mod:`.info`), ``presets`` and ``ops`` (:mod:`.catalog`),
-``live`` (:mod:`.live`).
+``live`` (:mod:`.live`), ``batch`` (:mod:`.batch`).
 
 Exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143
 interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
@@ -38,6 +38,12 @@ def _ops(argv: list[str]) -> int:
     return ops_command(argv)
 
 
+def _batch(argv: list[str]) -> int:
+    from marblevideo.cli.batch import batch_command
+
+    return batch_command(argv)
+
+
 def _live(argv: list[str]) -> int:
     from marblevideo.cli.live import run_live
 
@@ -50,6 +56,7 @@ COMMANDS = {
     "presets": _presets,
     "ops": _ops,
     "live": _live,
+    "batch": _batch,
 }
 
 

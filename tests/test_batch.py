@@ -1,0 +1,111 @@
+"""``marblevideo batch``: many inputs through one recipe, on real files, serially
+and on a local process pool; resuming from the manifest; usage errors."""
+
+from __future__ import annotations
+
+import json
+
+import cv2
+import numpy as np
+import pytest
+from clips import probe, write_clip
+from conftest import files, one_line
+
+from marblevideo import api
+from marblevideo.batch import MANIFEST_NAME, run_batch
+
+
+@pytest.fixture
+def photos(tmp_path):
+    (tmp_path / "in").mkdir()
+    (tmp_path / "out").mkdir()
+    for i in range(4):
+        rng = np.random.default_rng(i)
+        cv2.imwrite(str(tmp_path / "in" / f"p{i}.jpg"), rng.integers(0, 256, (48, 64, 3), np.uint8))
+    return tmp_path
+
+
+def _same(a, b) -> bool:
+    return np.array_equal(
+        cv2.imread(str(a), cv2.IMREAD_UNCHANGED), cv2.imread(str(b), cv2.IMREAD_UNCHANGED)
+    )
+
+
+@pytest.mark.parametrize("jobs", [1, 2])
+def test_a_batch_equals_single_renders(cli, photos, jobs):
+    proc = cli("batch", "in/*.jpg", "--ops", "comb-wave", "-o", "out/{stem}-{index:02d}.png",
+               "--jobs", jobs, "--time", "1")  # fmt: skip
+    assert proc.returncode == 0, proc.stderr
+    assert "4 written" in proc.stderr
+    assert files(photos / "out") == [MANIFEST_NAME] + [f"p{i}-{i:02d}.png" for i in range(4)]
+    for i in range(4):
+        single = photos / f"single{i}.png"
+        api.render_still(photos / "in" / f"p{i}.jpg", "comb-wave", single, time=1)
+        assert _same(photos / "out" / f"p{i}-{i:02d}.png", single), i
+
+
+def test_a_failed_item_is_named_and_the_rerun_resumes(cli, photos):
+    (photos / "in" / "p2.jpg").write_bytes(b"not a picture" * 40)
+    proc = cli("batch", "in/*.jpg", "--ops", "comb-wave", "-o", "out/{stem}.png", "-q")
+    assert proc.returncode == 1
+    assert "3 written, 1 failed" in one_line(proc) and "p2.jpg" in one_line(proc)
+    assert files(photos / "out") == [MANIFEST_NAME, "p0.png", "p1.png", "p3.png"]
+    record = json.loads((photos / "out" / MANIFEST_NAME).read_text())["items"]
+    assert record["out/p2.png"]["status"] == "failed" and record["out/p0.png"]["status"] == "done"
+    before = {n: (photos / "out" / n).stat().st_mtime_ns for n in ("p0.png", "p1.png", "p3.png")}
+    rng = np.random.default_rng(2)
+    cv2.imwrite(str(photos / "in" / "p2.jpg"), rng.integers(0, 256, (48, 64, 3), np.uint8))
+    again = cli("batch", "in/*.jpg", "--ops", "comb-wave", "-o", "out/{stem}.png", "-y")
+    assert again.returncode == 0, again.stderr
+    assert "1 of 4 to render; 3 done before" in again.stderr
+    assert "1 written, 3 done before" in again.stderr.splitlines()[-1]
+    after = {n: (photos / "out" / n).stat().st_mtime_ns for n in before}
+    assert after == before  # done before, even with -y: not rendered again
+
+
+def test_existing_outputs_and_a_changed_recipe(cli, photos):
+    (photos / "out" / "p1.png").write_bytes(b"someone else's file")
+    proc = cli("batch", "in/*.jpg", "--ops", "comb-wave", "-o", "out/{stem}.png")
+    assert proc.returncode == 0, proc.stderr
+    assert "1 existing skipped (use -y to replace)" in proc.stderr
+    assert (photos / "out" / "p1.png").read_bytes() == b"someone else's file"
+    # another recipe (or other options) is another job: -y renders every item again
+    proc = cli("batch", "in/*.jpg", "--ops", "swirl", "-o", "out/{stem}.png", "-y")
+    assert proc.returncode == 0 and "4 written" in proc.stderr, proc.stderr
+    api.render_still(photos / "in" / "p1.jpg", "swirl", photos / "single.png")
+    assert _same(photos / "out" / "p1.png", photos / "single.png")
+
+
+def test_videos_in_a_batch(tmp_path):
+    for name in ("a", "b"):
+        write_clip(tmp_path / f"{name}.mp4", size=(64, 48), frames=6, fps=12, audio=True)
+    result = run_batch([str(tmp_path / "*.mp4")], "swirl", str(tmp_path / "{stem}-m.mkv"),
+                       progress="off")  # fmt: skip
+    assert sorted(p.name for p in result.written) == ["a-m.mkv", "b-m.mkv"]
+    for name in ("a", "b"):
+        out = probe(tmp_path / f"{name}-m.mkv")
+        assert (
+            len(out.frames) == 6
+            and out.audio_packets == probe(tmp_path / f"{name}.mp4").audio_packets
+        )
+
+
+@pytest.mark.parametrize(
+    "args, fault",
+    [
+        (["in/*.jpg", "-o", "out/{bad}.png"], "unknown field {bad}"),
+        (["in/*.jpg", "-o", "out/all.png"], "name each output from its input"),
+        (["in/*.jpg", "-o", "out/{suffix}.png"], "would both write"),
+        (["nothing/*.jpg", "-o", "out/{stem}.png"], "matches no file"),
+        (["in/*.jpg", "-o", "missing/{stem}.png"], "output folder does not exist"),
+        (["in/*.jpg", "-o", "in/{stem}.jpg"], "is one of the inputs"),
+        (["in/*.jpg", "-o", "out/{stem}.png", "--jobs", "0"], "--jobs"),
+        (["in/*.jpg", "-o", "out/{stem}.png", "--ops", "nopreset"], "nor a preset"),
+    ],
+)
+def test_usage_errors_before_any_work(cli, photos, args, fault):
+    ops = [] if "--ops" in args else ["--ops", "comb-wave"]
+    proc = cli("batch", *args, *ops)
+    assert proc.returncode == 2, proc.stderr
+    assert fault in one_line(proc)
+    assert files(photos / "out") == []
