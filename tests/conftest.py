@@ -34,12 +34,14 @@ def renderer():
 def cli(tmp_path):
     """Run the real command line in a subprocess; returns CompletedProcess."""
 
-    def run(*args, cwd=None, timeout=300):
+    def run(*args, cwd=None, timeout=300, input: bytes | None = None):  # noqa: A002
+        """``input``: bytes for standard input; the output is then bytes too."""
         return subprocess.run(
             [sys.executable, "-m", "marblevideo", *map(str, args)],
             cwd=cwd or tmp_path,
+            input=input,
             capture_output=True,
-            text=True,
+            text=input is None,
             timeout=timeout,
             env={**os.environ, "PYTHONPATH": str(ROOT)},
         )

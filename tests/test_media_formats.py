@@ -11,8 +11,6 @@ import contextlib
 import functools
 import http.server
 import json
-import subprocess
-import sys
 import threading
 
 import cv2
@@ -277,30 +275,12 @@ def test_fps_moves_the_animation_at_the_new_rate(tmp_path, clip, recipe):
 # ----------------------------------------------------------------- pipes and URLs
 
 
-def _pipe(args, data: bytes, cwd) -> subprocess.CompletedProcess:
-    return subprocess.run(
-        [sys.executable, "-m", "marblevideo", *map(str, args)],
-        input=data,
-        capture_output=True,
-        cwd=cwd,
-        timeout=300,
-        env={"PATH": "/usr/bin:/bin", "PYTHONPATH": str(ROOT), **_opencl_env()},
-    )
-
-
-def _opencl_env() -> dict[str, str]:
-    import os
-
-    keep = ("HOME", "POCL", "XDG", "MARBLEVIDEO", "OCL", "PYOPENCL", "LD_LIBRARY_PATH")
-    return {k: v for k, v in os.environ.items() if k.startswith(keep)}
-
-
-def test_pipe_through_matroska(tmp_path, clip, recipe):
+def test_pipe_through_matroska(cli, tmp_path, clip, recipe):
     """``marblevideo - ... -o - --format matroska``: stdin to stdout, as ffmpeg chains.
     FFV1 (lossless) for a frame-exact comparison: libx264 is not bit-reproducible
     from run to run on frames this small, even on one thread."""
     args = ["-", "--ops", "r.json", "-o", "-", "--format", "matroska", "--codec", "ffv1", "-q"]
-    proc = _pipe(args, clip.read_bytes(), tmp_path)
+    proc = cli(*args, input=clip.read_bytes())
     assert proc.returncode == 0, proc.stderr.decode()
     assert proc.stderr == b""  # -q: nothing on stderr; the video alone on stdout
     (tmp_path / "piped.mkv").write_bytes(proc.stdout)
@@ -321,21 +301,20 @@ def test_a_sequence_with_no_files(cli, tmp_path, recipe):
     assert "o.mp4" not in files(tmp_path)
 
 
-def test_pipe_of_an_mp4_indexed_last(tmp_path, recipe):
+def test_pipe_of_an_mp4_indexed_last(cli, recipe):
     """An MP4 whose index (moov) follows its data cannot be read from a pipe once
     the data outgrows FFmpeg's probe buffer: one line saying why, exit 1."""
     data = (ROOT / "samples" / "coffee.mp4").read_bytes()
     assert data.index(b"moov") > data.index(b"mdat") > 0 and len(data) > 65536
-    proc = _pipe(["-", "--ops", "r.json", "-o", "-", "--format", "nut", "-q"], data, tmp_path)
+    proc = cli("-", "--ops", "r.json", "-o", "-", "--format", "nut", "-q", input=data)
     assert proc.returncode == 1
     (line,) = proc.stderr.decode().splitlines()
     assert line.startswith("marblevideo: -: cannot read") and "+faststart" in line
 
 
 @pytest.mark.parametrize("fmt", ["nut", "mpegts", "y4m", "mp4"])
-def test_pipe_formats(tmp_path, clip, recipe, fmt):
-    proc = _pipe(["-", "--ops", "r.json", "-o", "-", "--format", fmt], clip.read_bytes(),
-                 tmp_path)  # fmt: skip
+def test_pipe_formats(cli, tmp_path, clip, recipe, fmt):
+    proc = cli("-", "--ops", "r.json", "-o", "-", "--format", fmt, input=clip.read_bytes())
     assert proc.returncode == 0, proc.stderr.decode()
     assert proc.stdout and b"marblevideo" not in proc.stdout
     out = tmp_path / f"o.{fmt}"
@@ -343,20 +322,20 @@ def test_pipe_formats(tmp_path, clip, recipe, fmt):
     assert len(probe(out).frames) == 30
 
 
-def test_pipe_stills(tmp_path, recipe):
+def test_pipe_stills(cli, tmp_path, recipe):
     rng = np.random.default_rng(9)
     image = rng.integers(0, 256, (64, 96, 3), np.uint8)
     data = cv2.imencode(".png", image)[1].tobytes()
-    proc = _pipe(["-", "--ops", "r.json", "-o", "-", "--format", "png", "--time", "1"], data,
-                 tmp_path)  # fmt: skip
+    proc = cli("-", "--ops", "r.json", "-o", "-", "--format", "png", "--time", "1", input=data)
     assert proc.returncode == 0, proc.stderr.decode()
     ours = cv2.imdecode(np.frombuffer(proc.stdout, np.uint8), cv2.IMREAD_COLOR)[:, :, ::-1]
     ref = reference_render(load_recipe(recipe).at(1.0, None),
                            geometry((96, 64), (96, 64), (96, 64)), image[:, :, ::-1])  # fmt: skip
     assert _within_kernel(ours, ref)
     # a still on stdin animated to a video on stdout
-    proc = _pipe(["-", "--ops", "r.json", "-o", "-", "--format", "nut", "--duration", "0.5"],
-                 data, tmp_path)  # fmt: skip
+    proc = cli(
+        "-", "--ops", "r.json", "-o", "-", "--format", "nut", "--duration", "0.5", input=data
+    )
     assert proc.returncode == 0, proc.stderr.decode()
     (tmp_path / "o.nut").write_bytes(proc.stdout)
     assert len(probe(tmp_path / "o.nut").frames) == 15
