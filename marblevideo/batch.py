@@ -188,9 +188,7 @@ def render_item(recipe, item: Item, options: dict, overwrite: bool) -> str | Non
         if output_kind(item.dst) == "still":
             render_still(item.src, recipe, item.dst, overwrite=overwrite, **options)
         else:
-            still_keys = ("time", "view", "band_rows", "notify", "rate", "progress")
-            video = {k: v for k, v in options.items() if k not in still_keys}
-            render_video(item.src, recipe, item.dst, overwrite=overwrite, quiet=True, **video)
+            render_video(item.src, recipe, item.dst, overwrite=overwrite, quiet=True, **options)
     except MarbleError as exc:
         return str(exc)
     return None
@@ -215,7 +213,7 @@ def run_batch(
     """Render every input the glob ``patterns`` match through ``recipe`` (a file
     or preset) to outputs named by ``template`` (see the module). ``options``
     are :func:`~marblevideo.api.render_still`'s (``size``, ``fit``, ``time``,
-    ``device``); ``time`` applies to still outputs. Raises UsageError before
+    ``device``); ``time`` only where every output is a still. Raises UsageError before
     any work for bad patterns, templates, recipes or options; returns what was
     done (failures included: the caller decides the exit status)."""
     from marblevideo.bundled import recipe_file
@@ -226,6 +224,8 @@ def run_batch(
     recipe = recipe_file(recipe)
     load_recipe(recipe)  # a bad recipe stops the batch before any work (exit 2)
     items = plan_items(expand_inputs(patterns), template)
+    if "time" in options and any(output_kind(item.dst) != "still" for item in items):
+        raise UsageError("--time: applies to still outputs; this batch writes videos")
     for folder in {item.dst.parent for item in items}:
         if not folder.is_dir():
             raise UsageError(f"{folder}: output folder does not exist")

@@ -100,6 +100,7 @@ def test_videos_in_a_batch(tmp_path):
         (["in/*.jpg", "-o", "missing/{stem}.png"], "output folder does not exist"),
         (["in/*.jpg", "-o", "in/{stem}.jpg"], "is one of the inputs"),
         (["in/*.jpg", "-o", "out/{stem}.png", "--jobs", "0"], "--jobs"),
+        (["in/*.jpg", "-o", "out/{stem}.mp4", "--time", "1"], "--time: applies to still outputs"),
         (["in/*.jpg", "-o", "out/{stem}.png", "--ops", "nopreset"], "nor a preset"),
     ],
 )
