@@ -131,6 +131,21 @@ def recipe_pst(antialias: str = "rgss") -> dict:
     }  # fmt: skip
 
 
+def kernel_cell(adaptive, full, data: dict, size: tuple[int, int], patterned: bool) -> str:
+    """A Table 1 cell: the blank-sheet recipe ``data`` at ``size``, read back into
+    one frame buffer, in fps "best / median of 21", and with an antialiasing
+    pattern " [the full pattern's best]"."""
+    recipe = parse_recipe(data, "table1.json")
+    spec, geom = recipe.at(0), geometry(recipe.canvas, size)
+    frame = np.empty((size[1], size[0], 4), np.uint8)
+    best, med = timings(lambda: adaptive.render(spec, geom, out=frame))
+    cell = f"{1 / best:.0f} / {1 / med:.0f}"
+    if patterned:
+        full_best, _ = timings(lambda: full.render(spec, geom, out=frame), repeat=11)
+        cell += f" [{1 / full_best:.0f}]"
+    return cell
+
+
 def pst_row(device: str | None) -> None:
     """The pst-style design at 1024x1024 in Table 1's columns, beside the 12-op row."""
     adaptive, full = Renderer(device), Renderer(device, adaptive=False)
@@ -141,17 +156,7 @@ def pst_row(device: str | None) -> None:
     for name, make in (("12 ops (Table 1)", recipe12), ("pst-style", recipe_pst)):
         cells = []
         for col in COLUMNS:
-            recipe = parse_recipe(make(col), "pst.json")
-            spec, geom = recipe.at(0), geometry(recipe.canvas, (1024, 1024))
-            frame = np.empty((1024, 1024, 4), np.uint8)
-            best, med = timings(lambda r=adaptive, s=spec, g=geom, f=frame: r.render(s, g, out=f))
-            cell = f"{1 / best:.0f} / {1 / med:.0f}"
-            if col != "none":
-                full_best, _ = timings(
-                    lambda s=spec, g=geom, f=frame: full.render(s, g, out=f), repeat=11
-                )
-                cell += f" [{1 / full_best:.0f}]"
-            cells.append(cell)
+            cells.append(kernel_cell(adaptive, full, make(col), (1024, 1024), col != "none"))
         print(f"| {name} | " + " | ".join(cells) + " |", flush=True)
 
 
@@ -164,16 +169,7 @@ def table1(device: str | None) -> None:
     for size, paper in PAPER.items():
         cells = []
         for col, ref in zip(COLUMNS, paper, strict=True):
-            recipe = parse_recipe(recipe12(col), "table1.json")
-            spec, geom = recipe.at(0), geometry(recipe.canvas, size)
-            frame = np.empty((size[1], size[0], 4), np.uint8)  # read back into one frame buffer
-            best, med = timings(lambda r=adaptive, s=spec, g=geom, f=frame: r.render(s, g, out=f))
-            cell = f"{1 / best:.0f} / {1 / med:.0f}"
-            if col != "none":
-                full_best, _ = timings(
-                    lambda s=spec, g=geom, f=frame: full.render(s, g, out=f), repeat=11
-                )
-                cell += f" [{1 / full_best:.0f}]"
+            cell = kernel_cell(adaptive, full, recipe12(col), size, col != "none")
             cells.append(f"{cell} \\| {ref}")
         print(f"| {size[0]}x{size[1]} | " + " | ".join(cells) + " |", flush=True)
 
