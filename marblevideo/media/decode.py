@@ -70,7 +70,7 @@ def packets(container: av.container.InputContainer, streams) -> Iterator[av.Pack
             return
         except av.error.FFmpegError as exc:
             hint = ""
-            if container.format.name.startswith("mov") and not os.path.isfile(container.name):
+            if container.format.name.startswith("mov") and input_name(container) == "-":
                 hint = (
                     "; an MP4 or MOV read from a pipe needs its index first "
                     "(-movflags +faststart), or send Matroska or NUT"
