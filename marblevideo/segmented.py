@@ -78,17 +78,20 @@ class Primed:
         return self.transform.i420_start(planes, t, src, dst)
 
 
-def render_segment(job: SegmentJob, segment: Segment, dst: str, renderer=None) -> int:
-    """Render ``segment`` of ``job`` to the MP4 ``dst`` (atomically); the frames written."""
+def render_segment(
+    job: SegmentJob, segment: Segment, dst: str, renderer=None
+) -> tuple[int, list[str]]:
+    """Render ``segment`` of ``job`` to the MP4 ``dst`` (atomically); the frames
+    written and the notices (which the job's driver tells, each once)."""
     options = VideoOptions(**job.options)
     options.start, options.end = segment.start, segment.end
     options.audio, options.quiet, options.progress, options.overwrite = "none", True, "off", True
-    options.notify = lambda message: None  # the whole job's notices come from its driver
+    options.notify = lambda message: None  # noted in the stats, told by the driver
     plan = segment_plan(plan_output(dst, options), dst)
     marbler = Marbler(job.recipe, renderer, fit=options.fit or "stretch")
     transform = Primed(marbler.transform(options.size), segment.before)
     stats = transcode(job.src, dst, transform, options, plan=plan, pts_origin=segment.origin)
-    return stats.frames
+    return stats.frames, stats.notes
 
 
 def check_split(src, options: VideoOptions) -> None:
@@ -143,15 +146,21 @@ def render_split(
     shared = {k: getattr(opts, k) for k in ("crf", "preset", "size", "fit", "verbose")}
     shared.update(codec=plan.codec, pix_fmt=plan.pix_fmt, encoder_opts=dict(opts.encoder_opts))
     job = SegmentJob(str(Path(src).resolve()), recipe, shared)
-    folder = Path(tempfile.mkdtemp(prefix=f".{dst.stem}.segments.", dir=dst.parent.resolve()))
+    try:
+        folder = Path(tempfile.mkdtemp(prefix=f".{dst.stem}.segments.", dir=dst.parent.resolve()))
+    except OSError as exc:
+        raise MediaError(f"{dst}: cannot write in {dst.parent}: {exc.strerror}") from None
     pool = None
     try:
         pool = RayPool(jobs, device) if cluster == "ray" else SerialPool(device)
         paths = [str(folder / f"{s.index:05d}.mp4") for s in parts]
         calls = [(job, s, path) for s, path in zip(parts, paths, strict=True)]
-        run_calls(pool, calls, parts, progress_mode(opts.progress, opts.quiet))
+        notes = run_calls(pool, calls, parts, progress_mode(opts.progress, opts.quiet))
+        for note in notes:
+            say(note)
         stats = join_segments(src, [(Path(p), s.origin) for p, s in zip(paths, parts, strict=True)],
                               dst, plan, opts)  # fmt: skip
+        stats.notes[:0] = notes
     finally:
         if pool is not None:
             pool.close()
@@ -160,11 +169,14 @@ def render_split(
     return stats
 
 
-def run_calls(pool, calls: list[tuple], parts: list[Segment], progress: str) -> None:
-    """Every segment's call on ``pool``, with a bar of segments; MediaError naming
-    the first that failed."""
+def run_calls(pool, calls: list[tuple], parts: list[Segment], progress: str) -> list[str]:
+    """Every segment's call on ``pool``, with a bar of segments; their notices,
+    each once; MediaError naming the first segment that failed."""
+    notes: dict[str, None] = {}
     with Progress(len(calls), progress, unit="segment") as bar:
         for index, result in pool.run(render_segment, calls, [str(s) for s in parts]):
             if isinstance(result, Exception):
                 raise MediaError(f"{parts[index]} failed: {result}")
+            notes.update(dict.fromkeys(result[1]))
             bar.update()
+    return list(notes)
