@@ -15,7 +15,10 @@ without it a local Ray starts on this machine (bound to 127.0.0.1, no
 dashboard, quiet) and stops with the pool. On CPUs each worker takes its
 share of the cluster's CPUs (``num_cpus``) and PoCL as many threads
 (``POCL_MAX_PTHREAD_COUNT``); on a cluster with GPUs each worker takes one
-(``num_gpus=1``: Ray makes only that one visible to it). A worker that dies
+(``num_gpus=1``: Ray makes only that one visible to it). There are never
+more workers than CPUs (GPUs), nor a worker bigger than a machine; workers
+not started :data:`STARTUP` seconds after the first are let go, and a worker
+that runs another version of marblevideo stops the job. A worker that dies
 is restarted and its call retried (:data:`RETRIES` times); a call that kills
 its worker every time fails with :class:`WorkerLost`, and a fresh worker
 takes the next calls.
@@ -31,6 +34,7 @@ from pathlib import Path
 from marblevideo.errors import MarbleError, MediaError, UsageError
 
 RETRIES = 2
+STARTUP = 60.0  # seconds the workers after the first have to start
 CRASH_ENV = "MARBLEVIDEO_CRASH"  # fault injection for tests: a call's tag
 CRASH_MARKER_ENV = "MARBLEVIDEO_CRASH_MARKER"  # crash once: while this file is missing
 PACKAGE_ROOT = Path(__file__).resolve().parent.parent
@@ -146,27 +150,61 @@ class RayPool:
         self.ray = ray = require_ray()
         self.started = connect(ray)
         self.device = device
+        self.actors: list = []
+        try:
+            self.count, self.options, threads = self.sizes(workers)
+            env = {"POCL_MAX_PTHREAD_COUNT": str(threads)}
+            for name in (CRASH_ENV, CRASH_MARKER_ENV):
+                if name in os.environ:
+                    env[name] = os.environ[name]
+            self.actor_class = ray.remote(Worker).options(
+                max_restarts=RETRIES,
+                max_task_retries=RETRIES,
+                runtime_env={"env_vars": env},
+                **self.options,
+            )
+            self.actors = [self.new_actor() for _ in range(self.count)]
+            self.check_workers()
+        except BaseException:
+            self.close()
+            raise
+
+    def sizes(self, workers: int | None) -> tuple[int, dict, int]:
+        """(workers, their Ray resources, PoCL threads each): one per GPU, else
+        each CPU worker its share of the CPUs, no more than a machine has, and no
+        more workers than CPUs (a worker that cannot be placed would wait forever)."""
+        ray = self.ray
         resources = ray.cluster_resources()
         gpus, cpus = int(resources.get("GPU", 0)), max(1, int(resources.get("CPU", 1)))
-        if gpus:
-            self.count = workers or gpus
-            self.options = {"num_gpus": 1, "num_cpus": 1}
-            threads = max(1, cpus // self.count)
-        else:
-            self.count = workers or cpus
-            threads = max(1, cpus // self.count)
-            self.options = {"num_cpus": threads}
-        env = {"POCL_MAX_PTHREAD_COUNT": str(threads)}
-        for name in (CRASH_ENV, CRASH_MARKER_ENV):
-            if name in os.environ:
-                env[name] = os.environ[name]
-        self.actor_class = ray.remote(Worker).options(
-            max_restarts=RETRIES,
-            max_task_retries=RETRIES,
-            runtime_env={"env_vars": env},
-            **self.options,
+        biggest = max(
+            (int(n["Resources"].get("CPU", 0)) for n in ray.nodes() if n.get("Alive")), default=1
         )
-        self.actors = [self.new_actor() for _ in range(self.count)]
+        if gpus:
+            count = min(workers or gpus, gpus)
+            return count, {"num_gpus": 1, "num_cpus": 1}, max(1, cpus // count)
+        count = min(workers or cpus, cpus)
+        threads = max(1, min(cpus // count, biggest))
+        return count, {"num_cpus": threads}, threads
+
+    def check_workers(self) -> None:
+        """Wait for the first worker (a cluster may be scaling up), then
+        :data:`STARTUP` seconds for the others (those not up by then are let go),
+        and check that each runs this version of marblevideo."""
+        from marblevideo.version import __version__
+
+        ray = self.ray
+        asked = {actor.where.remote(): actor for actor in self.actors}
+        ray.wait(list(asked), num_returns=1)
+        ready, late = ray.wait(list(asked), num_returns=len(asked), timeout=STARTUP)
+        for ref in late:
+            ray.kill(asked[ref])
+            self.actors.remove(asked[ref])
+        for version, path, _, _ in ray.get(ready):
+            if version != __version__:
+                raise MediaError(
+                    f"--cluster ray: a worker runs marblevideo {version} ({path}), this is "
+                    f"{__version__}; install the same on every machine"
+                )
 
     def new_actor(self):
         return self.actor_class.remote(self.device, True)
@@ -213,3 +251,4 @@ class RayPool:
         self.actors = []
         if self.started:
             self.ray.shutdown()
+            self.started = False

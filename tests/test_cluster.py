@@ -51,13 +51,14 @@ def same_video(path, single) -> None:
         assert np.array_equal(a, b), i
 
 
-def test_workers_run_this_code_with_their_share_of_the_cpus(cluster):
-    pool = RayPool()
+@pytest.mark.parametrize("asked", [None, 8])
+def test_workers_run_this_code_with_their_share_of_the_cpus(cluster, asked):
+    pool = RayPool(asked)
     try:
         where = pool.where()
     finally:
         pool.close()
-    assert len(where) == 2  # one per CPU
+    assert len(where) == 2  # one per CPU, never more (more could not all be placed)
     assert {(path, threads) for _, path, _, threads in where} == {(str(ROOT), "1")}
     pids = {pid for _, _, pid, _ in where}
     assert len(pids) == 2 and os.getpid() not in pids
