@@ -156,6 +156,8 @@ def render_split(
         paths = [str(folder / f"{s.index:05d}.mp4") for s in parts]
         calls = [(job, s, path) for s, path in zip(parts, paths, strict=True)]
         notes = run_calls(pool, calls, parts, progress_mode(opts.progress, opts.quiet))
+        pool.close()  # the workers' part is done: the join runs here
+        pool = None
         for note in notes:
             say(note)
         stats = join_segments(src, [(Path(p), s.origin) for p, s in zip(paths, parts, strict=True)],
