@@ -9,6 +9,7 @@ output, ``--uv`` or ``--tolerance`` go to :mod:`.vectors`.
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 from pathlib import Path
 
@@ -41,6 +42,7 @@ examples:
   marblevideo devices --check    test each device against the NumPy reference
   marblevideo schema             print the recipe's JSON Schema
   marblevideo live test --ops samples/swirl.json --preview   live (see live --help)
+  marblevideo film.mp4 --ops swirl -o out.mp4 --cluster ray   in segments on Ray
 
 exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143 interrupted
 """
@@ -133,6 +135,22 @@ def _render_parser() -> argparse.ArgumentParser:
         help="copy audio bit-exact (default), re-encode to AAC, or drop it",
     )
     add_encoder_arguments(v, preset_default="medium")
+    c = p.add_argument_group("scale-out (pip install 'marblevideo[ray]')")
+    c.add_argument(
+        "--cluster",
+        choices=("ray",),
+        help="render a video in segments on a Ray cluster ($RAY_ADDRESS, else a local Ray), "
+        "joined into the output; the machines must see input and output at the same paths",
+    )
+    c.add_argument(
+        "--segments",
+        type=int,
+        metavar="N",
+        help="cut the input into N segments at its keyframes (default: one per about 45 s)",
+    )
+    c.add_argument(
+        "--jobs", type=int, metavar="N", help="Ray workers (default: one per GPU, else per CPU)"
+    )
     v.add_argument(
         "--progress",
         choices=("auto", "bar", "json", "off"),
@@ -184,16 +202,18 @@ def render_command(argv: list[str]) -> int:
         return 0
     if args.view:
         raise UsageError(f"{args.output}: --view makes stills; give an image output")
-    from marblevideo.api import render_video
+    if args.cluster:
+        from marblevideo.segmented import render_split
 
-    stats = render_video(
-        args.input,
-        recipe,
-        args.output,
-        device=args.device,
-        duration=args.duration,
-        fps=args.fps,
-        **_video_options(args, size),
+        render = functools.partial(
+            render_split, cluster=args.cluster, segments=args.segments, jobs=args.jobs
+        )
+    else:
+        from marblevideo.api import render_video
+
+        render = functools.partial(render_video, duration=args.duration, fps=args.fps)
+    stats = render(
+        args.input, recipe, args.output, device=args.device, **_video_options(args, size)
     )
     if not args.quiet:
         print(f"marblevideo: {stats.summary(_where(args.output))}", file=sys.stderr)

@@ -129,6 +129,12 @@ class Renderer:
         """Pixels the last render gave the full pattern, when it was adaptive (else None)."""
         return self.adaptive_walk.last_full_pixels
 
+    def forget_frames(self) -> None:
+        """Start a new job on this renderer (its context and programs kept): the
+        next frame is drawn as a new renderer's first would be (the tables it holds
+        stay valid; only which frame came last is forgotten)."""
+        self.tables.forget_last()
+
     def prebuild(self, structure: Structure) -> None:
         """Build ``structure``'s program in the background (see Programs.prebuild)."""
         self.programs.prebuild(structure)
