@@ -83,8 +83,6 @@ def check_options(args: argparse.Namespace) -> tuple[str, str]:
             raise UsageError("--fit: goes with --size (without it the output is the input's size)")
     if args.format is not None and job in ("vectors", "uv"):
         raise UsageError(f"--format: {out} is written as its extension says")
-    if args.sampling is not None and job in ("vectors", "uv"):
-        raise UsageError(f"--sampling: antialiases raster outputs; {out} is not one")
     check_cluster(args, job, source)
     return job, source
 

@@ -25,7 +25,7 @@ from marblevideo.cli.arguments import (
 )
 from marblevideo.cli.vectors import render_extra
 from marblevideo.errors import UsageError
-from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE, SAMPLING
+from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.media.formats import is_stdio
 from marblevideo.recipe.frame import FIT_MODES
 from marblevideo.version import __version__
@@ -110,13 +110,6 @@ def _render_parser() -> argparse.ArgumentParser:
         help="render the design through a UV pass (.png 16-bit / .exr; R = u, G = v)",
     )
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
-    p.add_argument(
-        "--sampling",
-        choices=tuple(SAMPLING),
-        help="antialiasing: adaptive walks the full pattern only at ink edges and bent "
-        "maps (up to 2.5x faster on long recipes, within the kernel's bounds); full "
-        "walks every subsample; auto (default): adaptive on blank sheets only",
-    )
     add_log_arguments(p)
     p.add_argument("--version", action="version", version=f"marblevideo {__version__}")
     v = p.add_argument_group("video")
@@ -201,7 +194,6 @@ def render_command(argv: list[str]) -> int:
             rate=args.fps,
             overwrite=args.overwrite,
             device=args.device,
-            sampling=args.sampling or "auto",
             progress="off" if args.quiet else args.progress,
             notify=None if args.quiet else _say,
         )
@@ -240,7 +232,6 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         end=args.end,
         size=size,
         fit=args.fit,
-        sampling=args.sampling or "auto",
         format=args.format,
         overwrite=args.overwrite,
         quiet=args.quiet,

@@ -30,7 +30,7 @@ class PlanarFrames:
         programs: Programs,
         tables: ReusedMaps,
         reuse_maps: bool,
-        adaptive: AdaptiveWalk | None = None,
+        adaptive: AdaptiveWalk | None,
     ):
         self.queue, self.programs, self.tables = queue, programs, tables
         self.reuse_maps, self.adaptive = reuse_maps, adaptive

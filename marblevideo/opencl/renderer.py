@@ -109,24 +109,20 @@ class Renderer:
         self.programs = Programs(self.context, self.info, lanes, chains)
         self.lanes, self.chains = self.programs.lanes, self.programs.chains
         self.yuv_lanes = self.programs.yuv_lanes
+        self.adaptive = adaptive
         self.reuse_maps = reuse_maps
         self.tables = ReusedMaps(self.device_queue, self.lanes)
         self.fresh = FreshWalk(self.device_queue, self.lanes)
         self.adaptive_walk = AdaptiveWalk(self.device_queue, self.lanes)
-        self.planar = PlanarFrames(self.device_queue, self.programs, self.tables, reuse_maps)
-        self.adaptive = adaptive
+        self.planar = PlanarFrames(
+            self.device_queue,
+            self.programs,
+            self.tables,
+            reuse_maps,
+            self.adaptive_walk if adaptive else None,  # planar frames: only when asked
+        )
         #: whether the last render came from the table of reused maps
         self.last_reused = False
-
-    @property
-    def adaptive(self) -> bool | None:
-        """Adaptive sampling: True, False or None (blank sheets only); see the class."""
-        return self._adaptive
-
-    @adaptive.setter
-    def adaptive(self, value: bool | None) -> None:
-        self._adaptive = value
-        self.planar.adaptive = self.adaptive_walk if value else None  # planar: only when asked
 
     @property
     def last_full_pixels(self) -> int | None:
