@@ -66,8 +66,6 @@ KERNEL_NAMES = (
     "marble_to_i420",
     "marble_quads",
     "marble_plane",
-    "marble_plane_classify",
-    "marble_plane_list",
     "marble_apply_plane",
 )
 

@@ -69,14 +69,11 @@ class Renderer:
     and :func:`~marblevideo.opencl.program.cpu_chains` on CPUs, 1 and 1 on
     GPUs). ``lanes`` is 1, 4, 8 or 16.
     ``adaptive`` samples the full antialiasing pattern only where a pixel's
-    neighbourhood shows an ink edge or a strongly bent map; elsewhere one walk
-    per pixel gives ink, or the pattern's samples at positions derived from
-    the walks around it (see marble.cl). True: on every frame (RGBA and
-    planar video frames); False: never (every subsample walked); None
-    (default): on blank sheets only. Over an input it is an option, not the
-    default: its output keeps the kernel's bounds against the reference but
-    not the planar route's tighter ones, and what it saves depends on the
-    recipe (BENCHMARKS.md: from nothing to 2.5x).
+    neighbourhood shows an ink edge or a strongly curved map, one walk
+    elsewhere (see marble.cl); False evaluates the full pattern everywhere;
+    None (default) is adaptive on blank sheets only, where it halves the time,
+    while over an input its four bilinear fetches per pixel stay and the
+    centre pass measured slower than the full pattern (BENCHMARKS.md).
     ``reuse_maps``: over an input, when a frame's values, geometry and sizes
     equal the previous frame's (a static recipe over a video), where every
     subsample lands is recorded once and later frames only fetch and blend
@@ -114,13 +111,7 @@ class Renderer:
         self.tables = ReusedMaps(self.device_queue, self.lanes)
         self.fresh = FreshWalk(self.device_queue, self.lanes)
         self.adaptive_walk = AdaptiveWalk(self.device_queue, self.lanes)
-        self.planar = PlanarFrames(
-            self.device_queue,
-            self.programs,
-            self.tables,
-            reuse_maps,
-            self.adaptive_walk if adaptive else None,  # planar frames: only when asked
-        )
+        self.planar = PlanarFrames(self.device_queue, self.programs, self.tables, reuse_maps)
         #: whether the last render came from the table of reused maps
         self.last_reused = False
 
@@ -216,7 +207,7 @@ class Renderer:
         if geom.out_w % 2 or geom.out_h % 2:
             raise ValueError(f"I420 output needs even sizes, got {geom.out_w}x{geom.out_h}")
         queue, yl = self.device_queue, self.yuv_lanes
-        self.adaptive_walk.forget()
+        self.adaptive_walk.last_full_pixels = None
         size = None
         if planes is not None:
             planes = split_i420(planes)
@@ -263,7 +254,7 @@ class Renderer:
         queue = self.device_queue
         w, h = geom.out_w, geom.out_h
         check_size(w, h)
-        self.adaptive_walk.forget()
+        self.adaptive_walk.last_full_pixels = None
         has_input = size is not None
         structure = Structure.of(spec, has_input)
         built = self.programs.get(structure)
