@@ -67,7 +67,7 @@ def _reader(url: str, stop: threading.Event, counter: list[int]) -> None:
             counter[0] += chunk.count(b"--marblevideoframe")
 
 
-def bench(size, seconds, warmup, preview_width, record, device, fps):
+def bench(size, seconds, warmup, preview_width, record, device, fps, recipe_dict=RECIPE):
     from marblevideo.cli.arguments import parse_size
     from marblevideo.live.preview import PreviewServer
     from marblevideo.live.session import LiveSession
@@ -76,7 +76,7 @@ def bench(size, seconds, warmup, preview_width, record, device, fps):
     w, h = parse_size(size)
     with tempfile.TemporaryDirectory() as tmp:
         recipe = Path(tmp) / "bench.json"
-        recipe.write_text(json.dumps(RECIPE))
+        recipe.write_text(json.dumps(recipe_dict))
         source = TestPattern((w, h), fps)
         session = LiveSession(
             recipe, source, device=device, jpeg=True, preview_width=preview_width, quiet=True
@@ -144,7 +144,17 @@ def main() -> None:
     p.add_argument("--preview-width", type=int)
     p.add_argument("--record", help="also record to this file")
     p.add_argument("--device")
+    p.add_argument(
+        "--twelve",
+        action="store_true",
+        help="the end-to-end runs' animated 12-op recipe (bench.py animated12) instead",
+    )
     args = p.parse_args()
+    recipe = RECIPE
+    if args.twelve:
+        from bench import animated12
+
+        recipe = animated12(args.seconds + args.warmup)
     result = bench(
         args.size,
         args.seconds,
@@ -153,7 +163,9 @@ def main() -> None:
         args.record,
         args.device,
         args.fps,
+        recipe,
     )
+    result["recipe"] = "12-op animated" if args.twelve else "6-op animated"
     result["machine"] = f"{platform.machine()} {platform.processor() or ''}".strip()
     print(json.dumps(result))
 
