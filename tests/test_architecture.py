@@ -26,11 +26,12 @@ LAYERS = {
     "api": 7,
     "live": 8,
     "batch": 8,
-    "cli": 9,
-    "gallery": 10,
+    "design": 9,
+    "cli": 10,
+    "gallery": 11,
     "version": 0,
-    "__init__": 11,
-    "__main__": 11,
+    "__init__": 12,
+    "__main__": 12,
 }
 MAX_MODULE_LINES = 500
 MAX_CLASS_LINES = 300

@@ -1,0 +1,105 @@
+"""The designer's recipe file: read, validated, saved atomically, watched.
+
+:class:`RecipeFile` holds the recipe as JSON (what the page edits) beside the
+validated :class:`~marblevideo.recipe.Recipe` (what renders). A change is
+validated first (the one-line JSON-path error of the recipe format, and
+nothing saved when it fails), then written to a temporary file beside FILE and
+renamed over it, so FILE is never half-written. Changes made to FILE by other
+programs are picked up by :meth:`RecipeFile.check_reload`; a save that does not
+validate keeps the previous recipe and is reported as :attr:`error`.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import threading
+from pathlib import Path
+
+from marblevideo.errors import RecipeError, UsageError
+from marblevideo.media.output import atomic_output
+from marblevideo.recipe import Recipe, load_recipe, parse_recipe
+
+#: Canvas of a new blank-sheet recipe.
+DEFAULT_CANVAS = (1024, 768)
+
+
+def new_recipe(canvas: tuple[float, float] | None) -> dict:
+    """A recipe with no ops yet: a white sheet of ``canvas`` (None: the input's size)."""
+    doc: dict = {"marblevideo": 1}
+    if canvas is not None:
+        doc["canvas"] = [canvas[0], canvas[1]]
+    doc["background"] = "#ffffff"
+    doc["ops"] = []
+    return doc
+
+
+class RecipeFile:
+    """FILE as the designer sees it: :attr:`doc` (JSON), :attr:`recipe` (validated),
+    :attr:`version` (counts accepted changes, from the page or from disk)."""
+
+    def __init__(self, path: str | os.PathLike, canvas: tuple[float, float] | None = None):
+        self.path = Path(path)
+        self._lock = threading.Lock()
+        self.error: str | None = None
+        self.version = 1
+        if self.path.exists():
+            self.recipe = load_recipe(self.path)  # a bad FILE stops the start (exit 2)
+            self.doc = json.loads(self.path.read_text(encoding="utf-8-sig"))
+        else:
+            self.doc = new_recipe(canvas)
+            self.recipe = parse_recipe(self.doc, str(self.path))
+            self._write(self.doc)
+        self._stamp = self._file_stamp()
+
+    def _file_stamp(self):
+        try:
+            st = self.path.stat()
+        except OSError:
+            return None
+        return (st.st_mtime_ns, st.st_size, st.st_ino)
+
+    def _write(self, doc: dict) -> None:
+        text = json.dumps(doc, indent=2) + "\n"
+        with atomic_output(self.path, overwrite=True) as tmp:
+            tmp.write_text(text, encoding="utf-8")
+
+    def snapshot(self) -> tuple[dict, Recipe, int]:
+        """(doc, recipe, version) as they are now."""
+        with self._lock:
+            return self.doc, self.recipe, self.version
+
+    def put(self, doc: object) -> int:
+        """Validate ``doc``, save it atomically and make it current; its version.
+        RecipeError (nothing saved) when it is not a valid recipe."""
+        recipe = parse_recipe(doc, str(self.path))
+        if not isinstance(doc, dict):  # parse_recipe refuses these; kept for the type
+            raise UsageError(f"{self.path}: expected a JSON object")
+        with self._lock:
+            self._write(doc)
+            self.doc, self.recipe = doc, recipe
+            self.version += 1
+            self.error = None
+            self._stamp = self._file_stamp()
+            return self.version
+
+    def check_reload(self) -> bool:
+        """Take FILE's contents if another program changed it; whether it did. A
+        change that does not validate is kept out and reported in :attr:`error`."""
+        stamp = self._file_stamp()
+        with self._lock:
+            if stamp is None or stamp == self._stamp:
+                return False
+            self._stamp = stamp
+        try:
+            recipe = load_recipe(self.path)
+            doc = json.loads(self.path.read_text(encoding="utf-8-sig"))
+        except (RecipeError, UsageError, ValueError) as exc:
+            with self._lock:
+                self.error = f"{exc} (keeping the previous recipe)"
+            return False
+        with self._lock:
+            self.doc, self.recipe = doc, recipe
+            self.version += 1
+            self.error = None
+        return True
