@@ -16,7 +16,8 @@ everything through this HTTP API, which scripts and tests may use too:
   pixels wide (default: the frame's size), without antialiasing with
   ``draft=1``, of only the listed ops with ``ops`` (hide and solo).
 - ``POST /api/frame.png?...`` (body: a recipe): the same, of a recipe that is
-  not saved (the page's drafts while a hand is moving).
+  not saved: the page renders its own copy this way (its drafts while a hand
+  is moving, too), so what it shows never races a save or a reload.
 - ``GET /api/design.svg?t=T``: a blank sheet's design as SVG.
 - ``GET /api/info``: the recipe's ``version`` (counts changes, from the page or
   from FILE on disk), ``error`` (FILE changed on disk into an invalid recipe:

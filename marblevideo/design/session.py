@@ -128,9 +128,11 @@ class DesignSession:
             "ops": len(doc.get("ops", [])),
         }
 
-    def _recipe(self, doc: dict, version: int | None, only) -> Recipe:
+    def _recipe(self, doc: dict, version: int | bytes, only) -> Recipe:
+        """``doc`` (of ``version``: a number, or a POSTed body) with only the ops
+        ``only``, validated; the last one is kept for the next frame."""
         key = (version, only)
-        if version is not None and key in self._parsed:
+        if key in self._parsed:
             return self._parsed[key]
         if only is not None:
             doc = {**doc, "ops": [doc["ops"][i] for i in only]}
@@ -138,17 +140,17 @@ class DesignSession:
             recipe = parse_recipe(doc, str(self.document.path))
         except RecipeError as exc:
             raise Answer(400, str(exc)) from None
-        if version is not None:
-            self._parsed = {key: recipe}
+        self._parsed = {key: recipe}
         return recipe
 
-    def render(self, query: dict, doc: dict | None = None):
+    def render(self, query: dict, body: bytes | None = None):
         """The frame at ``t`` (RGBA), ``w`` pixels wide at most, a draft (no
-        antialiasing) when ``draft`` is 1; of ``doc`` (unsaved) when given."""
-        if doc is None:
+        antialiasing) when ``draft`` is 1; of the recipe ``body`` (JSON, not
+        saved) when given, else of the saved one."""
+        if body is None:
             doc, _, version = self.document.snapshot()
         else:
-            version = None
+            doc, version = _json(body), body
         if not isinstance(doc, dict) or not isinstance(doc.get("ops"), list):
             raise Answer(400, f"{self.document.path}: expected a recipe object with ops")
         recipe = self._recipe(doc, version, _only(query, len(doc["ops"])))
@@ -168,10 +170,10 @@ class DesignSession:
             self.last_render_ms = (time.perf_counter() - start) * 1000
         return out
 
-    def frame_png(self, query: dict, doc: dict | None = None) -> bytes:
+    def frame_png(self, query: dict, body: bytes | None = None) -> bytes:
         import cv2
 
-        rgba = self.render(query, doc)
+        rgba = self.render(query, body)
         ok, data = cv2.imencode(
             ".png", cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGR), [cv2.IMWRITE_PNG_COMPRESSION, 1]
         )
@@ -217,7 +219,7 @@ class DesignSession:
             ("GET", "/api/info"): lambda: (self.info(), None),
             ("GET", "/api/ops"): lambda: (registry(), None),
             ("GET", "/api/frame.png"): lambda: (self.frame_png(q), "image/png"),
-            ("POST", "/api/frame.png"): lambda: (self.frame_png(q, _json(body)), "image/png"),
+            ("POST", "/api/frame.png"): lambda: (self.frame_png(q, body or b"null"), "image/png"),
             ("GET", "/api/design.svg"): lambda: (self.svg(q), "image/svg+xml"),
         }
         route = routes.get((method, path))
