@@ -85,20 +85,27 @@ class RecipeFile:
 
     def check_reload(self) -> bool:
         """Take FILE's contents if another program changed it; whether it did. A
-        change that does not validate is kept out and reported in :attr:`error`."""
-        stamp = self._file_stamp()
+        change that does not validate is kept out and reported in :attr:`error`.
+        FILE is looked at under the lock a save holds, so a save of our own is
+        never taken for another program's, and a save made while the file is
+        read wins."""
         with self._lock:
+            stamp = self._file_stamp()
             if stamp is None or stamp == self._stamp:
                 return False
             self._stamp = stamp
         try:
             recipe = load_recipe(self.path)
             doc = json.loads(self.path.read_text(encoding="utf-8-sig"))
+            error = None
         except (RecipeError, UsageError, ValueError) as exc:
-            with self._lock:
-                self.error = f"{exc} (keeping the previous recipe)"
-            return False
+            error = f"{exc} (keeping the previous recipe)"
         with self._lock:
+            if self._stamp != stamp:
+                return False
+            if error is not None:
+                self.error = error
+                return False
             self.doc, self.recipe = doc, recipe
             self.version += 1
             self.error = None
