@@ -149,6 +149,19 @@ def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
         doc["ops"][0]["radius"] = 12.5
         recipe.write_text(json.dumps(doc))
         page.wait_for_function("document.getElementById('p-radius').value === '12.5'")
+
+        # the timeline: "key" sets a keyframe at the time shown; play moves the clock
+        page.locator("#time").evaluate(
+            "el => { el.value = el.max; el.dispatchEvent(new Event('input')); }"
+        )
+        page.fill("#p-radius", "40")
+        page.click("#key-radius")
+        wait_for(lambda: isinstance(saved()[0]["radius"], dict), "the key is saved")
+        assert saved()[0]["radius"] == {"keys": [{"t": 0, "v": 12.5}, {"t": 1, "v": 40}]}
+        page.click("#play")
+        page.wait_for_function("document.getElementById('clock').textContent !== 't = 1.00 s'")
+        page.click("#play")
+        assert page.text_content("#play") == "Play"
         assert errors == []
         page.close()
     finally:

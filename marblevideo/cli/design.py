@@ -87,9 +87,9 @@ def _checked(args) -> tuple[tuple[int, int] | None, tuple[int, int] | None]:
 def design_command(argv: list[str]) -> int:
     """The ``design`` command; returns the exit status (MarbleError propagates)."""
     from marblevideo.design.backdrop import open_backdrop
-    from marblevideo.design.document import DEFAULT_CANVAS, RecipeFile
     from marblevideo.design.session import DesignSession
     from marblevideo.live.preview import PreviewServer
+    from marblevideo.live.recipefile import DEFAULT_CANVAS, RecipeFile
 
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose)

@@ -1,4 +1,5 @@
-"""The designer's recipe file: read, validated, saved atomically, watched.
+"""A recipe file edited over HTTP (the designer's FILE, and ``live``'s recipe
+when its page saves): read, validated, saved atomically, watched.
 
 :class:`RecipeFile` holds the recipe as JSON (what the page edits) beside the
 validated :class:`~marblevideo.recipe.Recipe` (what renders). A change is
@@ -34,6 +35,26 @@ def new_recipe(canvas: tuple[float, float] | None) -> dict:
     return doc
 
 
+def save_recipe(path: str | os.PathLike, doc: object) -> Recipe:
+    """Validate ``doc`` and write it to ``path`` atomically (a temporary file beside
+    it, renamed over it); the Recipe. RecipeError, nothing written, when invalid."""
+    recipe = parse_recipe(doc, str(path))
+    text = json.dumps(doc, indent=2) + "\n"
+    with atomic_output(path, overwrite=True) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    return recipe
+
+
+def file_stamp(path: Path) -> tuple[int, int, int] | None:
+    """What tells a file's versions apart (mtime, size, inode: an atomic save is a
+    new file); None when it cannot be read."""
+    try:
+        st = path.stat()
+    except OSError:
+        return None
+    return (st.st_mtime_ns, st.st_size, st.st_ino)
+
+
 class RecipeFile:
     """FILE as the designer sees it: :attr:`doc` (JSON), :attr:`recipe` (validated),
     :attr:`version` (counts accepted changes, from the page or from disk)."""
@@ -48,21 +69,11 @@ class RecipeFile:
             self.doc = json.loads(self.path.read_text(encoding="utf-8-sig"))
         else:
             self.doc = new_recipe(canvas)
-            self.recipe = parse_recipe(self.doc, str(self.path))
-            self._write(self.doc)
+            self.recipe = save_recipe(self.path, self.doc)
         self._stamp = self._file_stamp()
 
     def _file_stamp(self):
-        try:
-            st = self.path.stat()
-        except OSError:
-            return None
-        return (st.st_mtime_ns, st.st_size, st.st_ino)
-
-    def _write(self, doc: dict) -> None:
-        text = json.dumps(doc, indent=2) + "\n"
-        with atomic_output(self.path, overwrite=True) as tmp:
-            tmp.write_text(text, encoding="utf-8")
+        return file_stamp(self.path)
 
     def snapshot(self) -> tuple[dict, Recipe, int]:
         """(doc, recipe, version) as they are now."""
@@ -72,11 +83,8 @@ class RecipeFile:
     def put(self, doc: object) -> int:
         """Validate ``doc``, save it atomically and make it current; its version.
         RecipeError (nothing saved) when it is not a valid recipe."""
-        recipe = parse_recipe(doc, str(self.path))
-        if not isinstance(doc, dict):  # parse_recipe refuses these; kept for the type
-            raise UsageError(f"{self.path}: expected a JSON object")
         with self._lock:
-            self._write(doc)
+            recipe = save_recipe(self.path, doc)
             self.doc, self.recipe = doc, recipe
             self.version += 1
             self.error = None
