@@ -141,7 +141,6 @@ def bench(name: str, repeat: int) -> dict:
                 page.wait_for_selector("body[data-ready='1']")
                 page.wait_for_function("document.getElementById('sheet').dataset.frames > 0")
                 box = page.locator("#overlay").bounding_box()
-                assert round(box["width"]) == SIZE[0], box  # shown 1:1
                 page.evaluate(PROBE)
                 x0, y0 = box["x"], box["y"]
                 for k in range(repeat + 2):  # the first two warm up (kernel builds)

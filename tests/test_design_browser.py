@@ -162,6 +162,8 @@ def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
         page.wait_for_function("document.getElementById('clock').textContent !== 't = 1.00 s'")
         page.click("#play")
         assert page.text_content("#play") == "Play"
+        time.sleep(0.5)  # the key stays (the field typed in is not saved again as it goes)
+        assert saved()[0]["radius"] == {"keys": [{"t": 0, "v": 12.5}, {"t": 1, "v": 40}]}
         assert errors == []
         page.close()
     finally:

@@ -41,6 +41,7 @@ examples:
   marblevideo devices --check    test each device against the NumPy reference
   marblevideo schema             print the recipe's JSON Schema
   marblevideo live test --ops samples/swirl.json --preview   live (see live --help)
+  marblevideo design photo.jpg --ops mine.json   draw a recipe in the browser (design --help)
 
 exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143 interrupted
 """
