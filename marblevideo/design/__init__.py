@@ -16,8 +16,13 @@ everything through this HTTP API, which scripts and tests may use too:
   pixels wide (default: the frame's size), without antialiasing with
   ``draft=1``, of only the listed ops with ``ops`` (hide and solo).
 - ``POST /api/frame.png?...`` (body: a recipe): the same, of a recipe that is
-  not saved: the page renders its own copy this way (its drafts while a hand
-  is moving, too), so what it shows never races a save or a reload.
+  not saved. The page renders its own copy of the recipe this way (as
+  ``frame.rgba``), its drafts while a hand is moving too, so what it shows
+  never races a save or a reload.
+- ``GET /api/frame.rgba?...``, ``POST /api/frame.rgba?...``: the same frames
+  as raw pixels, which the page draws with nothing to encode or decode: the
+  width and height as two little-endian uint32, then width x height x 4 bytes
+  of RGBA, rows top to bottom.
 - ``GET /api/design.svg?t=T``: a blank sheet's design as SVG.
 - ``GET /api/info``: the recipe's ``version`` (counts changes, from the page or
   from FILE on disk), ``error`` (FILE changed on disk into an invalid recipe:

@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import json
 import math
+import struct
 import threading
 import time
 from importlib import resources
@@ -23,6 +24,7 @@ from marblevideo.recipe import Recipe, parse_recipe
 from marblevideo.recipe.frame import fit
 
 RELOAD_POLL = 0.25
+RAW = "application/octet-stream"
 
 
 def registry() -> dict:
@@ -181,6 +183,12 @@ class DesignSession:
             raise Answer(500, "cannot encode the frame as PNG")
         return data.tobytes()
 
+    def frame_rgba(self, query: dict, body: bytes | None = None) -> bytes:
+        """The frame as the page draws it, with nothing to encode or decode: its
+        width and height (two little-endian uint32), then its RGBA bytes."""
+        rgba = self.render(query, body)
+        return struct.pack("<II", rgba.shape[1], rgba.shape[0]) + rgba.tobytes()
+
     def svg(self, query: dict) -> bytes:
         """The design at ``t`` as SVG (a blank sheet's: an input is not vector)."""
         from marblevideo.outputs.svg import design_svg
@@ -220,6 +228,8 @@ class DesignSession:
             ("GET", "/api/ops"): lambda: (registry(), None),
             ("GET", "/api/frame.png"): lambda: (self.frame_png(q), "image/png"),
             ("POST", "/api/frame.png"): lambda: (self.frame_png(q, body or b"null"), "image/png"),
+            ("GET", "/api/frame.rgba"): lambda: (self.frame_rgba(q), RAW),
+            ("POST", "/api/frame.rgba"): lambda: (self.frame_rgba(q, body or b"null"), RAW),
             ("GET", "/api/design.svg"): lambda: (self.svg(q), "image/svg+xml"),
         }
         route = routes.get((method, path))
@@ -232,8 +242,11 @@ class DesignSession:
         return 200, json.dumps(data, indent=1 if ctype else None).encode(), "application/json"
 
     def put(self, body: bytes | None) -> int:
-        """Validate, save and show a new recipe: its version (400 when invalid)."""
-        return self.document.put(_json(body))
+        """Validate, save and show a new recipe: its version (400 when invalid). The
+        page asks for the frame of the same bytes next: they are known valid."""
+        version = self.document.put(_json(body))
+        self._parsed = {(body, None): self.document.snapshot()[1]}
+        return version
 
     # -- hot reload -----------------------------------------------------------------
     def start(self) -> None:
