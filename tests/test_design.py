@@ -72,6 +72,10 @@ def test_api_saves_renders_and_refuses(tmp_path):
         assert app.get("/api/recipe") == DROPS
         expected = render_image(DROPS)[..., :3]
         assert np.array_equal(png(app.get("/api/frame.png")), expected)
+        raw = app.get("/api/frame.rgba")  # what the page draws: width, height, RGBA rows
+        assert raw[:8] == (320).to_bytes(4, "little") + (240).to_bytes(4, "little")
+        pixels = np.frombuffer(raw[8:], np.uint8).reshape(240, 320, 4)
+        assert np.array_equal(pixels[..., :3], expected) and (pixels[..., 3] == 255).all()
         # a draft: smaller, not antialiased; hidden ops: only the background
         draft = png(app.get("/api/frame.png?draft=1&w=160"))
         assert draft.shape == (120, 160, 3)

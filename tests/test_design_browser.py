@@ -10,9 +10,13 @@ import json
 import math
 import time
 
+import cv2
+import numpy as np
+
 from marblevideo.recipe.frame import fit
 from tests.live_helpers import ROOT, LiveProcess
 
+COFFEE = ROOT / "samples" / "coffee.jpg"
 INK = "#1d3557"  # the page's first colour
 REFUSED = "Failed to load resource: the server responded with a status of 400 (Bad Request)"
 
@@ -50,6 +54,16 @@ def settled(page, frames: int, shown: str = "all") -> None:
     )
 
 
+def drag(page, client, a, b) -> None:
+    """Drag the mouse from frame pixel ``a`` to ``b`` in eight moves."""
+    page.mouse.move(*client(*a))
+    page.mouse.down()
+    for k in range(1, 9):
+        page.mouse.move(*client(a[0] + (b[0] - a[0]) * k / 8, a[1] + (b[1] - a[1]) * k / 8))
+        time.sleep(0.03)
+    page.mouse.up()
+
+
 def frames(page) -> int:
     return int(page.evaluate("document.getElementById('sheet').dataset.frames || 0"))
 
@@ -57,7 +71,7 @@ def frames(page) -> int:
 def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
     recipe = tmp_path / "coffee.json"
     app = LiveProcess(
-        ROOT / "samples" / "coffee.jpg", "--ops", recipe, "--canvas", "400x300",
+        COFFEE, "--ops", recipe, "--canvas", "400x300",
         "--no-browser", "--port", "0", "--duration", "120", cwd=tmp_path, command="design",
     )  # fmt: skip
     errors: list[str] = []
@@ -93,12 +107,7 @@ def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
         page.click("#tool-comb")
         n = frames(page)
         a, b = (120, 200), (360, 320)
-        page.mouse.move(*client(*a))
-        page.mouse.down()
-        for k in range(1, 9):
-            page.mouse.move(*client(a[0] + (b[0] - a[0]) * k / 8, a[1] + (b[1] - a[1]) * k / 8))
-            time.sleep(0.03)
-        page.mouse.up()
+        drag(page, client, a, b)
         ops = wait_for(lambda: len(saved()) == 2 and saved(), "the comb is saved")
         comb = ops[1]
         assert comb["type"] == "comb"
@@ -169,3 +178,43 @@ def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
     finally:
         rc = app.stop()
     assert rc == 0
+
+
+def test_a_nonpareil_and_a_swirl_over_a_photo_by_mouse_then_rendered(browser, tmp_path, cli):
+    """The issue's walk: drops scattered, raked down and back up, a vortex, all by
+    mouse over samples/coffee.jpg; the saved recipe renders with the main command."""
+    recipe = tmp_path / "mine.json"
+    app = LiveProcess(
+        COFFEE, "--ops", recipe, "--no-browser", "--port", "0", "--duration", "120",
+        cwd=tmp_path, command="design",
+    )  # fmt: skip
+    try:
+        page = browser.new_page(viewport={"width": 1300, "height": 900})
+        page.goto(app.url)
+        page.wait_for_selector("body[data-ready='1']")
+        box = page.locator("#overlay").bounding_box()
+
+        def client(px: float, py: float) -> tuple[float, float]:
+            return box["x"] + px * box["width"] / 600, box["y"] + py * box["height"] / 400
+
+        for tool, a, b in (
+            ("scatter-drops", (300, 200), (560, 380)),
+            ("rake", (300, 40), (300, 200)),
+            ("rake", (310, 360), (310, 200)),
+            ("vortex", (300, 200), (380, 200)),
+        ):
+            page.click(f"#tool-{tool}")
+            count = len(json.loads(recipe.read_text())["ops"])
+            drag(page, client, a, b)
+            wait_for(lambda n=count: len(json.loads(recipe.read_text())["ops"]) > n, tool)
+        ops = json.loads(recipe.read_text())["ops"]
+        assert [op["type"] for op in ops] == ["scatter-drops", "rake", "rake", "vortex"]
+        assert (ops[1]["angle"], ops[2]["angle"]) == (90, -90)
+        page.close()
+    finally:
+        assert app.stop() == 0
+    proc = cli(COFFEE, "--ops", recipe, "-o", tmp_path / "mine.png")
+    assert proc.returncode == 0, proc.stderr
+    out = cv2.imread(str(tmp_path / "mine.png"))
+    photo = cv2.imread(str(COFFEE))
+    assert out.shape == photo.shape and np.abs(out.astype(int) - photo).mean() > 10

@@ -8,6 +8,7 @@ asks for while a hand is moving. One render runs at a time.
 
 from __future__ import annotations
 
+import contextlib
 import dataclasses
 import json
 import math
@@ -145,6 +146,14 @@ class DesignSession:
         self._parsed = {key: recipe}
         return recipe
 
+    @contextlib.contextmanager
+    def _rendering(self):
+        """One render at a time, and none once closing."""
+        with self._render_lock:
+            if self.stop_event.is_set():
+                raise Answer(503, "the designer is closing")
+            yield
+
     def render(self, query: dict, body: bytes | None = None):
         """The frame at ``t`` (RGBA), ``w`` pixels wide at most, a draft (no
         antialiasing) when ``draft`` is 1; of the recipe ``body`` (JSON, not
@@ -165,7 +174,7 @@ class DesignSession:
         width = _number(query, "w", None)
         if width is not None and 8 <= width < w:
             w, h = round(width), max(1, round(h * width / w))
-        with self._render_lock:
+        with self._rendering():
             start = time.perf_counter()
             image = self.backdrop.frame(t)
             out = Marbler(recipe, renderer=self.renderer).render(image, t, (w, h))
@@ -197,7 +206,7 @@ class DesignSession:
             raise Answer(400, "SVG export is of a blank sheet's design; this one has an input")
         _, recipe, _ = self.document.snapshot()
         t = _number(query, "t", recipe.end_time())
-        with self._render_lock:
+        with self._rendering():
             text, _ = design_svg(recipe.at(t), self.out_size(recipe))
         return text.encode()
 
@@ -259,8 +268,11 @@ class DesignSession:
             self.document.check_reload()
 
     def close(self) -> None:
-        """Stop watching FILE (the backdrop is its opener's to close)."""
-        self.stop_event.set()
+        """Stop watching FILE and rendering: a render under way is waited for (the
+        process must not exit while OpenCL runs in a request's thread). The
+        backdrop is its opener's to close."""
+        with self._render_lock:
+            self.stop_event.set()
         if self._watcher is not None:
             self._watcher.join(5.0)
 
