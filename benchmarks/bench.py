@@ -19,6 +19,9 @@
 - svg: SVG export of every bundled blank-sheet sample (time, vertices, size,
   and agreement with the raster render at 2x and 4x, beside the raster's own
   RGSS), and Figure 6 at 1024 and 4096 px by tolerance.
+- cluster: a 720p clip (the e2e recipe, animated) rendered whole, in 4
+  segments serially (plan, segments and join timed) and on a local Ray with
+  1 and 2 workers (cluster_bench.py; needs the extra 'ray').
 - lanes: the vector width on this CPU: 16 against 8 lanes (and 4), for the code
   PoCL generates for this CPU and for an AVX2 CPU (POCL_KERNELLIB_NAME=avx2),
   each in a process of its own: a blank-sheet frame, a 720p frame over an input
@@ -312,12 +315,14 @@ def cpu_summary() -> str:
     return f"{info.get('model name', '?')}; flags: {' '.join(vector) or 'none of avx/sse4/fma'}"
 
 
-def make_clip(path: Path, size=(1280, 720), seconds=4, fps=30, audio=True) -> Path:
-    """A moving picture with audio, encoded quickly (the input of the e2e runs)."""
+def make_clip(path: Path, size=(1280, 720), seconds=4, fps=30, audio=True, keyint=None) -> Path:
+    """A moving picture with audio, encoded quickly (the input of the e2e runs);
+    ``keyint``: frames between keyframes (default x264's, 250)."""
     w, h = size
     yy, xx = np.mgrid[0:h, 0:w]
+    options = {"preset": "ultrafast", "crf": "18", **({"g": str(keyint)} if keyint else {})}
     with av.open(str(path), "w") as out:
-        v = out.add_stream("libx264", rate=fps, options={"preset": "ultrafast", "crf": "18"})
+        v = out.add_stream("libx264", rate=fps, options=options)
         v.width, v.height, v.pix_fmt = w, h, "yuv420p"
         a = out.add_stream("aac", rate=48000, layout="stereo") if audio else None
         for i in range(seconds * fps):
@@ -556,7 +561,11 @@ def main() -> None:
     print(f"# {platform.node()}, {os.cpu_count()} cores, {time.strftime('%Y-%m-%d %H:%M')}")
     print(f"# CPU: {cpu_summary()}")
     for part in args.parts:
-        if part == "memory":
+        if part == "cluster":
+            from cluster_bench import cluster_part
+
+            cluster_part(args.device, make_clip, animated12)
+        elif part == "memory":
             memory(args.device, args.long)
         elif part == "e2e":
             for seconds in args.seconds:

@@ -235,7 +235,7 @@ __kernel void marble(__global uint *dst, int w, int h, KPARAMS) {
  * 3. marble_list renders the listed pixels with the full pattern, LANES at a time.
  */
 #ifndef SMOOTH
-#define SMOOTH 0.25f
+#define SMOOTH 0.5f
 #endif
 
 __kernel void marble_centres(__global int *inkmap, __global float *sxmap, __global float *symap,
@@ -283,49 +283,115 @@ __kernel void marble_centres(__global int *inkmap, __global float *sxmap, __glob
 #define GLOAD(buf, at) CAT(vload, LANES)(0, (buf) + (at))
 #endif
 
+/* The 3x3 neighbourhood of the centre grid around a work-item's LANES pixels of
+ * row y from column x0: grid rows y .. y + 2 (up, mid, dn), columns x0 .. x0 + 2
+ * (+ lane); k: the ink at the pixel's own centre, same: all nine agree. */
+#define NEIGHBOURHOOD                                                                      \
+    const size_t up = (size_t)y * gstride + x0, mid = up + gstride, dn = mid + gstride;    \
+    vi k = GLOAD(inkmap, mid + 1);                                                         \
+    vi same = (GLOAD(inkmap, up) == k) & (GLOAD(inkmap, up + 1) == k)                      \
+            & (GLOAD(inkmap, up + 2) == k) & (GLOAD(inkmap, mid) == k)                     \
+            & (GLOAD(inkmap, mid + 2) == k) & (GLOAD(inkmap, dn) == k)                     \
+            & (GLOAD(inkmap, dn + 1) == k) & (GLOAD(inkmap, dn + 2) == k);
+
+/* A classify kernel's work-item: LANES pixels of row y from column x0 of a w x h
+ * output, and their NEIGHBOURHOOD. Work-items past the last row read that row
+ * and store nothing: every work-item must reach LIST_APPEND's barriers. */
+#define CLASSIFIED_ROW                                                                     \
+    const int nbx = (w + LANES - 1) / LANES;                                               \
+    const int gid = get_global_id(0);                                                      \
+    const int x0 = (gid % nbx) * LANES, y = min(gid / nbx, h - 1);                         \
+    NEIGHBOURHOOD
+
+/* Quadratic model of one coordinate of the walk's end point (grid map m) around
+ * the pixel: value, slopes and curvatures from the nine walks. */
+#define QUAD(m, a0, ax, ay, axx, ayy, axy)                                                 \
+    vf a0 = GLOAD(m, mid + 1);                                                             \
+    vf ax = 0.5f * (GLOAD(m, mid + 2) - GLOAD(m, mid));                                    \
+    vf ay = 0.5f * (GLOAD(m, dn + 1) - GLOAD(m, up + 1));                                  \
+    vf axx = GLOAD(m, mid + 2) + GLOAD(m, mid) - 2.0f * a0;                                \
+    vf ayy = GLOAD(m, dn + 1) + GLOAD(m, up + 1) - 2.0f * a0;                              \
+    vf axy = 0.25f * (GLOAD(m, dn + 2) - GLOAD(m, dn) - GLOAD(m, up + 2) + GLOAD(m, up));
+
+/* Both coordinates' models (from sxmap and symap); lanes of `blank` whose map
+ * bends by SMOOTH input pixels or more (a second difference) leave it. */
+#define SMOOTH_MODEL(blank)                                                                \
+    QUAD(sxmap, x0_, xx_, xy_, xxx_, xyy_, xxy_)                                           \
+    QUAD(symap, y0_, yx_, yy_, yxx_, yyy_, yxy_)                                           \
+    vf bend_ = fmax(fmax(fabs(xxx_), fabs(xyy_)), fmax(fabs(xxy_), fabs(yxx_)));           \
+    bend_ = fmax(bend_, fmax(fabs(yyy_), fabs(yxy_)));                                     \
+    blank &= bend_ < SMOOTH;
+
+/* Subsample s of the pattern, from the model: input coordinates (ix, iy). */
+#define MODEL_AT(s, ix, iy)                                                                \
+    {                                                                                      \
+        float dx = samples[3 * (s)], dy = samples[3 * (s) + 1];                            \
+        float hx = 0.5f * dx * dx, hy = 0.5f * dy * dy, hxy = dx * dy;                     \
+        ix = x0_ + dx * xx_ + dy * xy_ + hx * xxx_ + hy * xyy_ + hxy * xxy_;               \
+        iy = y0_ + dx * yx_ + dy * yy_ + hx * yxx_ + hy * yyy_ + hxy * yxy_;               \
+    }
+
+/* Append the lanes of a work-item that it left (flag[l] == 0, mine of them, of
+ * its n) to the list, as indices first + l: local atomics inside the work-group
+ * and one global atomic for it; a global atomic per work-item bounced its cache
+ * line between the cores (3x slower in some of this VM's phases). Every
+ * work-item of the group must reach it (it holds barriers). */
+#define LIST_APPEND(first)                                                                 \
+    __local int group_count, group_base;                                                   \
+    if (get_local_id(0) == 0)                                                              \
+        group_count = 0;                                                                   \
+    barrier(CLK_LOCAL_MEM_FENCE);                                                          \
+    int at_ = mine ? atomic_add(&group_count, mine) : 0;                                   \
+    barrier(CLK_LOCAL_MEM_FENCE);                                                          \
+    if (get_local_id(0) == 0)                                                              \
+        group_base = group_count ? atomic_add(count, group_count) : 0;                     \
+    barrier(CLK_LOCAL_MEM_FENCE);                                                          \
+    at_ += group_base;                                                                     \
+    for (int l = 0; mine && l < n; l++)                                                    \
+        if (!flag[l])                                                                      \
+            list[at_++] = (first) + l;
+
+/* The listed pixels of a work-item of a list kernel: groups of LANES from
+ * list[first] on (the last group repeats the last entry), ROWS groups in the
+ * place of a block's rows: at[r][l] their indices, (ox[r], oy[r]) their centres. */
+#define LISTED_BLOCK(first)                                                                \
+    int at[ROWS][LANES];                                                                   \
+    vf ox[ROWS], oy[ROWS];                                                                 \
+    for (int r = 0; r < ROWS; r++) {                                                       \
+        for (int l = 0; l < LANES; l++)                                                    \
+            at[r][l] = list[min((first) + r * LANES + l, total - 1)];                      \
+        vi idx = VLOAD(at[r]);                                                             \
+        vi yi = idx / w;                                                                   \
+        ox[r] = CVT_F(idx - yi * w) + 0.5f;                                                \
+        oy[r] = CVT_F(yi) + 0.5f;                                                          \
+    }
+
+/* A list kernel's loop: as many work-items as the device runs at once stride
+ * through the *count listed pixels (read on the device: the host never waits
+ * for the count), LANES * ROWS at a time. */
+#define FOR_LISTED(first)                                                                  \
+    const int total = *count;                                                              \
+    for (int first = get_global_id(0) * LANES * ROWS; first < total;                       \
+         first += get_global_size(0) * LANES * ROWS)
+
 __kernel void marble_classify(__global uint *dst, int w, int h,
                               __global const int *inkmap, __global const float *sxmap,
                               __global const float *symap, int gstride,
                               __global int *list, __global int *count, KPARAMS) {
-    const int nbx = (w + LANES - 1) / LANES;
-    const int gid = get_global_id(0);
-    /* Padding work-items past the last row read that row and store nothing:
-     * every work-item must reach the barriers below. */
-    const int x0 = (gid % nbx) * LANES, y = min(gid / nbx, h - 1);
-    /* grid rows y .. y+2 and columns x0 .. x0+2 (+ lane) surround output (x0 + lane, y) */
-    const size_t up = (size_t)y * gstride + x0, mid = up + gstride, dn = mid + gstride;
-    vi k = GLOAD(inkmap, mid + 1);
-    vi same = (GLOAD(inkmap, up) == k) & (GLOAD(inkmap, up + 1) == k) & (GLOAD(inkmap, up + 2) == k)
-            & (GLOAD(inkmap, mid) == k) & (GLOAD(inkmap, mid + 2) == k)
-            & (GLOAD(inkmap, dn) == k) & (GLOAD(inkmap, dn + 1) == k) & (GLOAD(inkmap, dn + 2) == k);
+    CLASSIFIED_ROW
     vf cr = (vf)bgc.x, cg = (vf)bgc.y, cb = (vf)bgc.z, ca = (vf)255.0f;
     vi ink[1] = {k};
     { const int c = 0; INK }
 #if HAS_INPUT
     vi blank = same & (k < 0);
     if (ANY(blank)) {
-        /* quadratic model of the walk's end point around the pixel, per coordinate */
-#define QUAD(m, a0, ax, ay, axx, ayy, axy)                                                 \
-        vf a0 = GLOAD(m, mid + 1);                                                         \
-        vf ax = 0.5f * (GLOAD(m, mid + 2) - GLOAD(m, mid));                                \
-        vf ay = 0.5f * (GLOAD(m, dn + 1) - GLOAD(m, up + 1));                              \
-        vf axx = GLOAD(m, mid + 2) + GLOAD(m, mid) - 2.0f * a0;                            \
-        vf ayy = GLOAD(m, dn + 1) + GLOAD(m, up + 1) - 2.0f * a0;                          \
-        vf axy = 0.25f * (GLOAD(m, dn + 2) - GLOAD(m, dn) - GLOAD(m, up + 2) + GLOAD(m, up));
-        QUAD(sxmap, x0_, xx_, xy_, xxx_, xyy_, xxy_)
-        QUAD(symap, y0_, yx_, yy_, yxx_, yyy_, yxy_)
-#undef QUAD
-        vf bend = fmax(fmax(fabs(xxx_), fabs(xyy_)), fmax(fabs(xxy_), fabs(yxx_)));
-        bend = fmax(bend, fmax(fabs(yyy_), fabs(yxy_)));
-        blank &= bend < SMOOTH;
+        SMOOTH_MODEL(blank)
         vf sr = (vf)0.0f, sg = (vf)0.0f, sb = (vf)0.0f, sa = (vf)0.0f;
         for (int s = 0; s < NSAMPLES; s++) {
-            float dx = samples[3 * s], dy = samples[3 * s + 1], wgt = samples[3 * s + 2];
-            float hx = 0.5f * dx * dx, hy = 0.5f * dy * dy, hxy = dx * dy;
-            vf ix = x0_ + dx * xx_ + dy * xy_ + hx * xxx_ + hy * xyy_ + hxy * xxy_;
-            vf iy = y0_ + dx * yx_ + dy * yy_ + hx * yxx_ + hy * yyy_ + hxy * yxy_;
-            vf r, g, b, a;
+            vf ix, iy, r, g, b, a;
+            MODEL_AT(s, ix, iy)
             bilinear(src, sw, sh, ix, iy, &r, &g, &b, &a);
+            float wgt = samples[3 * s + 2];
             sr += wgt * r;
             sg += wgt * g;
             sb += wgt * b;
@@ -357,48 +423,23 @@ __kernel void marble_classify(__global uint *dst, int w, int h,
                 mine++;
         }
     }
-    /* The list: local atomics inside the work-group and one global atomic for
-     * it; a global atomic per work-item bounced its cache line between the
-     * cores (3x slower in some of this VM's phases). */
-    __local int group_count, group_base;
-    if (get_local_id(0) == 0)
-        group_count = 0;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    int at = mine ? atomic_add(&group_count, mine) : 0;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    if (get_local_id(0) == 0)
-        group_base = group_count ? atomic_add(count, group_count) : 0;
-    barrier(CLK_LOCAL_MEM_FENCE);
-    at += group_base;
-    for (int l = 0; mine && l < n; l++)
-        if (!flag[l])
-            list[at++] = y * w + x0 + l;
+    LIST_APPEND(y * w + x0)
 }
 
-/* Work-item: ROWS groups of LANES listed pixels (wherever they are), each group
- * in the place of a row of shade_block. */
-__kernel void marble_list(__global uint *dst, int w, __global const int *list, int count,
-                          KPARAMS) {
-    const int first = get_global_id(0) * LANES * ROWS;
-    if (first >= count)
-        return;
-    int at[ROWS][LANES];
-    vf ox[ROWS], oy[ROWS];
-    for (int r = 0; r < ROWS; r++) {
-        for (int l = 0; l < LANES; l++)
-            at[r][l] = list[min(first + r * LANES + l, count - 1)];
-        vi idx = VLOAD(at[r]);
-        vi yi = idx / w;
-        ox[r] = CVT_F(idx - yi * w) + 0.5f;
-        oy[r] = CVT_F(yi) + 0.5f;
-    }
-    vf acc[ROWS][4];
-    shade_block(ox, oy, acc, KARGS);
-    for (int r = 0; r < ROWS; r++) {
-        uint tmp[LANES];
-        VSTORE(pack_rgba(acc[r][0], acc[r][1], acc[r][2], acc[r][3]), tmp);
-        for (int l = 0; l < LANES && first + r * LANES + l < count; l++)
-            dst[at[r][l]] = tmp[l];
+/* Work-item: groups of LANES listed pixels (wherever they are), ROWS at a
+ * time in the place of shade_block's rows. */
+__kernel void marble_list(__global uint *dst, int w, __global const int *list,
+                          __global const int *count, KPARAMS) {
+    FOR_LISTED(first) {
+        LISTED_BLOCK(first)
+        vf acc[ROWS][4];
+        shade_block(ox, oy, acc, KARGS);
+        for (int r = 0; r < ROWS; r++) {
+            uint tmp[LANES];
+            VSTORE(pack_rgba(acc[r][0], acc[r][1], acc[r][2], acc[r][3]), tmp);
+            for (int l = 0; l < LANES && first + r * LANES + l < total; l++)
+                dst[at[r][l]] = tmp[l];
+        }
     }
 }
 
@@ -722,20 +763,16 @@ inline void store_codes(__global uchar *out, vf v, int n) {
         out[l] = convert_uchar(CODE8(tmp[l]));
 }
 
-/* A plane of w x h walked afresh: luma (chroma 0: quads q0, codes to
- * dst + off0) or both chroma planes at the same points (chroma 1: q0 and q1,
- * to dst + off0 and dst + off1). sw, sh: the input plane's size. Work-item:
- * LANES samples of ROWS rows; every subsample of the pattern. */
-__kernel void marble_plane(__global uchar *dst, int off0, int off1, int w, int h,
-                           __global const uint *q0, __global const uint *q1, int chroma,
-                           KPARAMS) {
-    WALKED_BLOCK
-    vf acc[ROWS][2];
+/* Every subsample of ROWS x LANES samples of a plane centred at (ox[r], oy[r]),
+ * walked in CHAINS chains: weighted sums in acc, of the plane sampled through its
+ * quads src (KPARAMS' input; sw, sh its size), and for chroma also of the second
+ * chroma plane's quads q1 at the same points (else acc[r][1] is unused). */
+inline void plane_block(vf ox[ROWS], vf oy[ROWS], vf acc[ROWS][2],
+                        __global const uint *q1, int chroma, KPARAMS) {
     for (int r = 0; r < ROWS; r++)
         acc[r][0] = acc[r][1] = (vf)0.0f;
     for (int g = 0; g < ROWS * NSAMPLES; g += CHAINS) {
         START_JOBS(g, ox, oy)
-
         WALK
 
         FOR_CHAINS {
@@ -748,7 +785,7 @@ __kernel void marble_plane(__global uchar *dst, int off0, int off1, int w, int h
                 vf wx, wy;
                 footprint(px[c] * gi.s0 + gi.s2, py[c] * gi.s1 + gi.s3, sw, sh, &i, &wx, &wy);
                 i = select(i, (vi)0, hit);
-                v0 = select(QUAD_LERP(GATHER_LANES(q0, i), wx, wy), v0, hit);
+                v0 = select(QUAD_LERP(GATHER_LANES(src, i), wx, wy), v0, hit);
                 if (chroma)
                     v1 = select(QUAD_LERP(GATHER_LANES(q1, i), wx, wy), v1, hit);
             }
@@ -758,11 +795,111 @@ __kernel void marble_plane(__global uchar *dst, int off0, int off1, int w, int h
             acc[row][1] += wgt * v1;
         }
     }
+}
+
+/* Store the first n of LANES codes v0 (and v1 when chroma) at dst[off0 + at[l]]
+ * (and dst[off1 + at[l]]), lane by lane. */
+inline void scatter_codes(__global uchar *dst, int off0, int off1, int chroma,
+                          const int at[LANES], vf v0, vf v1, int n) {
+    float t0[LANES], t1[LANES];
+    VSTORE(v0, t0);
+    VSTORE(v1, t1);
+    for (int l = 0; l < n; l++) {
+        dst[off0 + at[l]] = convert_uchar(CODE8(t0[l]));
+        if (chroma)
+            dst[off1 + at[l]] = convert_uchar(CODE8(t1[l]));
+    }
+}
+
+/* A plane of w x h walked afresh: luma (chroma 0: the quads of KPARAMS' src,
+ * codes to dst + off0) or both chroma planes at the same points (chroma 1: src
+ * and q1, to dst + off0 and dst + off1). sw, sh: the input plane's size.
+ * Work-item: LANES samples of ROWS rows; every subsample of the pattern. */
+__kernel void marble_plane(__global uchar *dst, int off0, int off1, int w, int h,
+                           __global const uint *q1, int chroma, KPARAMS) {
+    WALKED_BLOCK
+    vf acc[ROWS][2];
+    plane_block(ox, oy, acc, q1, chroma, KARGS);
     for (int r = 0; r < ROWS && y0 + r < h; r++) {
         const size_t at = (size_t)(y0 + r) * w + x0;
         store_codes(dst + off0 + at, acc[r][0], w - x0);
         if (chroma)
             store_codes(dst + off1 + at, acc[r][1], w - x0);
+    }
+}
+
+/* Adaptive sampling of a plane (marble_plane's arguments; the grid of
+ * marble_centres walked at this plane's resolution): one ink all round gives its
+ * code; no ink all round over a smooth map, the pattern's samples at positions
+ * from the quadratic model of the nine walks; anything else goes on the list for
+ * marble_plane_list. Work-item: LANES samples of one row. */
+__kernel void marble_plane_classify(__global uchar *dst, int off0, int off1, int w, int h,
+                                    __global const uint *q1, int chroma,
+                                    __global const int *inkmap, __global const float *sxmap,
+                                    __global const float *symap, int gstride,
+                                    __global int *list, __global int *count, KPARAMS) {
+    CLASSIFIED_ROW
+    vf cr = 0.0f, cg = 0.0f, cb = 0.0f;
+    vi ink[1] = {k};
+    { const int c = 0; INK }
+    vf v0 = chroma ? cg : cr, v1 = cb;
+    vi blank = same & (k < 0);
+    if (ANY(blank)) {
+        SMOOTH_MODEL(blank)
+        vf s0 = (vf)0.0f, s1 = (vf)0.0f;
+        for (int s = 0; s < NSAMPLES; s++) {
+            vf ix, iy, wx, wy;
+            vi i;
+            MODEL_AT(s, ix, iy)
+            footprint(ix, iy, sw, sh, &i, &wx, &wy);
+            i = select((vi)0, i, blank);
+            float wgt = samples[3 * s + 2];
+            s0 += wgt * QUAD_LERP(GATHER_LANES(src, i), wx, wy);
+            if (chroma)
+                s1 += wgt * QUAD_LERP(GATHER_LANES(q1, i), wx, wy);
+        }
+        v0 = select(v0, s0, blank);
+        v1 = select(v1, s1, blank);
+    }
+    vi done = (same & (k >= 0)) | blank;
+    const int n = gid / nbx < h ? min(LANES, w - x0) : 0;
+    const size_t row = (size_t)y * w + x0;
+    int flag[LANES];
+    int mine = 0;
+    if (n == LANES && !ANY(done == 0)) {
+        store_codes(dst + off0 + row, v0, LANES);
+        if (chroma)
+            store_codes(dst + off1 + row, v1, LANES);
+    } else {
+        float t0[LANES], t1[LANES];
+        VSTORE(done, flag);
+        VSTORE(v0, t0);
+        VSTORE(v1, t1);
+        for (int l = 0; l < n; l++) {
+            if (flag[l]) {
+                dst[off0 + row + l] = convert_uchar(CODE8(t0[l]));
+                if (chroma)
+                    dst[off1 + row + l] = convert_uchar(CODE8(t1[l]));
+            } else {
+                mine++;
+            }
+        }
+    }
+    LIST_APPEND(y * w + x0)
+}
+
+/* The samples marble_plane_classify listed, with the full pattern: groups of
+ * LANES, ROWS at a time in the place of plane_block's rows. */
+__kernel void marble_plane_list(__global uchar *dst, int off0, int off1, int w,
+                                __global const uint *q1, int chroma, __global const int *list,
+                                __global const int *count, KPARAMS) {
+    FOR_LISTED(first) {
+        LISTED_BLOCK(first)
+        vf acc[ROWS][2];
+        plane_block(ox, oy, acc, q1, chroma, KARGS);
+        for (int r = 0; r < ROWS; r++)
+            scatter_codes(dst, off0, off1, chroma, at[r], acc[r][0], acc[r][1],
+                          min(LANES, total - first - r * LANES));
     }
 }
 

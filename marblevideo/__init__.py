@@ -28,6 +28,7 @@ _LAZY = {
     "render_video": "marblevideo.api",
     "marbled_frames": "marblevideo.api",
     "run_batch": "marblevideo.batch",
+    "render_split": "marblevideo.segmented",
 }
 
 
@@ -48,6 +49,7 @@ __all__ = [
     "marbled_frames",
     "parse_recipe",
     "render_image",
+    "render_split",
     "render_still",
     "render_video",
     "run_batch",

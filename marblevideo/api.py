@@ -39,6 +39,7 @@ from marblevideo.media.progress import Progress
 from marblevideo.media.tiled import TILED_ABOVE, can_stream, write_bands
 from marblevideo.media.tiled import band_rows as tiled_rows
 from marblevideo.opencl.program import Structure
+from marblevideo.opencl.renderer import Renderer
 from marblevideo.outputs.svg import VectorStats, design_svg, pdf_writer
 from marblevideo.recipe.frame import stretch_note
 
@@ -51,9 +52,12 @@ def render_image(
     size: tuple[int, int] | None = None,
     view: tuple[float, float, float, float] | None = None,
     device: str | None = None,
+    sampling: str = "auto",
 ) -> np.ndarray:
-    """Marble one image (or a blank sheet when ``image`` is None); returns RGBA uint8."""
-    return Marbler(recipe, device=device).render(image, time, size, view)
+    """Marble one image (or a blank sheet when ``image`` is None); returns RGBA uint8.
+    ``sampling``: auto (adaptive on blank sheets), adaptive or full (see
+    :class:`~marblevideo.opencl.renderer.Renderer`)."""
+    return Marbler(recipe, device=device, sampling=sampling).render(image, time, size, view)
 
 
 def render_still(
@@ -72,6 +76,8 @@ def render_still(
     progress: str = "off",
     band_rows: int | None = None,
     notify: Callable[[str], None] | None = None,
+    renderer: Renderer | None = None,
+    sampling: str = "auto",
 ) -> Path | str:
     """Render a still (PNG, JPEG, TIFF, WebP) atomically, of an image file, of a
     blank sheet, or of one frame of a video (a frame grab: the frame shown at
@@ -80,7 +86,9 @@ def render_still(
     ``src`` ``-`` is standard input (a still or a video); ``dst`` ``-`` is
     standard output, in ``format`` (png, jpeg, tiff). ``fit`` (stretch, crop,
     pad) places an input of another aspect than ``size``; ``notify`` takes
-    one-line notices (a stretched input).
+    one-line notices (a stretched input). ``renderer``: an OpenCL renderer to
+    draw with (its context and built programs kept between jobs) instead of
+    one of ``device``; ``sampling`` as for :func:`render_image`.
 
     PNG and TIFF outputs over :data:`marblevideo.media.tiled.TILED_ABOVE` pixels (or any,
     given ``band_rows``) are rendered in bands and written progressively, so
@@ -96,7 +104,7 @@ def render_still(
         dst = check_output(dst, overwrite, inputs)
     if is_local(src) and not is_sequence(src):  # before the build, which an exit would wait for
         check_input(src, "an image" if is_image_name(src) else "a video")
-    marbler = Marbler(recipe, device=device, fit=fit or "stretch")
+    marbler = Marbler(recipe, renderer, device=device, fit=fit or "stretch", sampling=sampling)
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))  # while the input loads
     image, has_alpha, time = still_input(src, time, rate)
     if image is not None and size is not None and fit is None and notify is not None:
@@ -234,6 +242,7 @@ def render_video(
     device: str | None = None,
     duration: float | None = None,
     fps: float | None = None,
+    renderer: Renderer | None = None,
     **options,
 ):
     """Write a video (any output of :mod:`marblevideo.media.formats`: a file, a GIF,
@@ -251,8 +260,8 @@ def render_video(
     second) at ``fps`` (default 30). ``options`` are the fields of
     :class:`marblevideo.media.video.VideoOptions` (codec, crf, preset, pix_fmt,
     encoder_opts, audio, start, end, size, fit, format, overwrite, quiet,
-    progress, verbose, notify). Returns the job's
-    :class:`marblevideo.media.video.Stats`."""
+    progress, verbose, notify, sampling). ``renderer`` as for :func:`render_still`.
+    Returns the job's :class:`marblevideo.media.video.Stats`."""
     from marblevideo.media.encode import plan_output
     from marblevideo.media.pipeline import render_sheet, transcode
 
@@ -279,7 +288,9 @@ def render_video(
         check_output(dst, opts.overwrite, inputs)
     if is_local(src) and not is_sequence(src):
         check_input(src, "an image" if still else "a video")
-    marbler = Marbler(recipe, device=device, fit=opts.fit or "stretch")
+    marbler = Marbler(
+        recipe, renderer, device=device, fit=opts.fit or "stretch", sampling=opts.sampling
+    )
     # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))
     if src is not None and not still:

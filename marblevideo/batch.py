@@ -21,6 +21,13 @@ template, serially or on a local process pool.
 - With ``jobs`` > 1, items run in that many worker processes (spawned; one
   OpenCL context each), each with ``POCL_MAX_PTHREAD_COUNT`` set to its share
   of the CPUs so that PoCL workers do not oversubscribe them.
+- With ``cluster="ray"``, each item is one call on a Ray cluster's workers
+  (:class:`marblevideo.cluster.RayPool`: ``$RAY_ADDRESS``'s, else a local one;
+  ``jobs`` workers, default one per GPU or CPU), each worker keeping one
+  OpenCL context for all its items; paths are sent, never pixels, so the
+  cluster's machines must see the inputs and outputs at the same paths. A
+  worker that dies is restarted and its item retried; an item that kills its
+  worker every time is recorded as failed.
 """
 
 from __future__ import annotations
@@ -36,6 +43,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from marblevideo.cluster import RayPool, require_ray
 from marblevideo.errors import MarbleError, MediaError, UsageError
 from marblevideo.media.formats import output_kind
 from marblevideo.media.progress import Progress
@@ -180,15 +188,21 @@ class Manifest:
         os.replace(tmp, self.path)
 
 
-def render_item(recipe, item: Item, options: dict, overwrite: bool) -> str | None:
-    """Render one item; None when done, else its one-line error."""
+def render_item(recipe, item: Item, options: dict, overwrite: bool, renderer=None) -> str | None:
+    """Render one item (on ``renderer`` where given); None when done, else its
+    one-line error."""
     from marblevideo.api import render_still, render_video
 
     try:
         if output_kind(item.dst) == "still":
-            render_still(item.src, recipe, item.dst, overwrite=overwrite, **options)
+            render_still(
+                item.src, recipe, item.dst, overwrite=overwrite, renderer=renderer, **options
+            )
         else:
-            render_video(item.src, recipe, item.dst, overwrite=overwrite, quiet=True, **options)
+            render_video(
+                item.src, recipe, item.dst, overwrite=overwrite, quiet=True, renderer=renderer,
+                **options,
+            )  # fmt: skip
     except MarbleError as exc:
         return str(exc)
     return None
@@ -204,7 +218,8 @@ def run_batch(
     template: str,
     *,
     overwrite: bool = False,
-    jobs: int = 1,
+    jobs: int | None = None,
+    cluster: str | None = None,
     manifest: str | os.PathLike | None = None,
     progress: str = "auto",
     notify: Callable[[str], None] | None = None,
@@ -213,14 +228,20 @@ def run_batch(
     """Render every input the glob ``patterns`` match through ``recipe`` (a file
     or preset) to outputs named by ``template`` (see the module). ``options``
     are :func:`~marblevideo.api.render_still`'s (``size``, ``fit``, ``time``,
-    ``device``); ``time`` only where every output is a still. Raises UsageError before
-    any work for bad patterns, templates, recipes or options; returns what was
-    done (failures included: the caller decides the exit status)."""
+    ``device``); ``time`` only where every output is a still. ``jobs``: local
+    worker processes (default 1), or with ``cluster="ray"`` Ray workers (see the
+    module). Raises UsageError before any work for bad patterns, templates,
+    recipes or options; returns what was done (failures included: the caller
+    decides the exit status)."""
     from marblevideo.bundled import recipe_file
     from marblevideo.recipe import load_recipe
 
-    if jobs < 1:
+    if jobs is not None and jobs < 1:
         raise UsageError(f"--jobs: expected a count >= 1, got {jobs}")
+    if cluster not in (None, "ray"):
+        raise UsageError(f"--cluster: expected ray, got {cluster!r}")
+    if cluster == "ray":
+        require_ray()
     recipe = recipe_file(recipe)
     load_recipe(recipe)  # a bad recipe stops the batch before any work (exit 2)
     items = plan_items(expand_inputs(patterns), template)
@@ -254,7 +275,9 @@ def run_batch(
                 result.written.append(item.dst)
             bar.update()
 
-        if jobs == 1 or len(todo) <= 1:
+        if cluster == "ray":
+            on_ray(load_recipe(recipe), todo, options, overwrite, jobs, finished)
+        elif (jobs or 1) == 1 or len(todo) <= 1:
             for item in todo:
                 finished(item, render_item(recipe, item, options, overwrite))
         else:
@@ -274,3 +297,20 @@ def run_batch(
                         raise MediaError("a batch worker died; run again to resume") from None
                     finished(futures[future], error)
     return result
+
+
+def on_ray(recipe, todo: list[Item], options: dict, overwrite: bool, jobs, finished) -> None:
+    """Every item of ``todo`` on Ray workers; ``finished(item, error)`` as each ends."""
+    if not todo:
+        return
+    pool = RayPool(jobs, options.get("device"))
+    try:
+        # the workers' folders are not this one: absolute paths
+        calls = [
+            (recipe, Item(item.src.resolve(), item.dst.resolve()), options, overwrite)
+            for item in todo
+        ]
+        for index, error in pool.run(render_item, calls, [str(item.src) for item in todo]):
+            finished(todo[index], None if error is None else str(error))
+    finally:
+        pool.close()

@@ -25,3 +25,6 @@ MAX_LIST = 256
 MAX_COUNT = 4096
 #: A URL input whose reads stall this long fails (seconds).
 URL_TIMEOUT = 30
+#: --sampling: the renderer's adaptive sampling by name (Renderer.adaptive: "auto"
+#: is adaptive on blank sheets only, where it is within the kernel's bounds for free).
+SAMPLING = {"auto": None, "adaptive": True, "full": False}

@@ -15,6 +15,7 @@ from collections.abc import Callable
 import numpy as np
 
 from marblevideo.errors import RecipeError, UsageError
+from marblevideo.limits import SAMPLING
 from marblevideo.media.yuv import YuvMatrix, split_i420
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
@@ -51,7 +52,9 @@ class Marbler:
     video pipeline calls per frame (RGBA frame, time) -> RGBA frame. ``fit``
     (:data:`~marblevideo.recipe.frame.FIT_MODES`) says how an input of another
     aspect than the output fills it; with "pad" what lies outside the input is
-    the recipe's background, whatever its ``edges``.
+    the recipe's background, whatever its ``edges``. ``sampling`` (a key of
+    :data:`~marblevideo.limits.SAMPLING`) sets the renderer's
+    adaptive sampling; None leaves it as it is.
     """
 
     def __init__(
@@ -59,13 +62,17 @@ class Marbler:
         recipe: RecipeLike,
         renderer: Renderer | None = None,
         device: str | None = None,
-        adaptive: bool | None = None,
         fit: str = "stretch",
+        sampling: str | None = None,
     ):
         if fit not in FIT_MODES:
             raise UsageError(f"--fit: expected one of {', '.join(FIT_MODES)}, got {fit!r}")
+        if sampling is not None and sampling not in SAMPLING:
+            raise UsageError(f"--sampling: expected one of {', '.join(SAMPLING)}, got {sampling!r}")
         self.recipe = as_recipe(recipe)
-        self.renderer = renderer or Renderer(device, adaptive=adaptive)
+        self.renderer = renderer or Renderer(device)
+        if sampling is not None:
+            self.renderer.adaptive = SAMPLING[sampling]
         self.fit = fit
         self._geometry: dict[tuple, Geometry] = {}
 

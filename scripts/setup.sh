@@ -1,7 +1,8 @@
 #!/usr/bin/env bash
 # Set up marblevideo in ./.venv on Debian/Ubuntu: an OpenCL driver (Debian's PoCL,
 # only when no OpenCL driver is registered), then the package and its dependencies.
-# Usage: bash scripts/setup.sh [--test]   (--test also installs the test tools)
+# Usage: bash scripts/setup.sh [--test]   (--test also installs the test tools and
+# the extra 'ray', whose tests start a local Ray cluster)
 set -euo pipefail
 cd "$(dirname "$0")/.."
 
@@ -26,7 +27,7 @@ if [ ! -x .venv/bin/python ]; then
   "$PY" -m venv .venv 2>/dev/null || { apt_install python3-venv; rm -rf .venv; "$PY" -m venv .venv; }
 fi
 extra=""
-[ "${1:-}" = "--test" ] && extra="[test]"
+[ "${1:-}" = "--test" ] && extra="[test,ray]"
 if [ "${1:-}" = "--test" ] && ! command -v chromium >/dev/null; then
   echo "setup: installing Debian's chromium for the live preview's browser tests" >&2
   apt_install chromium

@@ -40,10 +40,12 @@ def write_clip(
     rotation: int | None = None,
     corrupt_at: int | None = None,
     color_range: int | None = None,
+    encoder: dict[str, str] | None = None,
 ) -> Path:
     """Write a clip: ``frames`` frames at ``fps`` (or at explicit ``pts`` in ``time_base``),
     optional mono AAC sine audio, a colour range (2: full), a display rotation (degrees
-    counter-clockwise), and the ``corrupt_at``-th video packet replaced by random bytes."""
+    counter-clockwise), the ``corrupt_at``-th video packet replaced by random bytes, and
+    ``encoder`` options (default x264's ultrafast preset, which makes no B-frames)."""
     width, height = size
     time_base = time_base or Fraction(1, fps)
     pts = pts if pts is not None else [round(i / fps / time_base) for i in range(frames)]
@@ -52,7 +54,9 @@ def write_clip(
         video.width, video.height = width, height
         video.pix_fmt = "yuvj420p" if codec == "mjpeg" else "yuv420p"
         video.time_base = video.codec_context.time_base = time_base
-        video.codec_context.options = {"preset": "ultrafast"} if codec == "libx264" else {}
+        if encoder is None:
+            encoder = {"preset": "ultrafast"} if codec == "libx264" else {}
+        video.codec_context.options = encoder
         if color_range:
             video.codec_context.color_range = color_range
         if rotation is not None:
@@ -143,3 +147,19 @@ def probe(path: str | os.PathLike) -> Probe:
             audio_times=audio_times,
             duration=container.duration / av.time_base if container.duration else None,
         )
+
+
+def write_vfr_clip(path: str | os.PathLike, frames: int = 48) -> Path:
+    """A clip with B-frames (x264 medium, up to 3) at a variable frame rate (steps
+    of 40-42 ms with a 95-97 ms gap every fifth frame, time base 1/1000), a
+    keyframe at least every 12 frames, and AAC audio."""
+    pts, t = [], 0
+    for i in range(frames):
+        pts.append(t)
+        t += (40 if i % 5 else 95) + i % 3
+    return write_clip(
+        path,
+        pts=pts,
+        time_base=Fraction(1, 1000),
+        encoder={"preset": "medium", "g": "12", "bf": "3"},
+    )

@@ -50,8 +50,9 @@ def browser():
 def cli(tmp_path):
     """Run the real command line in a subprocess; returns CompletedProcess."""
 
-    def run(*args, cwd=None, timeout=300, input: bytes | None = None):  # noqa: A002
-        """``input``: bytes for standard input; the output is then bytes too."""
+    def run(*args, cwd=None, timeout=300, input: bytes | None = None, env=None):  # noqa: A002
+        """``input``: bytes for standard input; the output is then bytes too;
+        ``env``: variables added to the environment."""
         return subprocess.run(
             [sys.executable, "-m", "marblevideo", *map(str, args)],
             cwd=cwd or tmp_path,
@@ -59,7 +60,7 @@ def cli(tmp_path):
             capture_output=True,
             text=input is None,
             timeout=timeout,
-            env={**os.environ, "PYTHONPATH": str(ROOT)},
+            env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})},
         )
 
     return run

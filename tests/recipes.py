@@ -179,3 +179,21 @@ def random_registry_op(rng, definition, w: float, h: float) -> dict:
         op["start"] = float(rng.uniform(0, 1))
         op["end"] = op["start"] + float(rng.uniform(0.2, 2))
     return op
+
+
+#: animated for 0.3 s, then still: later frames reuse the renderer's maps
+BRIEF = {
+    "marblevideo": 1,
+    "antialias": "rgss",
+    "edges": "mirror",
+    "ops": [
+        {
+            "type": "wave",
+            "amplitude": {"keys": [{"t": 0, "v": 0}, {"t": 0.3, "v": 18}]},
+            "wavelength": 40,
+            "phase": 0,
+            "angle": 90,
+        },
+        {"type": "vortex", "center": [48, 32], "alpha": 200, "lambda": 20},
+    ],
+}

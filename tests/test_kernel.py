@@ -171,3 +171,44 @@ def test_vortex_centre_sample_is_not_nan(renderer):
     geom = geometry(recipe.canvas, (4, 4), (4, 4))
     ours = renderer.render(spec, geom, image)
     assert np.array_equal(ours[2, 2], reference_render(spec, geom, image)[2, 2])
+
+
+CONCENTRIC = {
+    "marblevideo": 1,
+    "canvas": [120, 90],
+    "antialias": "rgss",
+    "ops": [
+        {"type": "drop", "center": [60, 45], "radius": 20, "color": "#1d3557"},
+        {"type": "drop", "center": [60, 45], "radius": 14, "color": "#e9c46a"},
+        {"type": "drop", "center": [60, 45], "radius": 9, "color": "#b23a48"},
+        {"type": "drop", "center": [64, 40], "radius": 6, "color": "#2a9d8f"},
+        {"type": "comb", "point": [0, 0], "angle": 90, "spacing": 24, "alpha": 10, "lambda": 6},
+        {"type": "drop", "center": [30, 30], "radius": 8, "color": "#e76f51"},
+        {
+            "type": "drop",
+            "center": [30, 30],
+            "radius": {"keys": [{"t": 0, "v": 2}, {"t": 1, "v": 11}]},
+            "color": "#f4f1de",
+        },
+    ],
+}
+
+
+def test_concentric_drops_walk_as_one_run():
+    """Adjacent drops with one centre share one square root: the packed run."""
+    from marblevideo.opencl.program import pack_params
+    from marblevideo.ops.ink import RUN_MOVES, RUN_OFFSET
+
+    rows = pack_params(parse_recipe(CONCENTRIC, "c.json").at(1.0)).params.reshape(7, -1)
+    drops = [0, 1, 2, 3, 5, 6]  # walked last first: 6, 5 (a run), 3 (alone), 2, 1, 0 (a run)
+    assert rows[drops, RUN_OFFSET].tolist() == [14**2 + 9**2, 9**2, 0, 0, 11**2, 0]
+    assert rows[drops, RUN_MOVES].tolist() == [1, 0, 0, 1, 1, 0]
+    assert rows[4, RUN_OFFSET] == 60 and rows[4, RUN_MOVES] == 6  # the comb's own values
+
+
+@pytest.mark.parametrize("t", [0.0, 0.5, 1.0])
+def test_concentric_runs_match_the_reference(renderer, full_pattern, t):
+    image = make_image(100, 80, 3)
+    for r in (renderer, full_pattern):
+        check(r, CONCENTRIC, (120, 90), image, t)
+        check(r, CONCENTRIC, (120, 90), None, t)

@@ -107,8 +107,8 @@ def written(folder: Path, name: str) -> Path:
 
 
 def quick(command: str) -> list[str]:
-    """The command made quick: small outputs, short videos, live and design runs of
-    one second (no browser)."""
+    """The command made quick: small outputs, short videos (whole with --cluster,
+    which cuts none), live and design runs of one second (no browser)."""
     words = shlex.split(command)
     if words[0] == "marblevideo":
         words = ["python", "-m", "marblevideo", *words[1:]]
@@ -127,7 +127,7 @@ def quick(command: str) -> list[str]:
         size = args[args.index("--size") + 1] if "--size" in args else None
         if "--uv" not in args:  # a UV pass sets its own (small) size
             args = setting(args, "--size", small_size(size))
-        if Path(args[args.index("-o") + 1]).suffix in VIDEO_EXTENSIONS:
+        if Path(args[args.index("-o") + 1]).suffix in VIDEO_EXTENSIONS and "--cluster" not in args:
             video_in = args[0].endswith(VIDEO_EXTENSIONS) or "%" in args[0]
             args = setting(args, "--end" if video_in else "--duration", "0.3")
     return [sys.executable, "-m", module, *args]

@@ -151,3 +151,23 @@ def test_a_static_recipe_keeps_its_maps_from_the_first_frame(tmp_path):
             ref = reference_render(spec, geometry(RECIPE["canvas"], (96, 64), (96, 64)), image)
             diff = np.abs(ours.astype(np.int16) - ref.astype(np.int16)).max(axis=2)
             assert (diff <= KERNEL_LEVELS).mean() >= KERNEL_SHARE
+
+
+def test_cli_sampling_adaptive_marbles_the_video_within_the_kernels_bounds(tmp_path, cli):
+    """--sampling adaptive (planar frames walked adaptively) against the full walk,
+    both losslessly encoded, frame by frame; and it refuses a vector output."""
+    clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=12, fps=25, audio=False)
+    recipe = _recipe_file(tmp_path)
+    outs = {}
+    for sampling in ("full", "adaptive"):
+        out = tmp_path / f"{sampling}.mkv"
+        run = cli(clip, "--ops", recipe, "-o", out, "--codec", "ffv1", "--sampling", sampling)
+        assert run.returncode == 0, run.stderr
+        outs[sampling] = probe(out).frames
+    assert len(outs["full"]) == len(outs["adaptive"]) == 12
+    for full, adaptive in zip(outs["full"], outs["adaptive"], strict=True):
+        diff = np.abs(full.astype(np.int16) - adaptive.astype(np.int16)).max(axis=2)
+        assert (diff <= KERNEL_LEVELS).mean() >= KERNEL_SHARE
+    assert any(not np.array_equal(*pair) for pair in zip(*outs.values(), strict=True))
+    run = cli("--ops", recipe, "-o", "x.svg", "--sampling", "adaptive")
+    assert run.returncode == 2 and "--sampling: antialiases raster outputs" in run.stderr

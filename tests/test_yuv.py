@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 from clips import picture, probe, write_clip
 from tolerances import (
+    KERNEL_SHARE,
     LOSSY_MEAN,
     PLANAR_DIFFERING,
     PLANAR_MAX,
@@ -21,6 +22,7 @@ from marblevideo.media.pipeline import render_sheet, transcode
 from marblevideo.media.video import VideoOptions
 from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, packed_i420, split_i420
 from marblevideo.opencl.renderer import Renderer
+from marblevideo.opencl.selfcheck import agreement
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
@@ -577,3 +579,21 @@ def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, plan
             for i, frame in enumerate(container.decode(video=0)):
                 want = rgba_to_i420(marbler.render(None, i / 10, size), MATRICES[0])
                 assert np.abs(frame.to_ndarray().astype(int) - want).max() <= 1
+
+
+@pytest.mark.parametrize("lanes", [None, 1], ids=["cpu-vectors", "gpu-scalar"])
+@pytest.mark.parametrize("case", PLANAR_CASES[:4], ids=lambda c: "-".join(map(str, c[:2])))
+def test_adaptive_planar_frames_keep_the_kernels_bounds(lanes, case):
+    """Adaptive sampling of planar frames (an option): each plane within the
+    kernel's bounds of render_planes, and some samples not walked in full."""
+    antialias, edges, in_size, out_size = case
+    renderer = Renderer(lanes=lanes, chains=1 if lanes == 1 else None, adaptive=True)
+    recipe = parse_recipe({**RECIPE, "antialias": antialias, "edges": edges}, "t.json")
+    planes = frame_of(photo_like(*in_size), MATRICES[2])
+    spec, geom = recipe.at(0, in_size), geometry(in_size, out_size, in_size)
+    expected = render_planes(spec, geom, planes, MATRICES[2])
+    ours = renderer.render_i420(spec, geom, planes, MATRICES[2], MATRICES[2])
+    w, h = out_size
+    assert agreement(ours[:h], expected[:h]) >= KERNEL_SHARE  # luma
+    assert agreement(ours[h:], expected[h:]) >= KERNEL_SHARE  # both chroma planes
+    assert 0 < renderer.last_full_pixels < w * h * 5 // 4

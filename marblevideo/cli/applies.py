@@ -83,4 +83,24 @@ def check_options(args: argparse.Namespace) -> tuple[str, str]:
             raise UsageError("--fit: goes with --size (without it the output is the input's size)")
     if args.format is not None and job in ("vectors", "uv"):
         raise UsageError(f"--format: {out} is written as its extension says")
+    if args.sampling is not None and job in ("vectors", "uv"):
+        raise UsageError(f"--sampling: antialiases raster outputs; {out} is not one")
+    check_cluster(args, job, source)
     return job, source
+
+
+def check_cluster(args: argparse.Namespace, job: str, source: str) -> None:
+    """``--cluster`` renders a video file to a video in segments; ``--segments``
+    and ``--jobs`` go with it; nothing that cuts or retimes the input does."""
+    if args.cluster is None:
+        for name, flag in (("segments", "--segments"), ("jobs", "--jobs")):
+            if getattr(args, name) is not None:
+                raise UsageError(f"{flag}: goes with --cluster ray")
+        return
+    if job != "video" or source != "video" or is_sequence(args.input):
+        what = {"blank": "a blank sheet", "stdin": "standard input"}.get(source, args.input)
+        raise UsageError(f"--cluster: renders a video file to a video in segments; not {what}")
+    for name, flag in (("start", "--start"), ("end", "--end"), ("duration", "--duration"),
+                       ("fps", "--fps")):  # fmt: skip
+        if getattr(args, name) is not None:
+            raise UsageError(f"{flag}: not with --cluster (cut or convert the input first)")

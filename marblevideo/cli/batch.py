@@ -14,10 +14,13 @@ EPILOG = """\
 examples:
   marblevideo batch 'photos/*.jpg' --ops comb-wave -o 'out/{stem}.png'
   marblevideo batch 'clips/*.mp4' --ops swirl -o 'out/{stem}-marbled.mp4' --jobs 2
+  marblevideo batch 'in/*.jpg' --ops swirl -o 'out/{stem}.png' --cluster ray
 
 output fields: {stem} {name} {suffix} {parent} {index} (e.g. {index:04d})
 A re-run resumes: items the manifest records as done with the same recipe and
 options are skipped while their output exists; other existing outputs need -y.
+--cluster ray: each item on a Ray cluster's workers ($RAY_ADDRESS, else a
+local Ray); the machines must see the inputs and outputs at the same paths.
 exit status: 0 all done, 1 an item failed (the others are written), 2 usage error
 """
 
@@ -26,7 +29,7 @@ def build_parser() -> Parser:
     p = Parser(
         prog="marblevideo batch",
         description="Render many inputs through one recipe, each to an output named "
-        "from a template; serially or on a local process pool.",
+        "from a template; serially, on a local process pool, or on a Ray cluster.",
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -34,7 +37,10 @@ def build_parser() -> Parser:
     p.add_argument("--ops", required=True, metavar="RECIPE", help="recipe JSON file or preset")
     p.add_argument("-o", "--output", required=True, metavar="TEMPLATE", help="output name template")
     p.add_argument("-y", "--overwrite", action="store_true", help="replace existing outputs")
-    p.add_argument("--jobs", type=int, default=1, help="worker processes (default 1)")
+    p.add_argument("--jobs", type=int, help="worker processes (default 1); with --cluster "
+                   "ray, Ray workers (default: one per GPU, else per CPU)")  # fmt: skip
+    p.add_argument("--cluster", choices=("ray",), help="run the items on a Ray cluster "
+                   "($RAY_ADDRESS, else a local Ray); pip install 'marblevideo[ray]'")  # fmt: skip
     p.add_argument("--manifest", metavar="FILE", help="the batch's record (default: "
                    "marblevideo-batch.json beside the first output)")  # fmt: skip
     p.add_argument("--size", metavar="WxH", help="output size (default: each input's)")
@@ -70,6 +76,7 @@ def batch_command(argv: list[str]) -> int:
         args.output,
         overwrite=args.overwrite,
         jobs=args.jobs,
+        cluster=args.cluster,
         manifest=args.manifest,
         progress="off" if args.quiet else args.progress,
         notify=say,

@@ -9,6 +9,7 @@ output, ``--uv`` or ``--tolerance`` go to :mod:`.vectors`.
 from __future__ import annotations
 
 import argparse
+import functools
 import sys
 from pathlib import Path
 
@@ -24,7 +25,7 @@ from marblevideo.cli.arguments import (
 )
 from marblevideo.cli.vectors import render_extra
 from marblevideo.errors import UsageError
-from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
+from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE, SAMPLING
 from marblevideo.media.formats import is_stdio
 from marblevideo.recipe.frame import FIT_MODES
 from marblevideo.version import __version__
@@ -41,6 +42,7 @@ examples:
   marblevideo devices --check    test each device against the NumPy reference
   marblevideo schema             print the recipe's JSON Schema
   marblevideo live test --ops samples/swirl.json --preview   live (see live --help)
+  marblevideo film.mp4 --ops swirl -o out.mp4 --cluster ray   in segments on Ray
   marblevideo design photo.jpg --ops mine.json   draw a recipe in the browser (design --help)
 
 exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143 interrupted
@@ -109,6 +111,13 @@ def _render_parser() -> argparse.ArgumentParser:
         help="render the design through a UV pass (.png 16-bit / .exr; R = u, G = v)",
     )
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
+    p.add_argument(
+        "--sampling",
+        choices=tuple(SAMPLING),
+        help="antialiasing: adaptive walks the full pattern only at ink edges and bent "
+        "maps (up to 2.5x faster on long recipes, within the kernel's bounds); full "
+        "walks every subsample; auto (default): adaptive on blank sheets only",
+    )
     add_log_arguments(p)
     p.add_argument("--version", action="version", version=f"marblevideo {__version__}")
     v = p.add_argument_group("video")
@@ -134,6 +143,22 @@ def _render_parser() -> argparse.ArgumentParser:
         help="copy audio bit-exact (default), re-encode to AAC, or drop it",
     )
     add_encoder_arguments(v, preset_default="medium")
+    c = p.add_argument_group("scale-out (pip install 'marblevideo[ray]')")
+    c.add_argument(
+        "--cluster",
+        choices=("ray",),
+        help="render a video in segments on a Ray cluster ($RAY_ADDRESS, else a local Ray), "
+        "joined into the output; the machines must see input and output at the same paths",
+    )
+    c.add_argument(
+        "--segments",
+        type=int,
+        metavar="N",
+        help="cut the input into N segments at its keyframes (default: one per about 45 s)",
+    )
+    c.add_argument(
+        "--jobs", type=int, metavar="N", help="Ray workers (default: one per GPU, else per CPU)"
+    )
     v.add_argument(
         "--progress",
         choices=("auto", "bar", "json", "off"),
@@ -177,6 +202,7 @@ def render_command(argv: list[str]) -> int:
             rate=args.fps,
             overwrite=args.overwrite,
             device=args.device,
+            sampling=args.sampling or "auto",
             progress="off" if args.quiet else args.progress,
             notify=None if args.quiet else _say,
         )
@@ -185,16 +211,18 @@ def render_command(argv: list[str]) -> int:
         return 0
     if args.view:
         raise UsageError(f"{args.output}: --view makes stills; give an image output")
-    from marblevideo.api import render_video
+    if args.cluster:
+        from marblevideo.segmented import render_split
 
-    stats = render_video(
-        args.input,
-        recipe,
-        args.output,
-        device=args.device,
-        duration=args.duration,
-        fps=args.fps,
-        **_video_options(args, size),
+        render = functools.partial(
+            render_split, cluster=args.cluster, segments=args.segments, jobs=args.jobs
+        )
+    else:
+        from marblevideo.api import render_video
+
+        render = functools.partial(render_video, duration=args.duration, fps=args.fps)
+    stats = render(
+        args.input, recipe, args.output, device=args.device, **_video_options(args, size)
     )
     if not args.quiet:
         print(f"marblevideo: {stats.summary(_where(args.output))}", file=sys.stderr)
@@ -213,6 +241,7 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         end=args.end,
         size=size,
         fit=args.fit,
+        sampling=args.sampling or "auto",
         format=args.format,
         overwrite=args.overwrite,
         quiet=args.quiet,

@@ -147,6 +147,10 @@ class Reader:
 
     ``audio`` maps input audio stream index -> "copy" (packets) or an encoder
     name (decoded frames). Undecodable packets are counted in ``corrupt``.
+    ``pts_origin``: video timestamps are given as ``pts - pts_origin`` whatever
+    the range (a segment of a split render, :mod:`marblevideo.media.segments`);
+    by default they are unchanged without a range, else start at 0 at the
+    first kept frame.
     """
 
     def __init__(
@@ -156,8 +160,10 @@ class Reader:
         end: float | None,
         audio: dict[int, str],
         i420: bool = False,
+        pts_origin: int | None = None,
     ):
         self.container = container
+        self.pts_origin = pts_origin
         self.i420 = i420  # hand over upright, even-sized 8-bit 4:2:0 frames as I420
         self.video = container.streams.video[0]
         self.video.thread_type = "AUTO"
@@ -208,9 +214,7 @@ class Reader:
                         held.clear()
                     yield self._video_item(frame, t)
             else:
-                copy = self.audio[index] == "copy"
-                payloads = ([packet] if packet.size else []) if copy else self._decode(packet)
-                for payload in payloads:
+                for payload in self.audio_payloads(packet):
                     item = AudioItem(index, payload)
                     keep = self._audio_in_range(item)
                     if keep is None:
@@ -220,6 +224,23 @@ class Reader:
                         held.append(item)
                     elif keep:
                         yield self._shifted(item)
+
+    def audio_payloads(self, packet: av.Packet) -> list:
+        """What an audio packet gives: itself to copy (unless empty), else its
+        decoded frames."""
+        if self.audio[packet.stream.index] == "copy":
+            return [packet] if packet.size else []
+        return self._decode(packet)
+
+    def audio_only(self) -> Iterator[AudioItem]:
+        """Every audio item of the whole input, in demux order (no video decoded)."""
+        streams = [self.container.streams[i] for i in self.audio]
+        for stream in streams:
+            if self.audio[stream.index] != "copy":
+                stream.thread_type = "AUTO"
+        for packet in packets(self.container, streams) if streams else ():
+            for payload in self.audio_payloads(packet):
+                yield AudioItem(packet.stream.index, payload)
 
     def _audio_in_range(self, item: AudioItem) -> bool | None:
         """True: keep; False: before the range; None: past its end."""
@@ -246,7 +267,10 @@ class Reader:
     def _video_item(self, frame: av.VideoFrame, t: float) -> VideoItem:
         if self.rotation is None:
             self.rotation = frame.rotation
-        pts = self._shift(frame.pts, self.tb)
+        if self.pts_origin is not None:
+            pts = frame.pts - self.pts_origin
+        else:
+            pts = self._shift(frame.pts, self.tb)
         if (
             self.i420
             and frame.format.name in FORMATS

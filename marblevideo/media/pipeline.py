@@ -302,6 +302,7 @@ def transcode(
     *,
     plan: OutputPlan | None = None,
     stream=None,
+    pts_origin: int | None = None,
 ) -> Stats:
     """Write ``dst``: every frame of ``src`` (in ``start``..``end``) through ``transform``.
 
@@ -316,7 +317,8 @@ def transcode(
     MediaError (unreadable input, encoder failure); exceptions from
     ``transform`` and KeyboardInterrupt propagate, leaving no output file.
     ``plan`` is :func:`plan_output`'s for ``dst`` and ``options``, where the
-    caller has checked them already.
+    caller has checked them already. ``pts_origin``: see
+    :class:`~marblevideo.media.decode.Reader` (segments of a split render).
     """
     options = options or VideoOptions()
     began = time.monotonic()
@@ -344,6 +346,7 @@ def transcode(
             options.end,
             audio,
             planar is not None and out_matrix is not None,
+            pts_origin,
         )
         convert = options.fps is not None and not sequence_in
         time_base, rate = vin.time_base, vin.average_rate or vin.guessed_rate

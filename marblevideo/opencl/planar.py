@@ -14,18 +14,26 @@ from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec
 from marblevideo.opencl.program import Programs, Structure, pack_params
 from marblevideo.opencl.queue import DeviceQueue, float4, geometry_args
 from marblevideo.opencl.tables import ReusedMaps
+from marblevideo.opencl.walks import AdaptiveWalk
+from marblevideo.recipe.antialias import pattern
 from marblevideo.recipe.frame import FrameSpec, Geometry
 
 
 class PlanarFrames:
     """Renders I420 frames plane by plane on ``queue`` with ``programs``, reusing
-    maps through ``tables`` when ``reuse_maps``."""
+    maps through ``tables`` when ``reuse_maps``; frames walked afresh are
+    sampled adaptively by ``adaptive`` unless it is None."""
 
     def __init__(
-        self, queue: DeviceQueue, programs: Programs, tables: ReusedMaps, reuse_maps: bool
+        self,
+        queue: DeviceQueue,
+        programs: Programs,
+        tables: ReusedMaps,
+        reuse_maps: bool,
+        adaptive: AdaptiveWalk | None = None,
     ):
         self.queue, self.programs, self.tables = queue, programs, tables
-        self.reuse_maps = reuse_maps
+        self.reuse_maps, self.adaptive = reuse_maps, adaptive
 
     def render(
         self,
@@ -87,20 +95,23 @@ class PlanarFrames:
             chroma_job = (chroma, chroma_maps, chroma_offsets, (cw, ch), *quads[1:], 1)
             chroma_job += (("ctaps", "cwts"),)
             walk = reuse and not self.tables.holds(key)
+            adaptive = self.adaptive if len(pattern(spec.antialias)) > 1 else None
             for g, maps, offsets, in_size, q0, q1, is_chroma, names in (luma_job, chroma_job):
                 pw, ph = g.out_w, g.out_h
-                head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q0, q1)
+                head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q1)
                 head += (np.int32(is_chroma),)
                 common = (q0, *map(np.int32, in_size), pbuf, samples, *maps, bgc, lbuf)
-                if not reuse:
+                if reuse:
+                    table = self.tables.table(built, names, pw, ph, spec.antialias, common, walk)
+                    k = built.kernels["marble_apply_plane"]
+                    k.set_args(*head[:5], q0, *head[5:], *table, samples)
+                    queue.launch(k, -(-pw // lanes) * ph)
+                elif adaptive is not None:
+                    adaptive.plane(built, head, pw, ph, common, maps, first=not is_chroma)
+                else:
                     k = built.kernels["marble_plane"]
                     k.set_args(*head, *common)
                     queue.launch(k, -(-pw // lanes) * -(-ph // built.rows))
-                    continue
-                table = self.tables.table(built, names, pw, ph, spec.antialias, common, walk)
-                k = built.kernels["marble_apply_plane"]
-                k.set_args(*head, *table, samples)
-                queue.launch(k, -(-pw // lanes) * ph)
             if reuse:
                 self.tables.hold(key)
             return queue.download(result, dst, wait, uploads, errors), reuse

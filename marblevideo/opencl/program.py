@@ -39,6 +39,7 @@ import numpy as np
 from marblevideo.errors import DeviceError, UsageError
 from marblevideo.opencl.device import DeviceInfo
 from marblevideo.ops import COLOR_SLOTS, PSTRIDE, REGISTRY, is_ink, op_def
+from marblevideo.ops.ink import link_concentric_drops
 from marblevideo.recipe.antialias import pattern
 from marblevideo.recipe.frame import EDGE_MODES, FrameSpec
 
@@ -65,6 +66,8 @@ KERNEL_NAMES = (
     "marble_to_i420",
     "marble_quads",
     "marble_plane",
+    "marble_plane_classify",
+    "marble_plane_list",
     "marble_apply_plane",
 )
 
@@ -140,6 +143,7 @@ def pack_params(spec: FrameSpec) -> Packed:
         row = definition.packed(op.values, lists)
         out[i, : len(row)] = row
         out[i, PSTRIDE - 1] = definition.code
+    link_concentric_drops(spec.ops, out)
     # Products of valid values (radius**2, alpha * lambda) can pass float32's range:
     # saturate them rather than hand the kernel inf (and inf * 0 = NaN).
     f32 = float(np.finfo(np.float32).max)

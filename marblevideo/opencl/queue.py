@@ -172,8 +172,10 @@ class DeviceQueue:
 
         return finish
 
-    def count(self, counter) -> int:
-        """Read the int32 in ``counter`` (waits for the queue up to it)."""
-        count = np.empty(1, np.int32)
-        self._cl.enqueue_copy(self.queue, count, counter, is_blocking=True)
-        return int(count[0])
+    def fill_zero(self, buffer, nbytes: int) -> None:
+        """Queue zeros into the first ``nbytes`` of ``buffer`` (a multiple of 4)."""
+        self._cl.enqueue_fill_buffer(self.queue, buffer, np.int32(0), 0, nbytes)
+
+    def read_later(self, array: np.ndarray, buffer):
+        """Queue a copy of ``buffer`` into ``array``; its event (wait before reading)."""
+        return self._cl.enqueue_copy(self.queue, array, buffer, is_blocking=False)

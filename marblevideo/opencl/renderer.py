@@ -69,11 +69,14 @@ class Renderer:
     and :func:`~marblevideo.opencl.program.cpu_chains` on CPUs, 1 and 1 on
     GPUs). ``lanes`` is 1, 4, 8 or 16.
     ``adaptive`` samples the full antialiasing pattern only where a pixel's
-    neighbourhood shows an ink edge or a strongly curved map, one walk
-    elsewhere (see marble.cl); False evaluates the full pattern everywhere;
-    None (default) is adaptive on blank sheets only, where it halves the time,
-    while over an input its four bilinear fetches per pixel stay and the
-    centre pass measured slower than the full pattern (BENCHMARKS.md).
+    neighbourhood shows an ink edge or a strongly bent map; elsewhere one walk
+    per pixel gives ink, or the pattern's samples at positions derived from
+    the walks around it (see marble.cl). True: on every frame (RGBA and
+    planar video frames); False: never (every subsample walked); None
+    (default): on blank sheets only. Over an input it is an option, not the
+    default: its output keeps the kernel's bounds against the reference but
+    not the planar route's tighter ones, and what it saves depends on the
+    recipe (BENCHMARKS.md: from nothing to 2.5x).
     ``reuse_maps``: over an input, when a frame's values, geometry and sizes
     equal the previous frame's (a static recipe over a video), where every
     subsample lands is recorded once and later frames only fetch and blend
@@ -106,19 +109,35 @@ class Renderer:
         self.programs = Programs(self.context, self.info, lanes, chains)
         self.lanes, self.chains = self.programs.lanes, self.programs.chains
         self.yuv_lanes = self.programs.yuv_lanes
-        self.adaptive = adaptive
         self.reuse_maps = reuse_maps
         self.tables = ReusedMaps(self.device_queue, self.lanes)
         self.fresh = FreshWalk(self.device_queue, self.lanes)
         self.adaptive_walk = AdaptiveWalk(self.device_queue, self.lanes)
         self.planar = PlanarFrames(self.device_queue, self.programs, self.tables, reuse_maps)
+        self.adaptive = adaptive
         #: whether the last render came from the table of reused maps
         self.last_reused = False
+
+    @property
+    def adaptive(self) -> bool | None:
+        """Adaptive sampling: True, False or None (blank sheets only); see the class."""
+        return self._adaptive
+
+    @adaptive.setter
+    def adaptive(self, value: bool | None) -> None:
+        self._adaptive = value
+        self.planar.adaptive = self.adaptive_walk if value else None  # planar: only when asked
 
     @property
     def last_full_pixels(self) -> int | None:
         """Pixels the last render gave the full pattern, when it was adaptive (else None)."""
         return self.adaptive_walk.last_full_pixels
+
+    def forget_frames(self) -> None:
+        """Start a new job on this renderer (its context and programs kept): the
+        next frame is drawn as a new renderer's first would be (the tables it holds
+        stay valid; only which frame came last is forgotten)."""
+        self.tables.forget_last()
 
     def prebuild(self, structure: Structure) -> None:
         """Build ``structure``'s program in the background (see Programs.prebuild)."""
@@ -201,7 +220,7 @@ class Renderer:
         if geom.out_w % 2 or geom.out_h % 2:
             raise ValueError(f"I420 output needs even sizes, got {geom.out_w}x{geom.out_h}")
         queue, yl = self.device_queue, self.yuv_lanes
-        self.adaptive_walk.last_full_pixels = None
+        self.adaptive_walk.forget()
         size = None
         if planes is not None:
             planes = split_i420(planes)
@@ -248,7 +267,7 @@ class Renderer:
         queue = self.device_queue
         w, h = geom.out_w, geom.out_h
         check_size(w, h)
-        self.adaptive_walk.last_full_pixels = None
+        self.adaptive_walk.forget()
         has_input = size is not None
         structure = Structure.of(spec, has_input)
         built = self.programs.get(structure)

@@ -44,6 +44,10 @@ class ReusedMaps:
         self._last = key
         return reuse
 
+    def forget_last(self) -> None:
+        """No frame came before the next one: it decides as a renderer's first."""
+        self._last = None
+
     def holds(self, key: tuple) -> bool:
         """Whether the tables hold the maps ``key`` (else they are walked first)."""
         return self._held == key

@@ -28,6 +28,42 @@ def pack_circle(v: Values, lists: list) -> tuple[float, ...]:
     return (*v["center"], v["radius"] ** 2, *v["color"])
 
 
+#: A drop's slots after its circle: the sum of r^2 of the drops with its centre
+#: walked just before it (a run of concentric drops), and 1 where it moves the
+#: point (the last drop of its run walked; 0 for the others)
+RUN_OFFSET, RUN_MOVES = 6, 7
+
+
+def pack_drop(v: Values, lists: list) -> tuple[float, ...]:
+    """:func:`pack_circle`, then a run of one (see :func:`link_concentric_drops`)."""
+    return (*pack_circle(v, lists), 0.0, 1.0)
+
+
+def link_concentric_drops(ops, rows: np.ndarray) -> None:
+    """Link each run of adjacent drops with one centre in the packed ``rows``.
+
+    Walked back through a run, a point's squared distance to the centre drops
+    by each drop's r^2 in turn, and its direction from the centre is kept, so
+    the run is one drop: each drop tests ink against |P' - C|^2 less the r^2 of
+    the drops walked before it (RUN_OFFSET), and only the run's last drop
+    walked moves the point, by all of them at once (RUN_MOVES): one square
+    root for the run instead of one per drop, the same map.
+    """
+    i = len(ops) - 1
+    while i >= 0:
+        if ops[i].type != "drop":
+            i -= 1
+            continue
+        j = i
+        while j > 0 and ops[j - 1].type == "drop" and ops[j - 1]["center"] == ops[i]["center"]:
+            j -= 1
+        offset = 0.0
+        for k in range(i, j - 1, -1):  # walk order: i first
+            rows[k, RUN_OFFSET], rows[k, RUN_MOVES] = offset, float(k == j)
+            offset += rows[k, 2]
+        i = j - 1
+
+
 def drop_forward(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
     """P' = C + (P - C) sqrt(1 + r^2 / |P - C|^2); C + (r, 0) at P = C."""
     cx, cy = v["center"]
@@ -69,7 +105,7 @@ DROP = OpDef(
     help="Ink drop: paint outside is pushed away, its area preserved.",
     params=(CENTER, RADIUS, COLOR),
     progress=(("radius", "sqrt"),),
-    pack=pack_circle,
+    pack=pack_drop,
     inverse=drop_inverse,
     forward=drop_forward,
     contains=contains,

@@ -1,0 +1,184 @@
+"""A video rendered in segments, in this process or on a Ray cluster, then
+joined (:func:`render_split`).
+
+The input is cut at its keyframes (:func:`marblevideo.media.segments.plan_segments`);
+each segment is rendered by :func:`render_segment` through the normal decode
+-> kernel -> encode pipeline into an MP4 in a temporary folder beside the
+output (workers on other machines must see both paths: shared storage, at the
+same path), and the segments are joined by packet copy with the source's
+audio (:func:`~marblevideo.media.segments.join_segments`), atomically: on any
+failure nothing is left at the output and the folder is removed.
+
+Every frame is marbled at its own time on the whole input's clock, as in a
+single render; a segment's first frame is drawn as the single render would
+draw it (a frame at the time of the one shown before it is rendered first and
+dropped, so the renderer reuses its maps exactly where the single render does).
+Decoded frames then equal a single render's wherever the encoder is lossless
+(``--crf 0`` with x264); timestamps and audio packets always do.
+"""
+
+from __future__ import annotations
+
+import os
+import shutil
+import tempfile
+import time
+from dataclasses import dataclass, fields
+from pathlib import Path
+
+from marblevideo.cluster import RayPool, SerialPool, require_ray
+from marblevideo.errors import MediaError, UsageError
+from marblevideo.marbler import Marbler, RecipeLike, as_recipe
+from marblevideo.media.encode import plan_output
+from marblevideo.media.formats import is_image_name, is_local, is_sequence
+from marblevideo.media.inputs import check_input
+from marblevideo.media.output import check_output
+from marblevideo.media.pipeline import transcode
+from marblevideo.media.progress import Progress, progress_mode
+from marblevideo.media.segments import Segment, join_segments, plan_segments, segment_plan
+from marblevideo.media.video import Stats, VideoOptions, notifier
+from marblevideo.recipe import Recipe
+
+CLUSTERS = ("serial", "ray")
+NOT_SPLIT = {"start": "--start", "end": "--end", "fps": "--fps"}
+
+
+@dataclass(frozen=True)
+class SegmentJob:
+    """What every segment of a job shares (small: sent to each worker)."""
+
+    src: str
+    recipe: Recipe
+    options: dict  # VideoOptions fields of the encoder and size
+
+
+class Primed:
+    """A video transform whose first frame is preceded by one drawn at ``before``
+    (and dropped): the renderer then knows the frame shown before it."""
+
+    def __init__(self, transform, before: float | None):
+        self.transform, self.before = transform, before
+
+    def __call__(self, frame, t: float):
+        return self.rgba_start(frame, t)()
+
+    def rgba_start(self, frame, t: float):
+        if self.before is not None:
+            self.transform.rgba_start(frame, self.before)()
+            self.before = None
+        return self.transform.rgba_start(frame, t)
+
+    def i420(self, planes, t: float, src, dst):
+        return self.i420_start(planes, t, src, dst)()
+
+    def i420_start(self, planes, t: float, src, dst):
+        if self.before is not None:
+            self.transform.i420_start(planes, self.before, src, dst)()
+            self.before = None
+        return self.transform.i420_start(planes, t, src, dst)
+
+
+def render_segment(
+    job: SegmentJob, segment: Segment, dst: str, renderer=None
+) -> tuple[int, list[str]]:
+    """Render ``segment`` of ``job`` to the MP4 ``dst`` (atomically); the frames
+    written and the notices (which the job's driver tells, each once)."""
+    options = VideoOptions(**job.options)
+    options.start, options.end = segment.start, segment.end
+    options.audio, options.quiet, options.progress, options.overwrite = "none", True, "off", True
+    options.notify = lambda message: None  # noted in the stats, told by the driver
+    plan = segment_plan(plan_output(dst, options), dst)
+    marbler = Marbler(job.recipe, renderer, fit=options.fit or "stretch", sampling=options.sampling)
+    transform = Primed(marbler.transform(options.size), segment.before)
+    stats = transcode(job.src, dst, transform, options, plan=plan, pts_origin=segment.origin)
+    return stats.frames, stats.notes
+
+
+def check_split(src, options: VideoOptions) -> None:
+    """UsageError where a job cannot be split: the input is not a video file, or
+    an option would cut or retime it."""
+    if src is None or not is_local(src) or is_sequence(src) or is_image_name(src):
+        what = "a blank sheet" if src is None else src
+        raise UsageError(f"--cluster: {what} is not a video file; segments are cut from one")
+    for name, flag in NOT_SPLIT.items():
+        if getattr(options, name) is not None:
+            raise UsageError(f"{flag}: not with --cluster (cut or convert the input first)")
+
+
+def render_split(
+    src: str | os.PathLike,
+    recipe: RecipeLike,
+    dst: str | os.PathLike,
+    *,
+    cluster: str = "ray",
+    segments: int | None = None,
+    jobs: int | None = None,
+    device: str | None = None,
+    **options,
+) -> Stats:
+    """Render video ``src`` to ``dst`` in segments (see the module) on ``cluster``:
+    "ray" (:class:`~marblevideo.cluster.RayPool`: ``$RAY_ADDRESS``'s cluster or a
+    local one, ``jobs`` workers) or "serial" (here, one segment after another).
+    ``segments``: how many to cut (default: one per about 45 s); ``options`` as
+    :func:`marblevideo.api.render_video`'s, but no ``start``, ``end`` or ``fps``.
+    Returns the joined output's :class:`~marblevideo.media.video.Stats`.
+    Raises UsageError before any work; MediaError naming a segment that failed."""
+    began = time.monotonic()
+    if cluster not in CLUSTERS:
+        raise UsageError(f"--cluster: expected one of {', '.join(CLUSTERS)}, got {cluster!r}")
+    names = {f.name for f in fields(VideoOptions)}
+    if set(options) - names:
+        raise UsageError(f"render_split: unknown options {', '.join(sorted(set(options) - names))}")
+    opts = VideoOptions(**options)
+    recipe = as_recipe(recipe)
+    check_split(src, opts)
+    plan = plan_output(dst, opts)
+    segment_plan(plan, dst)
+    dst = check_output(dst, opts.overwrite, [src])
+    check_input(src, "a video")
+    if cluster == "ray":
+        require_ray()
+    parts = plan_segments(src, segments)
+    say = notifier(opts, Stats())
+    if segments and len(parts) < segments:
+        say(f"{src}: {segments} segments asked; its keyframes allow {len(parts)}")
+    # the output's encoder and pixel format (from its extension), whatever the segments' is
+    shared = {k: getattr(opts, k) for k in ("crf", "preset", "size", "fit", "verbose")}
+    shared.update(codec=plan.codec, pix_fmt=plan.pix_fmt, encoder_opts=dict(opts.encoder_opts))
+    job = SegmentJob(str(Path(src).resolve()), recipe, shared)
+    try:
+        folder = Path(tempfile.mkdtemp(prefix=f".{dst.stem}.segments.", dir=dst.parent.resolve()))
+    except OSError as exc:
+        raise MediaError(f"{dst}: cannot write in {dst.parent}: {exc.strerror}") from None
+    pool = None
+    try:
+        pool = RayPool(jobs, device) if cluster == "ray" else SerialPool(device)
+        paths = [str(folder / f"{s.index:05d}.mp4") for s in parts]
+        calls = [(job, s, path) for s, path in zip(parts, paths, strict=True)]
+        notes = run_calls(pool, calls, parts, progress_mode(opts.progress, opts.quiet))
+        pool.close()  # the workers' part is done: the join runs here
+        pool = None
+        for note in notes:
+            say(note)
+        stats = join_segments(src, [(Path(p), s.origin) for p, s in zip(paths, parts, strict=True)],
+                              dst, plan, opts)  # fmt: skip
+        stats.notes[:0] = notes
+    finally:
+        if pool is not None:
+            pool.close()
+        shutil.rmtree(folder, ignore_errors=True)
+    stats.seconds = time.monotonic() - began
+    return stats
+
+
+def run_calls(pool, calls: list[tuple], parts: list[Segment], progress: str) -> list[str]:
+    """Every segment's call on ``pool``, with a bar of segments; their notices,
+    each once; MediaError naming the first segment that failed."""
+    notes: dict[str, None] = {}
+    with Progress(len(calls), progress, unit="segment") as bar:
+        for index, result in pool.run(render_segment, calls, [str(s) for s in parts]):
+            if isinstance(result, Exception):
+                raise MediaError(f"{parts[index]} failed: {result}")
+            notes.update(dict.fromkeys(result[1]))
+            bar.update()
+    return list(notes)
