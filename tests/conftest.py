@@ -7,6 +7,7 @@ default choice (PoCL on a machine without a GPU). Nothing is mocked.
 from __future__ import annotations
 
 import os
+import shutil
 import subprocess
 import sys
 from pathlib import Path
@@ -28,6 +29,21 @@ def renderer():
     from marblevideo.opencl.renderer import Renderer
 
     return Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+
+
+@pytest.fixture(scope="module")
+def browser():
+    """A headless Chromium driven by Playwright; the test is skipped, with the
+    reason, when either is missing (``pip install playwright``; ``apt-get install
+    chromium``; MARBLEVIDEO_CHROMIUM names another executable)."""
+    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
+    chromium = os.environ.get("MARBLEVIDEO_CHROMIUM") or shutil.which("chromium")
+    if not chromium or not os.path.exists(chromium):
+        pytest.skip("chromium is not installed (apt-get install chromium)")
+    with sync_api.sync_playwright() as p:
+        b = p.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
+        yield b
+        b.close()
 
 
 @pytest.fixture

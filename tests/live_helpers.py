@@ -31,12 +31,15 @@ RECIPE = {
 
 
 class LiveProcess:
-    """``marblevideo live ARGS`` running; ``url`` is its preview address (with --preview)."""
+    """``marblevideo COMMAND ARGS`` running (``live`` by default, or ``design``);
+    ``url`` is the address of its page (live: with --preview)."""
 
-    def __init__(self, *args, cwd: Path, preview: bool = True, timeout: float = 60.0):
-        cmd = [sys.executable, "-m", "marblevideo", "live", *map(str, args)]
+    def __init__(
+        self, *args, cwd: Path, preview: bool = True, timeout: float = 60.0, command="live"
+    ):
+        cmd = [sys.executable, "-m", "marblevideo", command, *map(str, args)]
         env = {**os.environ, "PYTHONPATH": str(ROOT), "PYTHONUNBUFFERED": "1"}
-        self.stderr_path = cwd / "live.stderr"
+        self.stderr_path = cwd / f"{command}.stderr"
         self.stderr_file = self.stderr_path.open("w")
         self.proc = subprocess.Popen(
             cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=self.stderr_file, text=True
@@ -44,7 +47,7 @@ class LiveProcess:
         self.url = None
         if preview:
             line = self.proc.stdout.readline()
-            if not line.startswith("preview: "):
+            if not line.startswith(("preview: ", "design: ")):
                 self.proc.kill()
                 raise AssertionError(f"no preview URL: {line!r} {self.stderr()}")
             self.url = line.split(" ", 1)[1].strip()
@@ -60,14 +63,15 @@ class LiveProcess:
             body = r.read()
             return json.loads(body) if r.headers.get_content_type() == "application/json" else body
 
-    def post(self, path: str, obj) -> dict:
+    def post(self, path: str, obj, method: str = "POST") -> dict:
+        """``obj`` as JSON; the JSON answer (HTTPError for a status >= 400)."""
         req = urllib.request.Request(
             self.url.rstrip("/") + path,
             data=json.dumps(obj).encode(),
             headers={"Content-Type": "application/json"},
-            method="POST",
+            method=method,
         )
-        with urllib.request.urlopen(req, timeout=10) as r:
+        with urllib.request.urlopen(req, timeout=30) as r:
             return json.loads(r.read())
 
     def wait_stats(self, pred, timeout: float = 20.0) -> dict:

@@ -28,11 +28,12 @@ LAYERS = {
     "live": 9,
     "batch": 9,
     "segmented": 9,
-    "cli": 10,
-    "gallery": 11,
+    "design": 10,
+    "cli": 11,
+    "gallery": 12,
     "version": 0,
-    "__init__": 12,
-    "__main__": 12,
+    "__init__": 13,
+    "__main__": 13,
 }
 MAX_MODULE_LINES = 500
 MAX_CLASS_LINES = 300

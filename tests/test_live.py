@@ -180,3 +180,68 @@ def test_preview_server_binds_loopback_only(session):
         runner.join(10)
     finally:
         server.stop()
+
+
+def test_clock_loops_at_the_recipes_end(session):
+    assert session.control({"loop": True})["loop"] == 1.0  # RECIPE's last key
+    clock = session.clock
+    clock.pause()
+    clock._origin -= 2.5  # 2.5 s on: 0.5 s into the third pass
+    assert abs(clock.now() - 0.5) < 0.05
+    assert session.control({"loop": False})["loop"] is None
+    assert clock.now() > 2.4
+
+
+def _api(server, method: str, path: str, body=None) -> tuple[int, dict]:
+    host, port = server.address
+    conn = http.client.HTTPConnection(host, port, timeout=10)
+    data = None if body is None else json.dumps(body)
+    conn.request(method, path, body=data, headers={"Content-Type": "application/json"})
+    r = conn.getresponse()
+    answer = (r.status, json.loads(r.read()))
+    conn.close()
+    return answer
+
+
+def test_the_live_page_saves_its_sliders_and_edits(session):
+    """POST /api/save-sliders writes the sliders into the file; PUT /api/recipe saves
+    a recipe (the session takes it at once) or refuses it and keeps the file."""
+    path = session.recipe_path
+    server = PreviewServer(session, 0)
+    server.start()
+    try:
+        assert _api(server, "GET", "/api/recipe") == (200, RECIPE)
+        session.control({"param": {"op": 1, "name": "alpha", "value": -40}})
+        status, answer = _api(server, "POST", "/api/save-sliders", {})
+        assert status == 200 and answer == {"version": 2, "skipped": []}
+        saved = json.loads(path.read_text())
+        assert saved["ops"][1]["alpha"] == -40 and saved["ops"][0] == RECIPE["ops"][0]
+        assert session.recipe.ops[1].params["alpha"].at(0) == -40
+        assert session.controls.snapshot()[0] == {}  # now the file's value
+        before = path.read_bytes()
+        bad = {**saved, "ops": [{**saved["ops"][1], "lambda": -2}]}
+        status, answer = _api(server, "PUT", "/api/recipe", bad)
+        assert status == 400 and answer["error"] == f"{path}: ops[0].lambda: must be > 0, got -2"
+        assert path.read_bytes() == before and session.recipe_version == 2
+        status, answer = _api(server, "PUT", "/api/recipe", {**saved, "ops": saved["ops"][1:]})
+        assert (status, answer) == (200, {"version": 3}) and len(session.recipe.ops) == 1
+    finally:
+        server.stop()
+
+
+def test_sliders_of_a_layouts_drops_are_left_out():
+    from marblevideo.live.editing import file_indices, with_sliders
+
+    doc = {
+        "canvas": [100, 100],
+        "ops": [
+            {"type": "tine", "point": [0, 0], "angle": 0, "alpha": 5, "lambda": 3},
+            {"type": "rings", "center": [50, 50], "width": 5, "count": 3, "colors": ["red"]},
+            {"type": "vortex", "center": [50, 50], "alpha": 10, "lambda": 20},
+        ],
+    }
+    recipe = parse_recipe(doc)
+    assert file_indices(recipe) == [0, None, None, None, 2]
+    changed, skipped = with_sliders(doc, recipe, {(4, "alpha"): 7.0, (2, "radius"): 9.0})
+    assert changed["ops"][2]["alpha"] == 7.0 and doc["ops"][2]["alpha"] == 10
+    assert skipped == ["ops[2].radius (a drop of the layout ops[1])"]

@@ -10,28 +10,12 @@ from __future__ import annotations
 
 import copy
 import json
-import os
-import shutil
 import time
 
 import cv2
 import numpy as np
-import pytest
 
 from tests.live_helpers import RECIPE, ROOT, LiveProcess
-
-sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
-CHROMIUM = os.environ.get("MARBLEVIDEO_CHROMIUM") or shutil.which("chromium") or "/usr/bin/chromium"
-if not os.path.exists(CHROMIUM):
-    pytest.skip("chromium is not installed (apt-get install chromium)", allow_module_level=True)
-
-
-@pytest.fixture(scope="module")
-def browser():
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox"])
-        yield b
-        b.close()
 
 
 def _shot(page) -> np.ndarray:

@@ -108,17 +108,19 @@ def written(folder: Path, name: str) -> Path:
 
 def quick(command: str) -> list[str]:
     """The command made quick: small outputs, short videos (whole with --cluster,
-    which cuts none), live runs of one second."""
+    which cuts none), live and design runs of one second (no browser)."""
     words = shlex.split(command)
     if words[0] == "marblevideo":
         words = ["python", "-m", "marblevideo", *words[1:]]
     module, args = words[2], words[3:]
     if module == "marblevideo.gallery":
         args = setting(args, "--size", "24")
-    elif args[:1] == ["live"]:
+    elif args[:1] in (["live"], ["design"]):
         args = setting(args, "--duration", "1")
-        if "--preview" in args:
+        if "--preview" in args or args[0] == "design":
             args = setting(args, "--port", "0")  # any free port
+        if args[0] == "design" and "--no-browser" not in args:
+            args.append("--no-browser")
         if args[1] == "test":
             args = setting(args, "--size", "64x48")
     elif args[:1] not in PRINTING:

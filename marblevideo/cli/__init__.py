@@ -1,6 +1,6 @@
 """The command line: ``marblevideo [INPUT] --ops RECIPE -o OUTPUT`` (:mod:`.render`),
 ``devices`` and ``schema`` (:mod:`.info`), ``presets`` and ``ops`` (:mod:`.catalog`),
-``live`` (:mod:`.live`), ``batch`` (:mod:`.batch`).
+``live`` (:mod:`.live`), ``batch`` (:mod:`.batch`), ``design`` (:mod:`.design`).
 
 Exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143
 interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
@@ -38,6 +38,12 @@ def _ops(argv: list[str]) -> int:
     return ops_command(argv)
 
 
+def _design(argv: list[str]) -> int:
+    from marblevideo.cli.design import design_command
+
+    return design_command(argv)
+
+
 def _batch(argv: list[str]) -> int:
     from marblevideo.cli.batch import batch_command
 
@@ -57,6 +63,7 @@ COMMANDS = {
     "ops": _ops,
     "live": _live,
     "batch": _batch,
+    "design": _design,
 }
 
 

@@ -43,6 +43,7 @@ examples:
   marblevideo schema             print the recipe's JSON Schema
   marblevideo live test --ops samples/swirl.json --preview   live (see live --help)
   marblevideo film.mp4 --ops swirl -o out.mp4 --cluster ray   in segments on Ray
+  marblevideo design photo.jpg --ops mine.json   draw a recipe in the browser (design --help)
 
 exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143 interrupted
 """

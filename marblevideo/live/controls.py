@@ -1,8 +1,9 @@
-"""What the live preview can change: the animation clock (pause, restart),
-bypass, mirror, and sliders for the recipe's constant numeric parameters.
+"""What the live preview can change: the animation clock (pause, restart,
+loop), bypass, mirror, and sliders for the recipe's constant numeric parameters.
 
 - The clock is wall-clock time since the start (``t = 0`` at the first frame);
-  paused, the design holds still while the source keeps flowing.
+  paused, the design holds still while the source keeps flowing. Looping, it
+  starts again at the recipe's end.
 - Sliders: every op parameter that is a constant number (not keyframed) can be
   overridden; keyframed ones are shown as animated. Ranges follow each
   parameter's slider law (:func:`marblevideo.ops.slider_range`).
@@ -29,6 +30,7 @@ class Clock:
         self._lock = threading.Lock()
         self._origin = time.monotonic()
         self._paused_at: float | None = None
+        self.loop_at: float | None = None  # seconds after which it starts again
 
     @property
     def paused(self) -> bool:
@@ -37,7 +39,8 @@ class Clock:
     def now(self) -> float:
         with self._lock:
             ref = self._paused_at if self._paused_at is not None else time.monotonic()
-            return ref - self._origin
+            t = ref - self._origin
+            return t % self.loop_at if self.loop_at else t
 
     def pause(self, paused: bool = True) -> None:
         with self._lock:
@@ -120,15 +123,16 @@ class Controls:
 
         Fields (all optional): ``paused`` (bool), ``restart`` (true), ``bypass``
         (bool), ``mirror`` (bool), ``param`` ({"op": i, "name": n, "value": v}),
-        ``reset`` (true: drop every slider override).
+        ``reset`` (true: drop every slider override), ``loop`` (bool: the clock
+        starts again at the recipe's end, when it has one).
         """
         if not isinstance(request, dict):
             raise UsageError("control: expected a JSON object")
-        known = {"paused", "restart", "bypass", "mirror", "param", "reset"}
+        known = {"paused", "restart", "bypass", "mirror", "param", "reset", "loop"}
         unknown = set(request) - known
         if unknown:
             raise UsageError(f"control: unknown field {sorted(unknown)[0]!r}")
-        for name in ("paused", "bypass", "mirror", "restart", "reset"):
+        for name in ("paused", "bypass", "mirror", "restart", "reset", "loop"):
             if name in request and not isinstance(request[name], bool):
                 raise UsageError(f"control: {name} must be true or false")
         param = request.get("param")
@@ -143,6 +147,8 @@ class Controls:
                 self.bypass = request["bypass"]
             if "mirror" in request:
                 self.mirror = request["mirror"]
+            if "loop" in request:
+                self.clock.loop_at = (recipe.end_time() or None) if request["loop"] else None
             if request.get("reset"):
                 self.overrides.clear()
                 self.version += 1
@@ -157,6 +163,7 @@ class Controls:
             bypass, mirror = self.bypass, self.mirror
         return {
             "paused": self.clock.paused,
+            "loop": self.clock.loop_at,
             "bypass": bypass,
             "mirror": mirror,
             "t": round(self.clock.now(), 3),

@@ -12,14 +12,20 @@ Routes:
 - ``POST /control``: a JSON object (see :meth:`LiveSession.control`), applied from
   the next frame; answers the new state, or 400 with ``{"error": ...}``.
 
+A session with an ``api(method, path, query, body)`` method (the designer's,
+:mod:`marblevideo.design`) answers every ``/api/...`` request itself, and one
+with a ``page()`` method gives the page.
+
 Requests must name the server as their Host (127.0.0.1 or localhost), and
-``/control`` takes ``Content-Type: application/json`` only, so other web pages
-open in the same browser cannot drive it (no CORS headers are ever sent).
+``/control`` and the API's PUT and POST take ``Content-Type: application/json``
+only, so other web pages open in the same browser cannot drive it (no CORS
+headers are ever sent).
 """
 
 from __future__ import annotations
 
 import json
+import sys
 import threading
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
 from importlib import resources
@@ -28,6 +34,8 @@ from marblevideo.errors import MediaError, UsageError
 from marblevideo.limits import DEFAULT_PORT
 
 BOUNDARY = "marblevideoframe"
+#: Largest request body, in bytes (a recipe PUT to the designer's API).
+MAX_BODY = 4 << 20
 HOST = "127.0.0.1"
 
 
@@ -61,13 +69,40 @@ class _Handler(BaseHTTPRequestHandler):
     def _json(self, obj, code: int = 200) -> None:
         self._send(code, json.dumps(obj).encode(), "application/json")
 
+    def _api(self, method: str) -> bool:
+        """Hand an ``/api/`` request to the session; whether it was one."""
+        session = self.server.session
+        path, _, query = self.path.partition("?")
+        if not path.startswith("/api/") or not hasattr(session, "api"):
+            return False
+        body = None
+        if method in ("PUT", "POST"):
+            body = self._body("api")
+            if body is None:
+                return True
+        self._send(*session.api(method, path, query, body))
+        return True
+
+    def _body(self, what: str, limit: int = MAX_BODY) -> bytes | None:
+        """The JSON request body, or None once a 415 or 413 is sent."""
+        ctype = self.headers.get("Content-Type", "").split(";")[0].strip()
+        if ctype != "application/json":
+            self._json({"error": f"{what}: Content-Type must be application/json"}, 415)
+            return None
+        length = int(self.headers.get("Content-Length") or 0)
+        if length > limit:
+            self._json({"error": f"{what}: request too large"}, 413)
+            return None
+        return self.rfile.read(length)
+
     def do_GET(self):  # noqa: N802 - http.server's naming
-        if not self._host_ok():
+        if not self._host_ok() or self._api("GET"):
             return
         session = self.server.session
         path = self.path.split("?", 1)[0]
         if path == "/":
-            self._send(200, page_html(), "text/html; charset=utf-8")
+            page = session.page() if hasattr(session, "page") else page_html()
+            self._send(200, page, "text/html; charset=utf-8")
         elif path == "/stats":
             self._json(session.stats())
         elif path == "/params":
@@ -106,22 +141,21 @@ class _Handler(BaseHTTPRequestHandler):
         except (BrokenPipeError, ConnectionResetError, TimeoutError):
             pass
 
+    def do_PUT(self):  # noqa: N802 - http.server's naming
+        if self._host_ok() and not self._api("PUT"):
+            self._send(404, b"not found\n", "text/plain")
+
     def do_POST(self):  # noqa: N802 - http.server's naming
-        if not self._host_ok():
+        if not self._host_ok() or self._api("POST"):
             return
         if self.path != "/control":
             self._send(404, b"not found\n", "text/plain")
             return
-        ctype = self.headers.get("Content-Type", "").split(";")[0].strip()
-        if ctype != "application/json":
-            self._json({"error": "control: Content-Type must be application/json"}, 415)
-            return
-        length = int(self.headers.get("Content-Length") or 0)
-        if length > 65536:
-            self._json({"error": "control: request too large"}, 413)
+        body = self._body("control", 65536)
+        if body is None:
             return
         try:
-            request = json.loads(self.rfile.read(length) or b"null")
+            request = json.loads(body or b"null")
             self._json(self.server.session.control(request))
         except (ValueError, UsageError) as exc:
             self._json({"error": str(exc)}, 400)
@@ -130,6 +164,11 @@ class _Handler(BaseHTTPRequestHandler):
 class _Server(ThreadingHTTPServer):
     daemon_threads = True
     allow_reuse_address = True
+
+    def handle_error(self, request, client_address):
+        """A client gone mid-answer (a closed page) is no error; others are printed."""
+        if not isinstance(sys.exc_info()[1], BrokenPipeError | ConnectionResetError):
+            super().handle_error(request, client_address)
 
     def __init__(self, address, session):
         self.session = session

@@ -29,6 +29,8 @@ import numpy as np
 
 from marblevideo.errors import RecipeError
 from marblevideo.live.controls import Controls, sliders, with_overrides
+from marblevideo.live.editing import live_api
+from marblevideo.live.recipefile import file_stamp
 from marblevideo.live.sources import Latest, Source
 
 RELOAD_POLL = 0.5
@@ -98,6 +100,7 @@ class LiveSession:
         self.recipe_version = 1
         self.recipe_error: str | None = None
         self._lock = threading.Lock()
+        self._reload_lock = threading.Lock()
         self._marbler = None
         self._marbled_for: tuple[int, int] | None = None  # (recipe, overrides) versions
         # outputs
@@ -121,14 +124,15 @@ class LiveSession:
 
     # -- recipe -------------------------------------------------------------
     def _file_stamp(self):
-        try:
-            st = self.recipe_path.stat()
-        except OSError:
-            return None
-        return (st.st_mtime_ns, st.st_size)
+        return file_stamp(self.recipe_path)
 
     def check_reload(self) -> bool:
-        """Reload the recipe if its file changed; returns whether it did."""
+        """Reload the recipe if its file changed; returns whether it did (the
+        watcher and the page's saves call it; one at a time)."""
+        with self._reload_lock:
+            return self._reload()
+
+    def _reload(self) -> bool:
         stamp = self._file_stamp()
         if stamp is None or stamp == self._stamp:
             return False
@@ -185,6 +189,10 @@ class LiveSession:
                 if key in overrides:
                     p["value"] = overrides[key]
         return {"version": version, "source": str(self.recipe_path), "ops": ops}
+
+    def api(self, method: str, path: str, query: str, body: bytes | None):
+        """The page's edits of the recipe file (:mod:`marblevideo.live.editing`)."""
+        return live_api(self, method, path, body)
 
     def control(self, request: dict) -> dict:
         """Apply a control request (see Controls.apply); the new state."""

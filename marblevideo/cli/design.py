@@ -1,0 +1,129 @@
+"""``marblevideo design [INPUT] --ops FILE``: the browser designer
+(:mod:`marblevideo.design`), served on 127.0.0.1 until Ctrl-C (SIGINT),
+SIGTERM or ``--duration``; each is a normal end (exit 0).
+"""
+
+from __future__ import annotations
+
+import argparse
+import contextlib
+import signal
+import sys
+import threading
+import webbrowser
+from pathlib import Path
+
+from marblevideo.cli.arguments import Parser, add_log_arguments, configure_logging, parse_size
+from marblevideo.errors import UsageError
+from marblevideo.limits import DEFAULT_PORT
+
+
+def build_parser() -> argparse.ArgumentParser:
+    p = Parser(
+        prog="marblevideo design",
+        description="Draw a marbling recipe by hand in the browser (drop ink, comb, rake, "
+        "swirl...), over a blank sheet, a photo, a video or a live source; every change "
+        "is saved to FILE.",
+        epilog="examples:\n"
+        "  marblevideo design --ops mine.json\n"
+        "  marblevideo design samples/coffee.jpg --ops coffee-swirl.json\n"
+        "  marblevideo design test --ops live.json --no-browser --port 8800\n\n"
+        "The page's HTTP API (GET/PUT /api/recipe, GET /api/frame.png?t=T&w=W) is in the "
+        "README.",
+        formatter_class=argparse.RawDescriptionHelpFormatter,
+    )
+    p.add_argument(
+        "input",
+        nargs="?",
+        help="an image, a video or URL, a live source (test, a camera index, /dev/videoN); "
+        "default: a blank sheet",
+    )
+    p.add_argument(
+        "--ops", required=True, metavar="FILE", help="the recipe to edit (created if missing)"
+    )
+    p.add_argument(
+        "--canvas",
+        metavar="WxH",
+        help="canvas of a new FILE (default: the input's size, or 1024x768 for a blank sheet)",
+    )
+    p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"port ({DEFAULT_PORT}; 0: any)")
+    p.add_argument("--no-browser", action="store_true", help="do not open a browser")
+    p.add_argument("--duration", type=float, metavar="S", help="stop after S seconds")
+    p.add_argument("--size", metavar="WxH", help="size of the 'test' source, or asked of a camera")
+    p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
+    add_log_arguments(p)
+    return p
+
+
+def _checked(args) -> tuple[tuple[int, int] | None, tuple[int, int] | None]:
+    """The options' faults as UsageError (exit 2), before anything opens: (canvas, size)."""
+    from marblevideo.design.backdrop import LIVE, check_spec
+
+    if args.input is not None:
+        check_spec(args.input)
+    if not 0 <= args.port <= 65535:
+        raise UsageError(f"--port: must be 0..65535, got {args.port}")
+    if args.duration is not None and args.duration <= 0:
+        raise UsageError(f"--duration: must be > 0, got {args.duration}")
+    path = Path(args.ops)
+    if path.is_dir():
+        raise UsageError(f"{path}: is a folder; --ops names the recipe file to edit")
+    if str(path.parent) and not path.parent.is_dir():
+        raise UsageError(f"{path}: folder {path.parent} does not exist")
+    try:
+        canvas = parse_size(args.canvas) if args.canvas else None
+    except UsageError as exc:
+        raise UsageError(str(exc).replace("--size", "--canvas", 1)) from None
+    if canvas is not None and path.exists():
+        raise UsageError(
+            f"--canvas: {path} exists and keeps its own canvas (edit it there, or name a new file)"
+        )
+    size = parse_size(args.size) if args.size else None
+    if size is not None and not (args.input and LIVE.match(args.input)):
+        raise UsageError("--size: applies to a live source only (test, a camera)")
+    return canvas, size
+
+
+def design_command(argv: list[str]) -> int:
+    """The ``design`` command; returns the exit status (MarbleError propagates)."""
+    from marblevideo.design.backdrop import open_backdrop
+    from marblevideo.design.session import DesignSession
+    from marblevideo.live.preview import PreviewServer
+    from marblevideo.live.recipefile import DEFAULT_CANVAS, RecipeFile
+
+    args = build_parser().parse_args(argv)
+    configure_logging(args.verbose)
+    canvas, size = _checked(args)
+    if canvas is None and args.input is None:
+        canvas = DEFAULT_CANVAS
+    document = RecipeFile(args.ops, canvas)  # a bad FILE is refused here (exit 2)
+    if args.input is None and document.recipe.canvas is None:
+        raise UsageError(
+            f"{args.ops}: canvas: a blank-sheet design needs canvas [W, H] (or give an INPUT)"
+        )
+    stop = threading.Event()
+    with contextlib.ExitStack() as stack:  # undone in reverse order, whatever happens
+        backdrop = open_backdrop(args.input, size)
+        stack.callback(backdrop.close)
+        session = DesignSession(document, backdrop, device=args.device)
+        stack.callback(session.close)
+        server = PreviewServer(session, args.port)
+        stack.callback(server.stop)
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            stack.callback(signal.signal, signum, signal.signal(signum, lambda *_: stop.set()))
+        session.start()
+        server.start()
+        print(f"design: {server.url}", flush=True)
+        if not args.quiet:
+            over = f" over {backdrop.name}" if backdrop.name else ""
+            print(
+                f"marblevideo: designing {args.ops}{over} at {server.url}; Ctrl-C to stop",
+                file=sys.stderr,
+                flush=True,
+            )
+        if not args.no_browser:
+            webbrowser.open(server.url)
+        stop.wait(args.duration)
+    if not args.quiet:
+        print(f"marblevideo: saved {args.ops}", file=sys.stderr, flush=True)
+    return 0

@@ -1,0 +1,288 @@
+"""The designer's state behind its HTTP API: the recipe file, the backdrop, one
+renderer, and the answers to the page's requests (see :mod:`marblevideo.design`).
+
+Renders are exact OpenCL renders of the recipe (``marblevideo`` makes the same
+picture); a *draft* is the same render without antialiasing, which the page
+asks for while a hand is moving. One render runs at a time.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import dataclasses
+import json
+import math
+import struct
+import threading
+import time
+from importlib import resources
+from urllib.parse import parse_qs
+
+from marblevideo.errors import MarbleError, RecipeError, UsageError
+from marblevideo.marbler import Marbler, blank_size
+from marblevideo.ops import LAYOUTS, REGISTRY, is_ink
+from marblevideo.recipe import Recipe, parse_recipe
+from marblevideo.recipe.frame import fit
+
+RELOAD_POLL = 0.25
+RAW = "application/octet-stream"
+
+
+def registry() -> dict:
+    """Every type a recipe's ``ops`` may hold, with its parameters, for the page."""
+
+    def params(definition) -> list[dict]:
+        return [
+            {
+                "name": p.name,
+                "kind": p.kind,
+                "help": p.help,
+                "optional": p.optional,
+                "default": p.default,
+                "keyable": p.tracked,
+            }
+            for p in definition.params
+        ]
+
+    types = {
+        t: {"help": d.help, "params": params(d), "ink": is_ink(t)} for t, d in REGISTRY.items()
+    }
+    for t, d in LAYOUTS.items():
+        types[t] = {"help": d.help, "params": params(d), "ink": True, "layout": True}
+    return types
+
+
+class Answer(Exception):
+    """An API error: HTTP status ``code`` and a one-line ``message``."""
+
+    def __init__(self, code: int, message: str):
+        super().__init__(message)
+        self.code = code
+
+
+def _number(query: dict, name: str, default: float | None) -> float | None:
+    if name not in query:
+        return default
+    try:
+        value = float(query[name][-1])
+    except ValueError:
+        raise Answer(400, f"{name}: expected a number, got {query[name][-1]!r}") from None
+    if not math.isfinite(value):
+        raise Answer(400, f"{name}: expected a finite number")
+    return value
+
+
+def _only(query: dict, count: int) -> tuple[int, ...] | None:
+    """``ops=0,2,5``: the op indices to render (hide and solo), or None: all."""
+    if "ops" not in query:
+        return None
+    text = query["ops"][-1].strip()
+    try:
+        only = tuple(int(i) for i in text.split(",")) if text else ()
+    except ValueError:
+        raise Answer(400, f"ops: expected op indices as 0,2,5, got {text!r}") from None
+    if any(not 0 <= i < count for i in only):
+        raise Answer(400, f"ops: an index is outside 0..{count - 1}")
+    return only
+
+
+class DesignSession:
+    """The recipe file (:class:`~marblevideo.live.recipefile.RecipeFile`) drawn over
+    a backdrop (:mod:`marblevideo.design.backdrop`) by one OpenCL renderer."""
+
+    def __init__(self, document, backdrop, *, device: str | None = None, renderer=None):
+        from marblevideo.opencl.renderer import Renderer
+
+        self.document = document
+        self.backdrop = backdrop
+        self.renderer = renderer or Renderer(device)
+        self._render_lock = threading.Lock()
+        self._parsed: dict[tuple, Recipe] = {}
+        self.stop_event = threading.Event()
+        self._watcher: threading.Thread | None = None
+        self.last_render_ms: float | None = None
+
+    # -- what is shown ----------------------------------------------------------
+    def out_size(self, recipe: Recipe) -> tuple[int, int]:
+        """The frame's size in pixels: the input's, else the canvas's."""
+        return self.backdrop.size or blank_size(recipe)
+
+    def info(self) -> dict:
+        """What the page needs besides the recipe: version, error, the frame's size
+        and how the canvas sits in it (output o = scale * c + offset)."""
+        doc, recipe, version = self.document.snapshot()
+        w, h = self.out_size(recipe)
+        canvas = recipe.canvas or self.backdrop.size
+        s, dx, dy = fit(canvas, w, h)
+        return {
+            "version": version,
+            "error": self.document.error,
+            "file": str(self.document.path),
+            "input": {
+                "kind": self.backdrop.kind,
+                "name": self.backdrop.name,
+                "duration": self.backdrop.duration,
+            },
+            "size": [w, h],
+            "canvas": list(canvas),
+            "scale": s,
+            "offset": [dx, dy],
+            "end": recipe.end_time(),
+            "ops": len(doc.get("ops", [])),
+        }
+
+    def _recipe(self, doc: dict, version: int | bytes, only) -> Recipe:
+        """``doc`` (of ``version``: a number, or a POSTed body) with only the ops
+        ``only``, validated; the last one is kept for the next frame."""
+        key = (version, only)
+        if key in self._parsed:
+            return self._parsed[key]
+        if only is not None:
+            doc = {**doc, "ops": [doc["ops"][i] for i in only]}
+        try:
+            recipe = parse_recipe(doc, str(self.document.path))
+        except RecipeError as exc:
+            raise Answer(400, str(exc)) from None
+        self._parsed = {key: recipe}
+        return recipe
+
+    @contextlib.contextmanager
+    def _rendering(self):
+        """One render at a time, and none once closing."""
+        with self._render_lock:
+            if self.stop_event.is_set():
+                raise Answer(503, "the designer is closing")
+            yield
+
+    def render(self, query: dict, body: bytes | None = None):
+        """The frame at ``t`` (RGBA), ``w`` pixels wide at most, a draft (no
+        antialiasing) when ``draft`` is 1; of the recipe ``body`` (JSON, not
+        saved) when given, else of the saved one."""
+        if body is None:
+            doc, _, version = self.document.snapshot()
+        else:
+            doc, version = _json(body), body
+        if not isinstance(doc, dict) or not isinstance(doc.get("ops"), list):
+            raise Answer(400, f"{self.document.path}: expected a recipe object with ops")
+        recipe = self._recipe(doc, version, _only(query, len(doc["ops"])))
+        t = _number(query, "t", None)
+        if t is None:
+            t = recipe.end_time()
+        if query.get("draft", ["0"])[-1] == "1":
+            recipe = dataclasses.replace(recipe, antialias="none")
+        w, h = self.out_size(recipe)
+        width = _number(query, "w", None)
+        if width is not None and 8 <= width < w:
+            w, h = round(width), max(1, round(h * width / w))
+        with self._rendering():
+            start = time.perf_counter()
+            image = self.backdrop.frame(t)
+            out = Marbler(recipe, renderer=self.renderer).render(image, t, (w, h))
+            self.last_render_ms = (time.perf_counter() - start) * 1000
+        return out
+
+    def frame_png(self, query: dict, body: bytes | None = None) -> bytes:
+        import cv2
+
+        rgba = self.render(query, body)
+        ok, data = cv2.imencode(
+            ".png", cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGR), [cv2.IMWRITE_PNG_COMPRESSION, 1]
+        )
+        if not ok:
+            raise Answer(500, "cannot encode the frame as PNG")
+        return data.tobytes()
+
+    def frame_rgba(self, query: dict, body: bytes | None = None) -> bytes:
+        """The frame as the page draws it, with nothing to encode or decode: its
+        width and height (two little-endian uint32), then its RGBA bytes."""
+        rgba = self.render(query, body)
+        return struct.pack("<II", rgba.shape[1], rgba.shape[0]) + rgba.tobytes()
+
+    def svg(self, query: dict) -> bytes:
+        """The design at ``t`` as SVG (a blank sheet's: an input is not vector)."""
+        from marblevideo.outputs.svg import design_svg
+
+        if self.backdrop.kind != "blank":
+            raise Answer(400, "SVG export is of a blank sheet's design; this one has an input")
+        _, recipe, _ = self.document.snapshot()
+        t = _number(query, "t", recipe.end_time())
+        with self._rendering():
+            text, _ = design_svg(recipe.at(t), self.out_size(recipe))
+        return text.encode()
+
+    # -- the HTTP API -------------------------------------------------------------
+    def page(self) -> bytes:
+        """The designer's page."""
+        return (resources.files("marblevideo.design") / "page.html").read_bytes()
+
+    def api(self, method: str, path: str, query: str, body: bytes | None):
+        """Answer an API request: (status, body, content type)."""
+        q = parse_qs(query, keep_blank_values=True)
+        try:
+            return self._answer(method, path, q, body)
+        except Answer as exc:
+            return exc.code, _error(str(exc)), "application/json"
+        except UsageError as exc:
+            return 400, _error(str(exc)), "application/json"
+        except MarbleError as exc:
+            return 500, _error(str(exc)), "application/json"
+        except Exception as exc:  # noqa: BLE001 - the designer keeps serving; one line
+            return 500, _error(f"{path}: {type(exc).__name__}: {exc}"), "application/json"
+
+    def _answer(self, method: str, path: str, q: dict, body: bytes | None):
+        routes = {
+            ("GET", "/api/recipe"): lambda: (self.document.snapshot()[0], "application/json"),
+            ("PUT", "/api/recipe"): lambda: ({"version": self.put(body), **self.info()}, None),
+            ("GET", "/api/info"): lambda: (self.info(), None),
+            ("GET", "/api/ops"): lambda: (registry(), None),
+            ("GET", "/api/frame.png"): lambda: (self.frame_png(q), "image/png"),
+            ("POST", "/api/frame.png"): lambda: (self.frame_png(q, body or b"null"), "image/png"),
+            ("GET", "/api/frame.rgba"): lambda: (self.frame_rgba(q), RAW),
+            ("POST", "/api/frame.rgba"): lambda: (self.frame_rgba(q, body or b"null"), RAW),
+            ("GET", "/api/design.svg"): lambda: (self.svg(q), "image/svg+xml"),
+        }
+        route = routes.get((method, path))
+        if route is None:
+            known = {p for m, p in routes}
+            raise Answer(405 if path in known else 404, f"{method} {path}: no such route")
+        data, ctype = route()
+        if isinstance(data, bytes):
+            return 200, data, ctype
+        return 200, json.dumps(data, indent=1 if ctype else None).encode(), "application/json"
+
+    def put(self, body: bytes | None) -> int:
+        """Validate, save and show a new recipe: its version (400 when invalid). The
+        page asks for the frame of the same bytes next: they are known valid."""
+        version = self.document.put(_json(body))
+        self._parsed = {(body, None): self.document.snapshot()[1]}
+        return version
+
+    # -- hot reload -----------------------------------------------------------------
+    def start(self) -> None:
+        """Watch FILE for changes made by other programs."""
+        self._watcher = threading.Thread(target=self._watch, name="marblevideo-watch", daemon=True)
+        self._watcher.start()
+
+    def _watch(self) -> None:
+        while not self.stop_event.wait(RELOAD_POLL):
+            self.document.check_reload()
+
+    def close(self) -> None:
+        """Stop watching FILE and rendering: a render under way is waited for (the
+        process must not exit while OpenCL runs in a request's thread). The
+        backdrop is its opener's to close."""
+        with self._render_lock:
+            self.stop_event.set()
+        if self._watcher is not None:
+            self._watcher.join(5.0)
+
+
+def _json(body: bytes | None):
+    try:
+        return json.loads(body or b"null")
+    except ValueError as exc:
+        raise Answer(400, f"request body: invalid JSON: {exc}") from None
+
+
+def _error(message: str) -> bytes:
+    return json.dumps({"error": message}).encode()

@@ -1,0 +1,75 @@
+"""The live page's edits of the recipe file itself (``marblevideo live
+--preview``), as the designer's HTTP API (:mod:`marblevideo.design`) names them:
+
+- ``GET /api/recipe``: the recipe file, as JSON.
+- ``PUT /api/recipe``: a recipe, validated and saved atomically; the session
+  takes it at once, as any save (sliders reset). 400 with the one-line
+  JSON-path error, nothing saved, when invalid.
+- ``POST /api/save-sliders``: the sliders' values written into the recipe file
+  (each into the op it belongs to), so what the sliders did is kept. The drops
+  of a layout are not entries of the file, so their sliders are left out (named
+  in the answer's ``skipped``).
+"""
+
+from __future__ import annotations
+
+import json
+
+from marblevideo.errors import RecipeError
+from marblevideo.live.recipefile import save_recipe
+
+
+def file_indices(recipe) -> list[int | None]:
+    """The index in the file's ``ops`` of each op of ``recipe`` (layouts expanded);
+    None for the drops a layout stands for."""
+    found, last = [], -1
+    for op in recipe.ops:
+        if op.layout is not None:
+            last = op.layout[1]
+            found.append(None)
+        else:
+            last += 1
+            found.append(last)
+    return found
+
+
+def with_sliders(doc: dict, recipe, overrides: dict) -> tuple[dict, list[str]]:
+    """``doc`` (the file's JSON) with the slider ``overrides`` ({(op, name): value})
+    written in, and the sliders left out."""
+    doc = json.loads(json.dumps(doc))
+    indices = file_indices(recipe)
+    skipped = []
+    for (i, name), value in sorted(overrides.items()):
+        n = indices[i]
+        if n is None:
+            skipped.append(f"ops[{i}].{name} (a drop of the layout ops[{recipe.ops[i].layout[1]}])")
+        else:
+            doc["ops"][n][name] = value
+    return doc, skipped
+
+
+def live_api(session, method: str, path: str, body: bytes | None):
+    """Answer an API request of the live page: (status, body, content type)."""
+    try:
+        if (method, path) == ("GET", "/api/recipe"):
+            return 200, session.recipe_path.read_bytes(), "application/json"
+        if (method, path) == ("PUT", "/api/recipe"):
+            save_recipe(session.recipe_path, json.loads(body or b"null"))
+            session.check_reload()
+            return _json({"version": session.recipe_version})
+        if (method, path) == ("POST", "/api/save-sliders"):
+            doc = json.loads(session.recipe_path.read_bytes())
+            overrides = session.controls.snapshot()[0]
+            doc, skipped = with_sliders(doc, session.recipe, overrides)
+            save_recipe(session.recipe_path, doc)
+            session.check_reload()
+            return _json({"version": session.recipe_version, "skipped": skipped})
+    except (RecipeError, ValueError) as exc:
+        return _json({"error": str(exc)}, 400)
+    except OSError as exc:
+        return _json({"error": f"{session.recipe_path}: {exc}"}, 500)
+    return _json({"error": f"{method} {path}: no such route"}, 404)
+
+
+def _json(obj, code: int = 200):
+    return code, json.dumps(obj).encode(), "application/json"

@@ -1,0 +1,220 @@
+"""The designer's page driven by the mouse in a real headless Chromium
+(Playwright), over samples/coffee.jpg with a 400x300 canvas, so the canvas is
+scaled (4/3) and centred in the 600x400 frame: a click must land on the canvas
+point the contract's geometry gives. Skipped, with the reason, when Playwright
+or Chromium is missing."""
+
+from __future__ import annotations
+
+import json
+import math
+import time
+
+import cv2
+import numpy as np
+
+from marblevideo.recipe.frame import fit
+from tests.live_helpers import ROOT, LiveProcess
+
+COFFEE = ROOT / "samples" / "coffee.jpg"
+INK = "#1d3557"  # the page's first colour
+REFUSED = "Failed to load resource: the server responded with a status of 400 (Bad Request)"
+
+
+def wait_for(pred, what: str, timeout: float = 20.0):
+    end = time.monotonic() + timeout
+    while not (value := pred()):
+        assert time.monotonic() < end, what
+        time.sleep(0.05)
+    return value
+
+
+def pixel(page, x: float, y: float) -> str:
+    """The sheet's colour at frame pixel (x, y), as #rrggbb."""
+    return page.evaluate(
+        """([x, y]) => {
+            const d = document.getElementById('sheet').getContext('2d')
+                .getImageData(Math.floor(x), Math.floor(y), 1, 1).data;
+            return '#' + [d[0], d[1], d[2]].map((c) => c.toString(16).padStart(2, '0')).join('');
+        }""",
+        [x, y],
+    )
+
+
+def settled(page, frames: int, shown: str = "all") -> None:
+    """Wait until the sheet shows an exact frame newer than ``frames`` of the saved
+    recipe (of the ops ``shown``)."""
+    page.wait_for_function(
+        """([n, shown]) => {
+            const d = document.getElementById('sheet').dataset;
+            return Number(d.frames) > n && d.draft === '0' && d.shown === shown
+                && d.version === String(version);
+        }""",
+        arg=[frames, shown],
+    )
+
+
+def drag(page, client, a, b) -> None:
+    """Drag the mouse from frame pixel ``a`` to ``b`` in eight moves."""
+    page.mouse.move(*client(*a))
+    page.mouse.down()
+    for k in range(1, 9):
+        page.mouse.move(*client(a[0] + (b[0] - a[0]) * k / 8, a[1] + (b[1] - a[1]) * k / 8))
+        time.sleep(0.03)
+    page.mouse.up()
+
+
+def frames(page) -> int:
+    return int(page.evaluate("document.getElementById('sheet').dataset.frames || 0"))
+
+
+def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
+    recipe = tmp_path / "coffee.json"
+    app = LiveProcess(
+        COFFEE, "--ops", recipe, "--canvas", "400x300",
+        "--no-browser", "--port", "0", "--duration", "120", cwd=tmp_path, command="design",
+    )  # fmt: skip
+    errors: list[str] = []
+    saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
+    try:
+        page = browser.new_page(viewport={"width": 1300, "height": 900})
+        page.on("pageerror", lambda e: errors.append(f"pageerror: {e}"))
+        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+        page.goto(app.url)
+        page.wait_for_selector("body[data-ready='1']")
+        settled(page, 0)
+        s, dx, dy = fit((400, 300), 600, 400)
+        box = page.locator("#overlay").bounding_box()
+
+        def client(px: float, py: float) -> tuple[float, float]:
+            """The page point over frame pixel (px, py) (the canvas is shown scaled)."""
+            return box["x"] + px * box["width"] / 600, box["y"] + py * box["height"] / 400
+
+        # the drop tool is active at load: a click drops ink where it was clicked
+        assert "on" in page.get_attribute("#tool-drop", "class")
+        n = frames(page)
+        page.mouse.click(*client(180, 160))
+        ops = wait_for(saved, "the drop is saved")
+        assert [op["type"] for op in ops] == ["drop"]
+        cx, cy = ops[0]["center"]
+        assert (abs(cx - (180 - dx) / s) <= 0.11, abs(cy - (160 - dy) / s) <= 0.11) == (True, True)
+        assert (round(cx), round(cy)) == (110, 120)
+        settled(page, n)
+        assert pixel(page, 180, 160) == INK  # the exact render shows it there
+        assert pixel(page, 560, 30) != INK
+
+        # a drag with the comb tool: a comb along the drag's direction
+        page.click("#tool-comb")
+        n = frames(page)
+        a, b = (120, 200), (360, 320)
+        drag(page, client, a, b)
+        ops = wait_for(lambda: len(saved()) == 2 and saved(), "the comb is saved")
+        comb = ops[1]
+        assert comb["type"] == "comb"
+        assert abs(comb["angle"] - math.degrees(math.atan2(b[1] - a[1], b[0] - a[0]))) < 0.3
+        assert abs(comb["point"][0] - (a[0] - dx) / s) < 0.2
+        assert abs(comb["alpha"] - math.dist(a, b) / s) < 0.5
+        settled(page, n)
+        assert page.text_content("#oplist") == "0 drop" + "hidesolo↑↓✕" + "1 comb" + "hidesolo↑↓✕"
+
+        # undo removes it, redo brings it back, undo again
+        page.click("#undo")
+        wait_for(lambda: [op["type"] for op in saved()] == ["drop"], "undone")
+        page.click("#redo")
+        wait_for(lambda: saved() == ops, "redone")
+        page.keyboard.press("Control+z")
+        wait_for(lambda: len(saved()) == 1, "undone by Ctrl-Z")
+
+        # hide: the drop leaves the picture, and comes back
+        n = frames(page)
+        page.click("#op-0 button[data-act=hide]")
+        settled(page, n, shown="")
+        assert pixel(page, 180, 160) != INK
+        n = frames(page)
+        page.click("#op-0 button[data-act=hide]")
+        settled(page, n)
+        assert pixel(page, 180, 160) == INK
+
+        # an invalid edit is refused with its JSON path; the file is kept
+        page.click("#op-0 .name")
+        assert errors == []
+        before = recipe.read_bytes()
+        page.fill("#p-radius", "-2")
+        page.press("#p-radius", "Enter")
+        page.wait_for_selector("#error", state="visible")
+        assert "coffee.json: ops[0].radius: must be > 0, got -2" in page.text_content("#error")
+        assert recipe.read_bytes() == before
+        assert page.input_value("#p-radius") == str(ops[0]["radius"])
+        assert errors == [REFUSED]  # Chromium logs the refused PUT; nothing else
+        errors.clear()
+        # a valid one is saved
+        page.fill("#p-radius", "30")
+        page.press("#p-radius", "Enter")
+        wait_for(lambda: saved()[0]["radius"] == 30, "the radius is saved")
+        page.wait_for_selector("#error", state="hidden")
+
+        # hot reload: another program saves FILE; the page follows
+        doc = json.loads(recipe.read_text())
+        doc["ops"][0]["radius"] = 12.5
+        recipe.write_text(json.dumps(doc))
+        page.wait_for_function("document.getElementById('p-radius').value === '12.5'")
+
+        # the timeline: "key" sets a keyframe at the time shown; play moves the clock
+        page.locator("#time").evaluate(
+            "el => { el.value = el.max; el.dispatchEvent(new Event('input')); }"
+        )
+        page.fill("#p-radius", "40")
+        page.click("#key-radius")
+        wait_for(lambda: isinstance(saved()[0]["radius"], dict), "the key is saved")
+        assert saved()[0]["radius"] == {"keys": [{"t": 0, "v": 12.5}, {"t": 1, "v": 40}]}
+        page.click("#play")
+        page.wait_for_function("document.getElementById('clock').textContent !== 't = 1.00 s'")
+        page.click("#play")
+        assert page.text_content("#play") == "Play"
+        time.sleep(0.5)  # the key stays (the field typed in is not saved again as it goes)
+        assert saved()[0]["radius"] == {"keys": [{"t": 0, "v": 12.5}, {"t": 1, "v": 40}]}
+        assert errors == []
+        page.close()
+    finally:
+        rc = app.stop()
+    assert rc == 0
+
+
+def test_a_nonpareil_and_a_swirl_over_a_photo_by_mouse_then_rendered(browser, tmp_path, cli):
+    """The issue's walk: drops scattered, raked down and back up, a vortex, all by
+    mouse over samples/coffee.jpg; the saved recipe renders with the main command."""
+    recipe = tmp_path / "mine.json"
+    app = LiveProcess(
+        COFFEE, "--ops", recipe, "--no-browser", "--port", "0", "--duration", "120",
+        cwd=tmp_path, command="design",
+    )  # fmt: skip
+    try:
+        page = browser.new_page(viewport={"width": 1300, "height": 900})
+        page.goto(app.url)
+        page.wait_for_selector("body[data-ready='1']")
+        box = page.locator("#overlay").bounding_box()
+
+        def client(px: float, py: float) -> tuple[float, float]:
+            return box["x"] + px * box["width"] / 600, box["y"] + py * box["height"] / 400
+
+        for tool, a, b in (
+            ("scatter-drops", (300, 200), (560, 380)),
+            ("rake", (300, 40), (300, 200)),
+            ("rake", (310, 360), (310, 200)),
+            ("vortex", (300, 200), (380, 200)),
+        ):
+            page.click(f"#tool-{tool}")
+            count = len(json.loads(recipe.read_text())["ops"])
+            drag(page, client, a, b)
+            wait_for(lambda n=count: len(json.loads(recipe.read_text())["ops"]) > n, tool)
+        ops = json.loads(recipe.read_text())["ops"]
+        assert [op["type"] for op in ops] == ["scatter-drops", "rake", "rake", "vortex"]
+        assert (ops[1]["angle"], ops[2]["angle"]) == (90, -90)
+        page.close()
+    finally:
+        assert app.stop() == 0
+    proc = cli(COFFEE, "--ops", recipe, "-o", tmp_path / "mine.png")
+    assert proc.returncode == 0, proc.stderr
+    out = cv2.imread(str(tmp_path / "mine.png"))
+    photo = cv2.imread(str(COFFEE))
+    assert out.shape == photo.shape and np.abs(out.astype(int) - photo).mean() > 10
