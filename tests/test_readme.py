@@ -4,11 +4,14 @@ docs/*.md, made small and quick (except the few in :data:`SKIPPED`)."""
 
 from __future__ import annotations
 
+import json
 import os
 import re
 import shlex
 import subprocess
 import sys
+import time
+import urllib.request
 from pathlib import Path
 
 import pytest
@@ -168,3 +171,30 @@ def test_readme_command_runs(command, tmp_path):
         assert proc.stdout
         if target.endswith(".json") and argv[3:4] == ["presets"]:
             load_recipe(tmp_path / target)
+
+
+def test_readme_designer_api_example_drives_a_designer(tmp_path):
+    """The README's second Python block, against a real `marblevideo design` on its
+    default port: the drop it adds is in the saved recipe file."""
+    text = (ROOT / "README.md").read_text()
+    block = next(b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "/api/recipe" in b)
+    recipe = tmp_path / "design.json"
+    cmd = [sys.executable, "-m", "marblevideo", "design", "--ops", recipe, "--no-browser"]
+    env = {**os.environ, "PYTHONPATH": str(ROOT)}
+    server = subprocess.Popen(cmd, cwd=tmp_path, env=env, stderr=subprocess.PIPE)
+    try:
+        deadline = time.monotonic() + 60
+        while True:
+            try:
+                urllib.request.urlopen("http://127.0.0.1:8765/api/recipe", timeout=2)
+                break
+            except OSError:
+                assert server.poll() is None, server.stderr.read().decode()
+                assert time.monotonic() < deadline, "the designer did not answer"
+                time.sleep(0.2)
+        exec(compile(block, "README.md", "exec"), {})
+        ops = json.loads(recipe.read_text())["ops"]
+        assert ops[-1]["type"] == "drop" and ops[-1]["center"] == [512, 384]
+    finally:
+        server.terminate()
+        server.wait(timeout=30)
