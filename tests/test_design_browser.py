@@ -180,9 +180,12 @@ def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
     assert rc == 0
 
 
-def test_a_nonpareil_and_a_swirl_over_a_photo_by_mouse_then_rendered(browser, tmp_path, cli):
-    """The issue's walk: drops scattered, raked down and back up, a vortex, all by
-    mouse over samples/coffee.jpg; the saved recipe renders with the main command."""
+def test_a_nonpareil_a_bouquet_and_a_swirl_over_a_photo_by_mouse_then_rendered(
+    browser, tmp_path, cli
+):
+    """The issue's walk: drops scattered and raked down and back up (a nonpareil),
+    waved and raked across (a bouquet), then a vortex (a swirl), all by mouse over
+    samples/coffee.jpg; the saved recipe renders with the main command."""
     recipe = tmp_path / "mine.json"
     app = LiveProcess(
         COFFEE, "--ops", recipe, "--no-browser", "--port", "0", "--duration", "120",
@@ -201,6 +204,8 @@ def test_a_nonpareil_and_a_swirl_over_a_photo_by_mouse_then_rendered(browser, tm
             ("scatter-drops", (300, 200), (560, 380)),
             ("rake", (300, 40), (300, 200)),
             ("rake", (310, 360), (310, 200)),
+            ("wave", (300, 200), (300, 260)),
+            ("rake", (100, 200), (250, 200)),
             ("vortex", (300, 200), (380, 200)),
         ):
             page.click(f"#tool-{tool}")
@@ -208,8 +213,9 @@ def test_a_nonpareil_and_a_swirl_over_a_photo_by_mouse_then_rendered(browser, tm
             drag(page, client, a, b)
             wait_for(lambda n=count: len(json.loads(recipe.read_text())["ops"]) > n, tool)
         ops = json.loads(recipe.read_text())["ops"]
-        assert [op["type"] for op in ops] == ["scatter-drops", "rake", "rake", "vortex"]
-        assert (ops[1]["angle"], ops[2]["angle"]) == (90, -90)
+        types = ["scatter-drops", "rake", "rake", "wave", "rake", "vortex"]
+        assert [op["type"] for op in ops] == types
+        assert (ops[1]["angle"], ops[2]["angle"], ops[4]["angle"]) == (90, -90, 0)
         page.close()
     finally:
         assert app.stop() == 0
