@@ -145,6 +145,8 @@ def test_control_validates_requests(session):
         {"param": {"op": 0, "name": "amplitude", "value": 3}},  # keyframed
         {"param": {"op": 5, "name": "alpha", "value": 3}},
         {"param": {"op": 1, "name": "center", "value": 3}},
+        {"time": -1},
+        {"time": "0.5"},
         {"bypass": "yes"},
         {"jump": True},
         [],
@@ -176,10 +178,22 @@ def test_preview_server_binds_loopback_only(session):
         conn.request("GET", "/frame.jpg")
         r = conn.getresponse()
         assert r.status == 200 and r.read()[:2] == b"\xff\xd8"
+        seq = int(r.getheader("X-Frame-Seq"))
+        conn.request("GET", f"/frame.jpg?after={seq}")  # the next one, waited for
+        r = conn.getresponse()
+        assert r.status == 200 and r.read()[:2] == b"\xff\xd8"
+        assert int(r.getheader("X-Frame-Seq")) > seq
         conn.close()
         runner.join(10)
     finally:
         server.stop()
+
+
+def test_the_clock_seeks(session):
+    state = session.control({"paused": True, "time": 0.75})
+    assert state["t"] == 0.75 and abs(session.clock.now() - 0.75) < 1e-9
+    session.control({"time": 0.25})
+    assert abs(session.clock.now() - 0.25) < 1e-9
 
 
 def test_clock_loops_at_the_recipes_end(session):
