@@ -115,6 +115,7 @@ class DesignSession:
         canvas = recipe.canvas or self.backdrop.size
         s, dx, dy = fit(canvas, w, h)
         return {
+            "mode": "design",
             "version": version,
             "error": self.document.error,
             "file": str(self.document.path),

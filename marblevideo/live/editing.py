@@ -56,20 +56,21 @@ def live_api(session, method: str, path: str, body: bytes | None):
         if (method, path) == ("PUT", "/api/recipe"):
             save_recipe(session.recipe_path, json.loads(body or b"null"))
             session.check_reload()
-            return _json({"version": session.recipe_version})
+            return json_answer({"version": session.recipe_version})
         if (method, path) == ("POST", "/api/save-sliders"):
             doc = json.loads(session.recipe_path.read_bytes())
             overrides = session.controls.snapshot()[0]
             doc, skipped = with_sliders(doc, session.recipe, overrides)
             save_recipe(session.recipe_path, doc)
             session.check_reload()
-            return _json({"version": session.recipe_version, "skipped": skipped})
+            return json_answer({"version": session.recipe_version, "skipped": skipped})
     except (RecipeError, ValueError) as exc:
-        return _json({"error": str(exc)}, 400)
+        return json_answer({"error": str(exc)}, 400)
     except OSError as exc:
-        return _json({"error": f"{session.recipe_path}: {exc}"}, 500)
-    return _json({"error": f"{method} {path}: no such route"}, 404)
+        return json_answer({"error": f"{session.recipe_path}: {exc}"}, 500)
+    return json_answer({"error": f"{method} {path}: no such route"}, 404)
 
 
-def _json(obj, code: int = 200):
+def json_answer(obj, code: int = 200):
+    """``obj`` as a JSON answer: (status, body, content type)."""
     return code, json.dumps(obj).encode(), "application/json"

@@ -2,7 +2,8 @@
 
 Routes:
 
-- ``GET /``: the page (``page.html``): the stream, counters, controls.
+- ``GET /``: the session's page, when it has one (``page()``): the designer's
+  (:mod:`marblevideo.design`; for ``live --preview``, in live mode).
 - ``GET /stream.mjpg``: the marbled frames as MJPEG (``multipart/x-mixed-replace``),
   each JPEG sent once, newest first: a slow client skips frames, it never queues them.
 - ``GET /frame.jpg``: the newest JPEG; ``?after=SEQ``: one newer than SEQ (the
@@ -29,7 +30,6 @@ import json
 import sys
 import threading
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
-from importlib import resources
 from urllib.parse import parse_qs
 
 from marblevideo.errors import MediaError, UsageError
@@ -39,10 +39,6 @@ BOUNDARY = "marblevideoframe"
 #: Largest request body, in bytes (a recipe PUT to the designer's API).
 MAX_BODY = 4 << 20
 HOST = "127.0.0.1"
-
-
-def page_html() -> bytes:
-    return (resources.files("marblevideo.live") / "page.html").read_bytes()
 
 
 class _Handler(BaseHTTPRequestHandler):
@@ -102,9 +98,8 @@ class _Handler(BaseHTTPRequestHandler):
             return
         session = self.server.session
         path, _, query = self.path.partition("?")
-        if path == "/":
-            page = session.page() if hasattr(session, "page") else page_html()
-            self._send(200, page, "text/html; charset=utf-8")
+        if path == "/" and hasattr(session, "page"):
+            self._send(200, session.page(), "text/html; charset=utf-8")
         elif path == "/stats":
             self._json(session.stats())
         elif path == "/params":

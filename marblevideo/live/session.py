@@ -10,7 +10,8 @@ bounded)::
 
 - The recipe file is polled every 0.5 s; a save reloads it. An invalid save
   keeps the previous recipe running; its one-line RecipeError is printed on
-  stderr and shown on the preview page. Slider overrides are reset by a reload.
+  stderr and shown on the preview page (the designer's, in live mode:
+  :mod:`marblevideo.design.live`). Slider overrides are reset by a reload.
 - The preview's controls (clock, bypass, mirror, sliders) are
   :class:`~marblevideo.live.controls.Controls`.
 """
