@@ -15,6 +15,7 @@ import json
 import cv2
 import numpy as np
 
+from marblevideo.ops import op_def, slider_range
 from tests.live_helpers import RECIPE, ROOT, LiveProcess
 from tests.test_design_browser import REFUSED, drag, wait_for
 
@@ -46,6 +47,15 @@ def _version(page, n: int) -> None:
     """Wait until the page has the answer of its save number ``n`` (its editors
     are then of the saved recipe)."""
     page.wait_for_function(f"version === {n}")
+
+
+def _slide(page, slider: str, value: float) -> None:
+    """Move the range input ``slider`` to ``value`` and let go (input, change)."""
+    page.locator(slider).evaluate(
+        """(el, v) => { el.value = v; el.dispatchEvent(new Event('input'));
+                     el.dispatchEvent(new Event('change')); }""",
+        value,
+    )
 
 
 def _edit(page, field: str, value: str) -> None:
@@ -104,6 +114,14 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         page.wait_for_selector("#error", state="visible")
         assert "ops[1].lambda: must be > 0, got -2" in page.text_content("#error")
         assert recipe.read_bytes() == before and live.get("/stats")["recipe_version"] == 2
+        # a number's slider: the range of its slider law; let go, it saves
+        param = next(p for p in op_def("vortex").params if p.name == "lambda")
+        lo, hi, _ = slider_range(param, 60, 600)
+        assert float(page.get_attribute("#s-lambda", "min")) == lo
+        assert float(page.get_attribute("#s-lambda", "max")) == hi
+        _slide(page, "#s-lambda", 150)
+        wait_for(lambda: abs(saved()[1]["lambda"] - 150) < 0.25, "the slider's value is saved")
+        _version(page, 3)
 
         # a keyframed value: a key set at the clock's time
         page.locator("#time").evaluate(
@@ -114,8 +132,14 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         page.fill("#p-amplitude", "30")
         page.click("#key-amplitude")
         wait_for(lambda: {"t": 0.5, "v": 30} in saved()[0]["amplitude"]["keys"], "the key")
-        _version(page, 3)
+        _version(page, 4)
         assert saved()[0]["amplitude"]["keys"][0] == {"t": 0, "v": 0}
+        # ... and its slider moves that key (the one at the clock's time)
+        assert float(page.input_value("#s-amplitude")) == 30
+        _slide(page, "#s-amplitude", 12)
+        _version(page, 5)
+        keys = saved()[0]["amplitude"]["keys"]
+        assert [k["t"] for k in keys] == [0, 0.5, 1] and abs(keys[1]["v"] - 12) < 0.2
 
         # a click with the drop tool drops ink into the live recipe, where clicked
         box = page.locator("#overlay").bounding_box()
@@ -127,12 +151,12 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         page.mouse.click(*client(150, 220))
         ops = wait_for(lambda: len(saved()) == 3 and saved(), "the drop is saved")
         assert ops[2]["type"] == "drop" and _near(ops[2]["center"], (150, 220))
-        _version(page, 4)
+        _version(page, 6)
         assert _diff(d, _settled(page, live)) > 5 * still
         # ... its centre is a handle: dragged, it moves; its colour is edited
         drag(page, client, (150, 220), (300, 100))
         wait_for(lambda: _near(saved()[2]["center"], (300, 100)), "the handle moved")
-        _version(page, 5)
+        _version(page, 7)
         page.locator("#p-color").evaluate(
             "el => { el.value = '#ff0000'; el.dispatchEvent(new Event('change')); }"
         )

@@ -40,6 +40,7 @@ def registry() -> dict:
                 "optional": p.optional,
                 "default": p.default,
                 "keyable": p.tracked,
+                "slider": p.slider,
             }
             for p in definition.params
         ]
