@@ -311,3 +311,18 @@ def test_the_designers_api_over_a_live_session(session):
         assert path.read_bytes() == before and session.recipe_version == 2
     finally:
         server.stop()
+
+
+def test_a_save_is_known_by_its_stamp_and_another_programs_change_is_seen(session):
+    """The page's save takes the recipe it saved, known by the file's stamp (taken
+    before the rename), so a change another program makes right after is reloaded."""
+    from marblevideo.live.recipefile import file_stamp, save_stamped
+
+    path = session.recipe_path
+    doc = {**RECIPE, "ops": RECIPE["ops"][1:]}
+    assert save_stamped(path, doc)[1] == file_stamp(path)
+    assert session.put(doc) == 2 and len(session.recipe.ops) == 1
+    assert not session.check_reload()  # our own save
+    path.write_text(json.dumps(RECIPE))
+    assert session.check_reload() and session.recipe_version == 3
+    assert len(session.recipe.ops) == 2
