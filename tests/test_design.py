@@ -65,6 +65,7 @@ def test_api_saves_renders_and_refuses(tmp_path):
         assert saved["canvas"] == [320, 240] and saved["ops"] == []
         info = app.get("/api/info")
         assert info["size"] == [320, 240] and info["scale"] == 1 and info["offset"] == [0, 0]
+        assert info["mode"] == "design"
         # PUT: saved as given, and the frame is the exact render of the main command
         answer = app.post("/api/recipe", DROPS, "PUT")
         assert answer["version"] == info["version"] + 1 and answer["ops"] == 2

@@ -152,6 +152,18 @@ def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
         page.press("#p-radius", "Enter")
         wait_for(lambda: saved()[0]["radius"] == 30, "the radius is saved")
         page.wait_for_selector("#error", state="hidden")
+        # its slider: moved, the sheet shows a draft; let go, the value is saved
+        n = frames(page)
+        page.locator("#s-radius").evaluate(
+            "el => { el.value = 50; el.dispatchEvent(new Event('input')); }"
+        )
+        page.wait_for_function(
+            f"document.getElementById('sheet').dataset.frames > {n} "
+            "&& document.getElementById('sheet').dataset.draft === '1'"
+        )
+        assert saved()[0]["radius"] == 30
+        page.locator("#s-radius").evaluate("el => el.dispatchEvent(new Event('change'))")
+        wait_for(lambda: abs(saved()[0]["radius"] - 50) < 0.2, "the slider's radius is saved")
 
         # hot reload: another program saves FILE; the page follows
         doc = json.loads(recipe.read_text())

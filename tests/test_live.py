@@ -145,6 +145,8 @@ def test_control_validates_requests(session):
         {"param": {"op": 0, "name": "amplitude", "value": 3}},  # keyframed
         {"param": {"op": 5, "name": "alpha", "value": 3}},
         {"param": {"op": 1, "name": "center", "value": 3}},
+        {"time": -1},
+        {"time": "0.5"},
         {"bypass": "yes"},
         {"jump": True},
         [],
@@ -176,10 +178,25 @@ def test_preview_server_binds_loopback_only(session):
         conn.request("GET", "/frame.jpg")
         r = conn.getresponse()
         assert r.status == 200 and r.read()[:2] == b"\xff\xd8"
+        seq = int(r.getheader("X-Frame-Seq"))
+        conn.request("GET", f"/frame.jpg?after={seq}")  # the next one, waited for
+        r = conn.getresponse()
+        assert r.status == 200 and r.read()[:2] == b"\xff\xd8"
+        assert int(r.getheader("X-Frame-Seq")) > seq
+        conn.request("GET", "/")  # a session with no page: none
+        r = conn.getresponse()
+        assert r.status == 404 and r.read()
         conn.close()
         runner.join(10)
     finally:
         server.stop()
+
+
+def test_the_clock_seeks(session):
+    state = session.control({"paused": True, "time": 0.75})
+    assert state["t"] == 0.75 and abs(session.clock.now() - 0.75) < 1e-9
+    session.control({"time": 0.25})
+    assert abs(session.clock.now() - 0.25) < 1e-9
 
 
 def test_clock_loops_at_the_recipes_end(session):
@@ -245,3 +262,67 @@ def test_sliders_of_a_layouts_drops_are_left_out():
     changed, skipped = with_sliders(doc, recipe, {(4, "alpha"): 7.0, (2, "radius"): 9.0})
     assert changed["ops"][2]["alpha"] == 7.0 and doc["ops"][2]["alpha"] == 10
     assert skipped == ["ops[2].radius (a drop of the layout ops[1])"]
+
+
+def test_the_designers_api_over_a_live_session(session):
+    """live --preview serves the designer's page in live mode: /api/info says so and
+    gives the source's geometry, /api/ops the types, and a PUT answers as the
+    designer's does (or refuses, the file kept)."""
+    from marblevideo.design.live import LiveDesign
+
+    path = session.recipe_path
+    server = PreviewServer(LiveDesign(session), 0)
+    server.start()
+    try:
+        host, port = server.address
+        conn = http.client.HTTPConnection(host, port, timeout=10)
+        conn.request("GET", "/")
+        r = conn.getresponse()
+        assert r.status == 200 and b'id="sheet"' in r.read()
+        conn.close()
+        status, info = _api(server, "GET", "/api/info")
+        assert status == 200 and info["mode"] == "live" and info["input"]["kind"] == "live"
+        assert (info["size"], info["canvas"], info["scale"], info["ops"]) == (
+            [96, 64],
+            [96, 64],
+            1.0,
+            2,
+        )
+        status, types = _api(server, "GET", "/api/ops")
+        assert status == 200 and types["rings"]["layout"] and "comb" in types
+        doc = {
+            **RECIPE,
+            "ops": [
+                *RECIPE["ops"],
+                {"type": "drop", "center": [9, 9], "radius": 4, "color": "red"},
+            ],
+        }
+        status, answer = _api(server, "PUT", "/api/recipe", doc)
+        assert status == 200 and (answer["version"], answer["ops"], answer["mode"]) == (
+            2,
+            3,
+            "live",
+        )
+        assert json.loads(path.read_text()) == doc and len(session.recipe.ops) == 3
+        before = path.read_bytes()
+        bad = {**doc, "ops": [{**doc["ops"][2], "radius": 0}]}
+        status, answer = _api(server, "PUT", "/api/recipe", bad)
+        assert status == 400 and answer["error"].startswith(f"{path}: ops[0].radius")
+        assert path.read_bytes() == before and session.recipe_version == 2
+    finally:
+        server.stop()
+
+
+def test_a_save_is_known_by_its_stamp_and_another_programs_change_is_seen(session):
+    """The page's save takes the recipe it saved, known by the file's stamp (taken
+    before the rename), so a change another program makes right after is reloaded."""
+    from marblevideo.live.recipefile import file_stamp, save_stamped
+
+    path = session.recipe_path
+    doc = {**RECIPE, "ops": RECIPE["ops"][1:]}
+    assert save_stamped(path, doc)[1] == file_stamp(path)
+    assert session.put(doc) == 2 and len(session.recipe.ops) == 1
+    assert not session.check_reload()  # our own save
+    path.write_text(json.dumps(RECIPE))
+    assert session.check_reload() and session.recipe_version == 3
+    assert len(session.recipe.ops) == 2

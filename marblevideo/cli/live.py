@@ -50,7 +50,9 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument(
         "--ops", required=True, metavar="RECIPE", help="recipe JSON file (watched) or preset"
     )
-    p.add_argument("--preview", action="store_true", help="serve a preview page on 127.0.0.1")
+    p.add_argument(
+        "--preview", action="store_true", help="serve the designer's page in live mode on 127.0.0.1"
+    )
     p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"preview port ({DEFAULT_PORT})")
     p.add_argument("--vcam", action="store_true", help="send frames to a virtual camera")
     p.add_argument("-o", "--output", help="record what is shown (.mp4 .mov .mkv .webm)")
@@ -160,9 +162,10 @@ def run_live(argv: list[str]) -> int:
             recorder.start(width, height, source.fps)
             session.recorder = recorder
         if args.preview:
+            from marblevideo.design.live import LiveDesign
             from marblevideo.live.preview import PreviewServer
 
-            server = PreviewServer(session, args.port)
+            server = PreviewServer(LiveDesign(session), args.port)  # the designer, live
             server.start()
             print(f"preview: {server.url}", flush=True)
         for signum in (signal.SIGINT, signal.SIGTERM):

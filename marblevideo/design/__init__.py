@@ -24,7 +24,8 @@ everything through this HTTP API, which scripts and tests may use too:
   width and height as two little-endian uint32, then width x height x 4 bytes
   of RGBA, rows top to bottom.
 - ``GET /api/design.svg?t=T``: a blank sheet's design as SVG.
-- ``GET /api/info``: the recipe's ``version`` (counts changes, from the page or
+- ``GET /api/info``: the page's ``mode`` (``design``; ``live`` for ``marblevideo
+  live --preview``), the recipe's ``version`` (counts changes, from the page or
   from FILE on disk), ``error`` (FILE changed on disk into an invalid recipe:
   the previous one stays), ``file``, ``input`` (``kind``: blank, image, video
   or live; ``name``; ``duration`` in seconds), the frame's ``size`` [w, h] in
@@ -33,6 +34,10 @@ everything through this HTTP API, which scripts and tests may use too:
   geometry), the recipe's ``end`` time and number of ``ops``.
 - ``GET /api/ops``: every op and layout type with its parameters (name, kind,
   help, whether optional and keyable).
+
+``marblevideo live --preview`` serves the same page in "live" mode
+(:mod:`marblevideo.design.live`): ``/api/info`` says ``"mode": "live"``, the
+sheet shows the live frames, and edits go to the live recipe file.
 
 Errors are JSON ``{"error": "..."}`` with status 400 (a bad request or recipe),
 404/405 (no such route) or 500. Hot reload: FILE is polled; when another

@@ -40,6 +40,7 @@ def registry() -> dict:
                 "optional": p.optional,
                 "default": p.default,
                 "keyable": p.tracked,
+                "slider": p.slider,
             }
             for p in definition.params
         ]
@@ -115,6 +116,7 @@ class DesignSession:
         canvas = recipe.canvas or self.backdrop.size
         s, dx, dy = fit(canvas, w, h)
         return {
+            "mode": "design",
             "version": version,
             "error": self.document.error,
             "file": str(self.document.path),

@@ -51,6 +51,12 @@ class Clock:
                 self._origin += now - self._paused_at
                 self._paused_at = None
 
+    def seek(self, t: float) -> None:
+        """Show time ``t`` now (paused or running, it goes on from there)."""
+        with self._lock:
+            ref = self._paused_at if self._paused_at is not None else time.monotonic()
+            self._origin = ref - t
+
     def restart(self) -> None:
         with self._lock:
             self._origin = time.monotonic()
@@ -124,17 +130,22 @@ class Controls:
         Fields (all optional): ``paused`` (bool), ``restart`` (true), ``bypass``
         (bool), ``mirror`` (bool), ``param`` ({"op": i, "name": n, "value": v}),
         ``reset`` (true: drop every slider override), ``loop`` (bool: the clock
-        starts again at the recipe's end, when it has one).
+        starts again at the recipe's end, when it has one), ``time`` (seconds
+        >= 0: the clock shows that time now).
         """
         if not isinstance(request, dict):
             raise UsageError("control: expected a JSON object")
-        known = {"paused", "restart", "bypass", "mirror", "param", "reset", "loop"}
+        known = {"paused", "restart", "bypass", "mirror", "param", "reset", "loop", "time"}
         unknown = set(request) - known
         if unknown:
             raise UsageError(f"control: unknown field {sorted(unknown)[0]!r}")
         for name in ("paused", "bypass", "mirror", "restart", "reset", "loop"):
             if name in request and not isinstance(request[name], bool):
                 raise UsageError(f"control: {name} must be true or false")
+        seek = request.get("time")
+        number = isinstance(seek, int | float) and not isinstance(seek, bool)
+        if "time" in request and not (number and 0 <= seek <= LIMIT):
+            raise UsageError(f"control: time must be seconds >= 0, got {seek!r}")
         param = request.get("param")
         if param is not None:
             key, value = _check_param(param, recipe)
@@ -149,6 +160,8 @@ class Controls:
                 self.mirror = request["mirror"]
             if "loop" in request:
                 self.clock.loop_at = (recipe.end_time() or None) if request["loop"] else None
+            if "time" in request:
+                self.clock.seek(float(seek))
             if request.get("reset"):
                 self.overrides.clear()
                 self.version += 1

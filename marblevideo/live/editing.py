@@ -15,8 +15,7 @@ from __future__ import annotations
 
 import json
 
-from marblevideo.errors import RecipeError
-from marblevideo.live.recipefile import save_recipe
+from marblevideo.errors import MediaError, RecipeError
 
 
 def file_indices(recipe) -> list[int | None]:
@@ -54,22 +53,19 @@ def live_api(session, method: str, path: str, body: bytes | None):
         if (method, path) == ("GET", "/api/recipe"):
             return 200, session.recipe_path.read_bytes(), "application/json"
         if (method, path) == ("PUT", "/api/recipe"):
-            save_recipe(session.recipe_path, json.loads(body or b"null"))
-            session.check_reload()
-            return _json({"version": session.recipe_version})
+            return json_answer({"version": session.put(json.loads(body or b"null"))})
         if (method, path) == ("POST", "/api/save-sliders"):
             doc = json.loads(session.recipe_path.read_bytes())
             overrides = session.controls.snapshot()[0]
             doc, skipped = with_sliders(doc, session.recipe, overrides)
-            save_recipe(session.recipe_path, doc)
-            session.check_reload()
-            return _json({"version": session.recipe_version, "skipped": skipped})
+            return json_answer({"version": session.put(doc), "skipped": skipped})
     except (RecipeError, ValueError) as exc:
-        return _json({"error": str(exc)}, 400)
-    except OSError as exc:
-        return _json({"error": f"{session.recipe_path}: {exc}"}, 500)
-    return _json({"error": f"{method} {path}: no such route"}, 404)
+        return json_answer({"error": str(exc)}, 400)
+    except (OSError, MediaError) as exc:
+        return json_answer({"error": f"{session.recipe_path}: {exc}"}, 500)
+    return json_answer({"error": f"{method} {path}: no such route"}, 404)
 
 
-def _json(obj, code: int = 200):
+def json_answer(obj, code: int = 200):
+    """``obj`` as a JSON answer: (status, body, content type)."""
     return code, json.dumps(obj).encode(), "application/json"

@@ -2,10 +2,12 @@
 
 Routes:
 
-- ``GET /``: the page (``page.html``): the stream, counters, controls.
+- ``GET /``: the session's page, when it has one (``page()``): the designer's
+  (:mod:`marblevideo.design`; for ``live --preview``, in live mode).
 - ``GET /stream.mjpg``: the marbled frames as MJPEG (``multipart/x-mixed-replace``),
   each JPEG sent once, newest first: a slow client skips frames, it never queues them.
-- ``GET /frame.jpg``: the newest JPEG.
+- ``GET /frame.jpg``: the newest JPEG; ``?after=SEQ``: one newer than SEQ (the
+  sequence number comes as the ``X-Frame-Seq`` header).
 - ``GET /stats``: JSON counters (fps, latency, dropped frames, recipe version and
   error, control state); the page polls it.
 - ``GET /params``: JSON, each op's numeric parameters with slider ranges.
@@ -28,7 +30,7 @@ import json
 import sys
 import threading
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
-from importlib import resources
+from urllib.parse import parse_qs
 
 from marblevideo.errors import MediaError, UsageError
 from marblevideo.limits import DEFAULT_PORT
@@ -37,10 +39,6 @@ BOUNDARY = "marblevideoframe"
 #: Largest request body, in bytes (a recipe PUT to the designer's API).
 MAX_BODY = 4 << 20
 HOST = "127.0.0.1"
-
-
-def page_html() -> bytes:
-    return (resources.files("marblevideo.live") / "page.html").read_bytes()
 
 
 class _Handler(BaseHTTPRequestHandler):
@@ -99,24 +97,39 @@ class _Handler(BaseHTTPRequestHandler):
         if not self._host_ok() or self._api("GET"):
             return
         session = self.server.session
-        path = self.path.split("?", 1)[0]
-        if path == "/":
-            page = session.page() if hasattr(session, "page") else page_html()
-            self._send(200, page, "text/html; charset=utf-8")
+        path, _, query = self.path.partition("?")
+        if path == "/" and hasattr(session, "page"):
+            self._send(200, session.page(), "text/html; charset=utf-8")
         elif path == "/stats":
             self._json(session.stats())
         elif path == "/params":
             self._json(session.params())
         elif path == "/frame.jpg":
-            seq, data = session.latest_jpeg(0, timeout=2.0)
-            if data is None:
-                self._send(503, b"no frame yet\n", "text/plain")
-            else:
-                self._send(200, data, "image/jpeg")
+            self._frame(query)
         elif path == "/stream.mjpg":
             self._stream()
         else:
             self._send(404, b"not found\n", "text/plain")
+
+    def _frame(self, query: str) -> None:
+        """The newest JPEG; with ``after=SEQ``, one newer than SEQ (waited for up to
+        2 s: 503 when none came). Its sequence number is the X-Frame-Seq header."""
+        try:
+            after = int(parse_qs(query).get("after", ["0"])[-1])
+        except ValueError:
+            self._send(400, b"after: expected a frame number\n", "text/plain")
+            return
+        seq, data = self.server.session.latest_jpeg(after, timeout=2.0)
+        if data is None:
+            self._send(503, b"no new frame yet\n", "text/plain")
+            return
+        self.send_response(200)
+        self.send_header("Content-Type", "image/jpeg")
+        self.send_header("Content-Length", str(len(data)))
+        self.send_header("Cache-Control", "no-store")
+        self.send_header("X-Frame-Seq", str(seq))
+        self.end_headers()
+        self.wfile.write(data)
 
     def _stream(self) -> None:
         session = self.server.session

@@ -38,11 +38,19 @@ def new_recipe(canvas: tuple[float, float] | None) -> dict:
 def save_recipe(path: str | os.PathLike, doc: object) -> Recipe:
     """Validate ``doc`` and write it to ``path`` atomically (a temporary file beside
     it, renamed over it); the Recipe. RecipeError, nothing written, when invalid."""
+    return save_stamped(path, doc)[0]
+
+
+def save_stamped(path: str | os.PathLike, doc: object) -> tuple[Recipe, tuple | None]:
+    """:func:`save_recipe`, and the saved file's stamp (:func:`file_stamp`), taken
+    before the rename moves it into place: a change another program makes at once
+    is never taken for this save."""
     recipe = parse_recipe(doc, str(path))
     text = json.dumps(doc, indent=2) + "\n"
     with atomic_output(path, overwrite=True) as tmp:
         tmp.write_text(text, encoding="utf-8")
-    return recipe
+        stamp = file_stamp(tmp)
+    return recipe, stamp
 
 
 def file_stamp(path: Path) -> tuple[int, int, int] | None:
@@ -84,11 +92,10 @@ class RecipeFile:
         """Validate ``doc``, save it atomically and make it current; its version.
         RecipeError (nothing saved) when it is not a valid recipe."""
         with self._lock:
-            recipe = save_recipe(self.path, doc)
+            recipe, self._stamp = save_stamped(self.path, doc)
             self.doc, self.recipe = doc, recipe
             self.version += 1
             self.error = None
-            self._stamp = self._file_stamp()
             return self.version
 
     def check_reload(self) -> bool:

@@ -10,7 +10,8 @@ bounded)::
 
 - The recipe file is polled every 0.5 s; a save reloads it. An invalid save
   keeps the previous recipe running; its one-line RecipeError is printed on
-  stderr and shown on the preview page. Slider overrides are reset by a reload.
+  stderr and shown on the preview page (the designer's, in live mode:
+  :mod:`marblevideo.design.live`). Slider overrides are reset by a reload.
 - The preview's controls (clock, bypass, mirror, sliders) are
   :class:`~marblevideo.live.controls.Controls`.
 """
@@ -30,7 +31,7 @@ import numpy as np
 from marblevideo.errors import RecipeError
 from marblevideo.live.controls import Controls, sliders, with_overrides
 from marblevideo.live.editing import live_api
-from marblevideo.live.recipefile import file_stamp
+from marblevideo.live.recipefile import file_stamp, save_stamped
 from marblevideo.live.sources import Latest, Source
 
 RELOAD_POLL = 0.5
@@ -131,6 +132,21 @@ class LiveSession:
         watcher and the page's saves call it; one at a time)."""
         with self._reload_lock:
             return self._reload()
+
+    def put(self, doc: object) -> int:
+        """Validate ``doc``, save it atomically and take it from the next frame
+        (sliders reset); its version. RecipeError, nothing saved, when invalid.
+        The watcher waits meanwhile, and knows the saved file by its stamp."""
+        with self._reload_lock:
+            recipe, stamp = save_stamped(self.recipe_path, doc)
+            with self._lock:
+                self._stamp = stamp
+                self.recipe = recipe
+                self.recipe_version += 1
+                self.recipe_error = None
+                version = self.recipe_version
+        self.controls.reset()
+        return version
 
     def _reload(self) -> bool:
         stamp = self._file_stamp()

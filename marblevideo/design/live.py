@@ -1,0 +1,90 @@
+"""The designer's page over ``marblevideo live --preview``: the same page, in
+"live" mode (``GET /api/info`` says ``"mode": "live"``).
+
+:class:`LiveDesign` stands in front of a running
+:class:`~marblevideo.live.session.LiveSession` and answers the designer's API
+(:mod:`marblevideo.design`) from it, so the op list, the parameter editors
+(keys at the clock's time, points as handles, colours) and the drawing tools
+edit the live recipe file:
+
+- ``GET /api/info``: as the designer's, with ``"mode": "live"``, the input
+  ``kind`` ``live`` and the frame's ``size`` the source's.
+- ``GET /api/ops``: every op and layout type with its parameters.
+- ``GET``/``PUT /api/recipe``, ``POST /api/save-sliders``: the live session's
+  (:mod:`marblevideo.live.editing`): validated, saved atomically, taken from the
+  next frame; 400 with the one-line JSON-path error and nothing saved when
+  invalid. A PUT answers ``/api/info`` with the new ``version``.
+
+The page draws the newest marbled frame (``GET /frame.jpg?after=SEQ``) and
+polls ``/stats`` (fps, latency, the clock); ``POST /control`` pauses, seeks
+(``time``) and loops the animation clock. There are no renders of unsaved
+recipes (``/api/frame.*``): the frame shown is the live one.
+"""
+
+from __future__ import annotations
+
+import json
+from importlib import resources
+
+from marblevideo.design.session import registry
+from marblevideo.live.editing import json_answer
+from marblevideo.recipe.frame import fit
+
+
+class LiveDesign:
+    """The designer's page and API over the live session ``live``; everything
+    else (the stream, ``/stats``, ``/control``) is the live session's."""
+
+    def __init__(self, live):
+        self.live = live
+
+    def info(self) -> dict:
+        live = self.live
+        stats = live.stats()
+        recipe = live.recipe
+        w, h = live.source.size
+        canvas = recipe.canvas or (w, h)
+        s, dx, dy = fit(canvas, w, h)
+        return {
+            "mode": "live",
+            "version": stats["recipe_version"],
+            "error": stats["recipe_error"],
+            "file": str(live.recipe_path),
+            "input": {"kind": "live", "name": live.source.name, "duration": None},
+            "size": [w, h],
+            "canvas": list(canvas),
+            "scale": s,
+            "offset": [dx, dy],
+            "end": recipe.end_time(),
+            "ops": len(
+                {op.layout[1] if op.layout else ("op", n) for n, op in enumerate(recipe.ops)}
+            ),
+        }
+
+    def page(self) -> bytes:
+        """The designer's page (it reads the mode from ``/api/info``)."""
+        return (resources.files("marblevideo.design") / "page.html").read_bytes()
+
+    def api(self, method: str, path: str, query: str, body: bytes | None):
+        """Answer an API request: (status, body, content type)."""
+        if (method, path) == ("GET", "/api/info"):
+            return json_answer(self.info())
+        if (method, path) == ("GET", "/api/ops"):
+            return json_answer(registry())
+        code, data, ctype = self.live.api(method, path, query, body)
+        if (method, path) == ("PUT", "/api/recipe") and code == 200:
+            return json_answer({**self.info(), **json.loads(data)})
+        return code, data, ctype
+
+    # the live session's own routes
+    def stats(self) -> dict:
+        return self.live.stats()
+
+    def params(self) -> dict:
+        return self.live.params()
+
+    def control(self, request) -> dict:
+        return self.live.control(request)
+
+    def latest_jpeg(self, after: int, timeout: float = 1.0):
+        return self.live.latest_jpeg(after, timeout)
