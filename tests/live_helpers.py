@@ -97,3 +97,15 @@ class LiveProcess:
         self.proc.stdout.close()
         self.stderr_file.close()
         return rc
+
+
+def watched_page(browser, url: str, ready: str):
+    """(page, errors): a 1300x900 page of ``browser`` at ``url``, once ``ready`` (a
+    selector) is there; ``errors`` collects its page errors and console errors."""
+    errors: list[str] = []
+    page = browser.new_page(viewport={"width": 1300, "height": 900})
+    page.on("pageerror", lambda e: errors.append(f"pageerror: {e}"))
+    page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
+    page.goto(url)
+    page.wait_for_selector(ready)
+    return page, errors

@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 
 from marblevideo.recipe.frame import fit
-from tests.live_helpers import ROOT, LiveProcess
+from tests.live_helpers import ROOT, LiveProcess, watched_page
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
 INK = "#1d3557"  # the page's first colour
@@ -74,14 +74,9 @@ def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
         COFFEE, "--ops", recipe, "--canvas", "400x300",
         "--no-browser", "--port", "0", "--duration", "120", cwd=tmp_path, command="design",
     )  # fmt: skip
-    errors: list[str] = []
     saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
     try:
-        page = browser.new_page(viewport={"width": 1300, "height": 900})
-        page.on("pageerror", lambda e: errors.append(f"pageerror: {e}"))
-        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-        page.goto(app.url)
-        page.wait_for_selector("body[data-ready='1']")
+        page, errors = watched_page(browser, app.url, "body[data-ready='1']")
         settled(page, 0)
         s, dx, dy = fit((400, 300), 600, 400)
         box = page.locator("#overlay").bounding_box()

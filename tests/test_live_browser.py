@@ -16,7 +16,7 @@ import cv2
 import numpy as np
 
 from marblevideo.ops import op_def, slider_range
-from tests.live_helpers import RECIPE, ROOT, LiveProcess
+from tests.live_helpers import RECIPE, ROOT, LiveProcess, watched_page
 from tests.test_design_browser import REFUSED, drag, wait_for
 
 
@@ -71,14 +71,9 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         ROOT / "samples" / "coffee.jpg", "--loop", "--ops", recipe, "--preview", "--port", "0",
         "--duration", "120", cwd=tmp_path,
     )  # fmt: skip
-    errors: list[str] = []
     saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
     try:
-        page = browser.new_page(viewport={"width": 1300, "height": 900})
-        page.on("pageerror", lambda e: errors.append(f"pageerror: {e}"))
-        page.on("console", lambda m: errors.append(m.text) if m.type == "error" else None)
-        page.goto(live.url)
-        page.wait_for_selector("body[data-ready='1'][data-mode='live']")
+        page, errors = watched_page(browser, live.url, "body[data-ready='1'][data-mode='live']")
         # the stream: frames keep coming, and the live counters with them
         page.wait_for_function("Number(document.getElementById('sheet').dataset.frames) > 5")
         first = int(page.get_attribute("#sheet", "data-frames"))
