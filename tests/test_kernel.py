@@ -57,6 +57,25 @@ def test_long_recipe_uses_loop_walk_and_matches(renderer):
     check(renderer, recipe, (90, 70), make_image(80, 60, 3))
 
 
+def test_the_loop_walk_serves_every_recipe_with_one_program():
+    """Renderer(loop_walk=True), as the designer uses: recipes of other ops, other
+    counts (none included) and the long one all match the reference, built once."""
+    from marblevideo.opencl.program import UNROLL_LIMIT
+    from marblevideo.opencl.renderer import Renderer
+
+    renderer = Renderer(loop_walk=True)
+    image = make_image(80, 60, 3)
+    fixed = {"antialias": "rgss", "edges": "clamp"}
+    for seed, n_ops in ((1, None), (2, 3), (3, 1), (4, 0), (7, UNROLL_LIMIT + 2)):
+        recipe = random_recipe(seed, n_ops=n_ops) | fixed
+        for op in recipe["ops"]:  # gentle, as in the long recipe's test
+            for key in ("alpha", "amplitude"):
+                if isinstance(op.get(key), float):
+                    op[key] *= 0.2
+        check(renderer, recipe, (90, 70), image)
+    assert renderer.programs.built == 1
+
+
 def test_identity_recipe_returns_the_input_exactly(renderer):
     image = make_image(67, 41, 5, alpha=True)
     recipe = {"marblevideo": 1, "antialias": "none", "ops": []}

@@ -96,7 +96,7 @@ class DesignSession:
 
         self.document = document
         self.backdrop = backdrop
-        self.renderer = renderer or Renderer(device)
+        self.renderer = renderer or Renderer(device, loop_walk=True)  # no build per edit
         self._render_lock = threading.Lock()
         self._parsed: dict[tuple, Recipe] = {}
         self.stop_event = threading.Event()

@@ -30,7 +30,7 @@ import threading
 import time
 import warnings
 from contextlib import suppress
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from importlib import resources
 from pathlib import Path
 
@@ -133,9 +133,10 @@ class Packed:
 def pack_params(spec: FrameSpec) -> Packed:
     """Per-frame op values: each op's definition packs its floats
     (:attr:`marblevideo.ops.OpDef.pack`; no library trigonometry is left for the
-    kernel), the last float of its row is its type code."""
+    kernel), the last float of its row is its type code. ``lists`` begins with
+    the number of ops (the loop walk's count; see :func:`walk_source`)."""
     out = np.zeros((max(len(spec.ops), 1), PSTRIDE), dtype=np.float64)
-    lists: list[float] = []
+    lists: list[float] = [float(len(spec.ops))]
     for i, op in enumerate(spec.ops):
         definition = op_def(op.type)
         row = definition.packed(op.values, lists)
@@ -146,7 +147,7 @@ def pack_params(spec: FrameSpec) -> Packed:
     # saturate them rather than hand the kernel inf (and inf * 0 = NaN).
     f32 = float(np.finfo(np.float32).max)
     params = np.clip(out, -f32, f32).astype(np.float32).ravel()
-    data = np.clip(np.array(lists or [0.0], np.float64), -f32, f32).astype(np.float32)
+    data = np.clip(np.array(lists, np.float64), -f32, f32).astype(np.float32)
     return Packed(params, data)
 
 
@@ -154,7 +155,7 @@ def pack_params(spec: FrameSpec) -> Packed:
 class Structure:
     """What a program is built for; everything else is a per-frame value."""
 
-    types: tuple[str, ...]
+    types: tuple[str, ...] | None  # None: any (the loop walk's programs)
     antialias: str
     edges: str
     has_input: bool
@@ -166,16 +167,17 @@ class Structure:
         return cls(tuple(op.type for op in spec.ops), spec.antialias, spec.edges, has_input)
 
 
-def walk_source(types: tuple[str, ...]) -> str:
+def walk_source(types: tuple[str, ...] | None) -> str:
     """The generated header that bakes a recipe's structure into the program: WALK
     calls every op's section, last op first, and INK resolves the ink ops' hits
-    (see kernels/marble.cl); above UNROLL_LIMIT ops both loop over the ops and
-    switch on the type code, with one case per registered op type."""
-    if len(types) > UNROLL_LIMIT:
+    (see kernels/marble.cl). ``types`` None is the loop walk, which serves every
+    recipe: both loop over the frame's ops (their number is the first float of
+    ``lists``) and switch on the type code, with one case per registered op type."""
+    if types is None:
         cases = " ".join(f"case {d.code}: OP(i, {d.type}) break;" for d in REGISTRY.values())
         ink = " || ".join(f"code_ == {d.code}" for d in REGISTRY.values() if d.ink)
         return (
-            f"#define NOPS {len(types)}\n"
+            "#define NOPS ((int)lists[0])\n"
             "#define WALK for (int i = NOPS - 1; i >= 0; i--) "
             f"{{ switch ((int)PARAMS(i)[PSTRIDE - 1]) {{ {cases} }} }}\n"
             "#define INK for (int i = 0; i < NOPS; i++) "
@@ -200,9 +202,17 @@ class Programs:
     """The programs of one device: its vector width (``lanes``; ``yuv_lanes`` for
     the I420 and quad kernels) and chains, each structure's program built once
     (one build at a time) and cached. ``source`` is the program's source
-    without its generated header."""
+    without its generated header. ``loop``: every recipe through the loop walk's
+    one program (no build when a recipe's ops change, as in the designer)."""
 
-    def __init__(self, context, info: DeviceInfo, lanes: int | None, chains: int | None):
+    def __init__(
+        self,
+        context,
+        info: DeviceInfo,
+        lanes: int | None,
+        chains: int | None,
+        loop: bool = False,
+    ):
         import pyopencl as cl
 
         self._cl, self.context, self.info = cl, context, info
@@ -232,6 +242,7 @@ class Programs:
             native,
         )
         self.source = program_source()
+        self.loop = loop
         self._built: dict[Structure, Built] = {}
         self._lock = threading.Lock()
 
@@ -268,9 +279,18 @@ class Programs:
 
         threading.Thread(target=build, name="marblevideo-build").start()
 
+    def program_key(self, structure: Structure) -> Structure:
+        """The structure a program is built for: ``structure``, or, for the loop
+        walk (above UNROLL_LIMIT ops, or every recipe when ``loop``), the same
+        without its op types (types None), one program for every such recipe."""
+        if self.loop or len(structure.types) > UNROLL_LIMIT:
+            return replace(structure, types=None)
+        return structure
+
     def get(self, structure: Structure) -> Built:
         """The program of ``structure``, built on first use and cached (one build at
         a time: a caller waits for a :meth:`prebuild` of the same program)."""
+        structure = self.program_key(structure)
         built = self._built.get(structure)
         if built is not None:
             return built

@@ -82,6 +82,10 @@ class Renderer:
     repeat its values, as a static recipe over a video does) fills the table
     on its first frame already, instead of walking afresh and then again into
     the table on the second.
+    ``loop_walk``: every recipe walks its ops in a loop (one program for all,
+    built once), so that a recipe whose ops change is never rebuilt: for
+    editors (``marblevideo design``); otherwise a program is built per recipe
+    structure with its ops unrolled, and the loop is for long recipes only.
     """
 
     def __init__(
@@ -92,6 +96,7 @@ class Renderer:
         chains: int | None = None,
         adaptive: bool | None = None,
         reuse_maps: bool = True,
+        loop_walk: bool = False,
     ):
         import pyopencl as cl
 
@@ -103,7 +108,7 @@ class Renderer:
             raise DeviceError(f"cannot open OpenCL device {self.info.name}: {exc}") from None
         is_cpu = bool(self.info.device.type & cl.device_type.CPU)
         self.device_queue = DeviceQueue(self.context, self.info, is_cpu)
-        self.programs = Programs(self.context, self.info, lanes, chains)
+        self.programs = Programs(self.context, self.info, lanes, chains, loop_walk)
         self.lanes, self.chains = self.programs.lanes, self.programs.chains
         self.yuv_lanes = self.programs.yuv_lanes
         self.adaptive = adaptive
