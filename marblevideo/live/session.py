@@ -93,7 +93,7 @@ class LiveSession:
         self.recipe = load_recipe(recipe_path)  # a bad recipe stops the start (exit 2)
         self._stamp = self._file_stamp()
         self.source = source
-        self.renderer = renderer or Renderer(device)
+        self.renderer = renderer or Renderer(device, loop_walk=True)  # an edit never stalls a build
         self._Marbler = Marbler
         self.quiet = quiet
         self._say = say or (lambda msg: print(f"marblevideo: {msg}", file=sys.stderr, flush=True))
