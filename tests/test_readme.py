@@ -10,13 +10,12 @@ import re
 import shlex
 import subprocess
 import sys
-import time
-import urllib.request
 from pathlib import Path
 
 import pytest
 
 from marblevideo import load_recipe
+from tests.live_helpers import LiveProcess
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -179,22 +178,11 @@ def test_readme_designer_api_example_drives_a_designer(tmp_path):
     text = (ROOT / "README.md").read_text()
     block = next(b for b in re.findall(r"```python\n(.*?)```", text, re.S) if "/api/recipe" in b)
     recipe = tmp_path / "design.json"
-    cmd = [sys.executable, "-m", "marblevideo", "design", "--ops", recipe, "--no-browser"]
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    server = subprocess.Popen(cmd, cwd=tmp_path, env=env, stderr=subprocess.PIPE)
+    designer = LiveProcess("--ops", recipe, "--no-browser", cwd=tmp_path, command="design")
     try:
-        deadline = time.monotonic() + 60
-        while True:
-            try:
-                urllib.request.urlopen("http://127.0.0.1:8765/api/recipe", timeout=2)
-                break
-            except OSError:
-                assert server.poll() is None, server.stderr.read().decode()
-                assert time.monotonic() < deadline, "the designer did not answer"
-                time.sleep(0.2)
+        assert designer.url.startswith("http://127.0.0.1:8765/")  # the port the block uses
         exec(compile(block, "README.md", "exec"), {})
         ops = json.loads(recipe.read_text())["ops"]
         assert ops[-1]["type"] == "drop" and ops[-1]["center"] == [512, 384]
     finally:
-        server.terminate()
-        server.wait(timeout=30)
+        assert designer.stop() == 0, designer.stderr()
