@@ -46,14 +46,20 @@ def test_kernel_matches_reference_on_blank_sheet(renderer, seed):
         check(renderer, recipe, (150, 107), None, t)
 
 
-def test_long_recipe_uses_loop_walk_and_matches(renderer):
-    from marblevideo.opencl.program import UNROLL_LIMIT
-
-    recipe = random_recipe(7, n_ops=UNROLL_LIMIT + 13)
-    for op in recipe["ops"]:  # keep the many ops gentle so the picture stays comparable
+def gentle(recipe: dict) -> dict:
+    """``recipe`` with its ops' alpha and amplitude (constants) at a fifth, so that a
+    recipe of many ops keeps a picture comparable with the reference's."""
+    for op in recipe["ops"]:
         for key in ("alpha", "amplitude"):
             if isinstance(op.get(key), float):
                 op[key] *= 0.2
+    return recipe
+
+
+def test_long_recipe_uses_loop_walk_and_matches(renderer):
+    from marblevideo.opencl.program import UNROLL_LIMIT
+
+    recipe = gentle(random_recipe(7, n_ops=UNROLL_LIMIT + 13))
     check(renderer, recipe, (90, 70), make_image(80, 60, 3))
 
 
@@ -67,12 +73,7 @@ def test_the_loop_walk_serves_every_recipe_with_one_program():
     image = make_image(80, 60, 3)
     fixed = {"antialias": "rgss", "edges": "clamp"}
     for seed, n_ops in ((1, None), (2, 3), (3, 1), (4, 0), (7, UNROLL_LIMIT + 2)):
-        recipe = random_recipe(seed, n_ops=n_ops) | fixed
-        for op in recipe["ops"]:  # gentle, as in the long recipe's test
-            for key in ("alpha", "amplitude"):
-                if isinstance(op.get(key), float):
-                    op[key] *= 0.2
-        check(renderer, recipe, (90, 70), image)
+        check(renderer, gentle(random_recipe(seed, n_ops=n_ops) | fixed), (90, 70), image)
     assert renderer.programs.built == 1
 
 
