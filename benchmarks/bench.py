@@ -172,13 +172,23 @@ def bullseye(device: str | None, drops: int = 30) -> None:
 
     def spec(apart: float):
         ops = [
-            {"type": "drop", "center": [512 + apart * (k % 2), 512], "radius": 60 + 3 * k}
-            | {"color": colors[k % 4]}
+            {
+                "type": "drop",
+                "center": [512 + apart * (k % 2), 512],
+                "radius": 60 + 3 * k,
+                "color": colors[k % 4],
+            }
             for k in range(drops)
         ]
         ops.append(
-            {"type": "comb", "point": [0, 0], "angle": 90, "spacing": 64, "alpha": 40}
-            | {"lambda": 16}
+            {
+                "type": "comb",
+                "point": [0, 0],
+                "angle": 90,
+                "spacing": 64,
+                "alpha": 40,
+                "lambda": 16,
+            }
         )
         data = {"marblevideo": 1, "canvas": [1024, 1024], "antialias": "rgss", "ops": ops}
         return parse_recipe(data, "bullseye.json").at(0)
