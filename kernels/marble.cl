@@ -2,7 +2,8 @@
  * the sampling of the input and every kernel (see prelude.cl for the defines).
  *
  * WALK (generated): op i of the recipe, last op first, as OP(i, type); or for
- * long recipes a loop over NOPS ops whose switch has a case per op type.
+ * long recipes (and editors' renderers) a loop over NOPS ops, the first float of
+ * `lists`, whose switch has a case per op type.
  * INK (generated): INK_COLOR(i) for every ink op (resolves a hit to its colour).
  */
 

@@ -135,6 +135,7 @@ inline vf recip(vf x) {
 /* The fixed signature of an op section: the point (x, y) of each lane walked
  * back through op i (P' -> P, in place), `ink` set to i where the point is ink
  * of op i and no later op's (ink < 0 so far), `p` the op's packed floats,
- * `lists` the frame's variable-length data (an op packs where its own start). */
+ * `lists` the frame's variable-length data (the number of ops, then each op's
+ * data where it packed it). */
 #define OP_ARGS vf *x, vf *y, vi *ink, __constant const float *p, int i, \
                 __global const float *lists

@@ -118,8 +118,8 @@ def program_source() -> str:
 @dataclass(frozen=True)
 class Packed:
     """A frame's op values for the kernel: ``params``, PSTRIDE float32 per op, and
-    ``lists``, the float32 variable-length data the ops index into (at least one
-    float, so that the buffer exists)."""
+    ``lists``, the float32 variable-length data the ops index into, after the
+    number of ops (so never empty)."""
 
     params: np.ndarray
     lists: np.ndarray
