@@ -21,6 +21,10 @@
   RGSS), and Figure 6 at 1024 and 4096 px by tolerance.
 - bullseye: 30 concentric drops and a comb walked with the drops as one run,
   against the same drops with centres 1/1000 px apart (which no run joins).
+- bounds: on e2e's clip, what any sampling scheme can reach: the animated
+  recipe with one sample per pixel (every pixel walked and gathered once), one
+  keyed turn (a walk of next to nothing) with RGSS and with one sample, and the
+  plain transcode of the marbled output (x264's cost for marbled pictures).
 - cluster: a 720p clip (the e2e recipe, animated) rendered whole, in 4
   segments serially (plan, segments and join timed) and on a local Ray with
   1 and 2 workers (cluster_bench.py; needs the extra 'ray').
@@ -487,6 +491,76 @@ def e2e(device: str | None, seconds: int = 4) -> None:
         print("targets (whole command): static <= 1.3x, animated <= 1.8x")
 
 
+def turn12(seconds: float, antialias: str) -> dict:
+    """One op, the tank turned 0 -> 30 degrees over ``seconds``: a walk of next to
+    nothing, no ink, every sample gathered."""
+    return {
+        "marblevideo": 1,
+        "canvas": [1024, 1024],
+        "antialias": antialias,
+        "ops": [
+            {
+                "type": "turn",
+                "center": [512, 512],
+                "angle": {"keys": [{"t": 0, "v": 0}, {"t": seconds, "v": 30}]},
+            }
+        ],
+    }
+
+
+def bounds(device: str | None, seconds: int = 10) -> None:
+    """Lower bounds for animated marbling of the e2e clip, whole commands against
+    the plain transcode script, in the same paired rounds as e2e's.
+
+    - the animated recipe with antialias "none": every pixel walked once and
+      sampled once, the best case of any adaptive scheme that walks each pixel
+      at least once (nothing more anywhere, no classification, no lists);
+    - one keyed turn, RGSS and "none": the pattern's gathers, and one gather,
+      with a walk of next to nothing;
+    - the plain transcode of the animated output: what x264 pays for marbled
+      pictures beyond the clip's own (the encoder's share of the ratio).
+    """
+    import json
+
+    fps = 30
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        clip = make_clip(tmp / "clip.mp4", seconds=seconds, fps=fps)
+        animated_none = {**animated12(seconds), "antialias": "none"}
+        recipes = {
+            "animated 12 ops, rgss": animated12(seconds),
+            "animated 12 ops, none": animated_none,
+            "1 keyed turn, rgss": turn12(seconds, "rgss"),
+            "1 keyed turn, none": turn12(seconds, "none"),
+        }
+        cmds: dict[str, list[str]] = {}
+        for k, (name, recipe) in enumerate(recipes.items()):
+            (tmp / f"r{k}.json").write_text(json.dumps(recipe))
+            cmds[name] = marble_command(clip, tmp / f"r{k}.json", tmp / f"o{k}.mp4", device)
+            subprocess.run(cmds[name], check=True, env=ENV)  # warm the kernel cache
+        script = [sys.executable, str(PLAIN_SCRIPT)]
+        cmds["plain transcode of the clip"] = [*script, str(clip), str(tmp / "p.mp4")]
+        marbled = tmp / "o0.mp4"  # the animated RGSS output, written above
+        cmds["plain transcode of the marbled output"] = [*script, str(marbled), str(tmp / "q.mp4")]
+        times: dict[str, list[float]] = {k: [] for k in cmds}
+        for _ in range(5):
+            for name, cmd in cmds.items():
+                t = time.perf_counter()
+                subprocess.run(cmd, check=True, env=ENV)
+                times[name].append(time.perf_counter() - t)
+        base = times["plain transcode of the clip"]
+        print(f"\n## Bounds: 1280x720, {seconds} s ({seconds * fps} frames), x264 veryfast crf 23")
+        print("| command | seconds | whole command against the plain script (best) |")
+        print("|---|---|---|")
+        for name, ts in times.items():
+            ratios = [t / b for t, b in zip(ts, base, strict=True)]
+            print(
+                f"| {name} | {statistics.median(ts):.2f} | "
+                f"{statistics.median(ratios):.2f}x ({min(ratios):.2f}x) |"
+            )
+        print("medians of 5 paired rounds; the bar (animated): <= 1.8x")
+
+
 def numpy_frame(spec, geom, image: np.ndarray) -> np.ndarray:
     """The recipe per frame as a NumPy user would: float32 maps, cv2.remap per subsample."""
     h, w = image.shape[:2]
@@ -615,9 +689,9 @@ def main() -> None:
             cluster_part(args.device, make_clip, animated12)
         elif part == "memory":
             memory(args.device, args.long)
-        elif part == "e2e":
+        elif part in ("e2e", "bounds"):
             for seconds in args.seconds:
-                e2e(args.device, seconds)
+                (e2e if part == "e2e" else bounds)(args.device, seconds)
         else:
             parts = {
                 "table1": table1,
