@@ -85,6 +85,17 @@ def test_api_saves_renders_and_refuses(tmp_path):
         assert (png(app.get("/api/frame.png?ops=")) == [0xF4, 0xF1, 0xDE]).all()
         solo = png(app.get("/api/frame.png?ops=1"))  # a comb alone moves nothing visible
         assert (solo == [0xF4, 0xF1, 0xDE]).all()
+        # an op saved hidden is left out of frames and SVG; solo draws it all the same
+        comb_only = {**DROPS, "ops": DROPS["ops"][1:]}
+        app.post("/api/recipe", comb_only, "PUT")
+        comb_svg = app.get("/api/design.svg")
+        hidden = {**DROPS, "ops": [{**DROPS["ops"][0], "hidden": True}, DROPS["ops"][1]]}
+        assert app.post("/api/recipe", hidden, "PUT")["ops"] == 2
+        assert (png(app.get("/api/frame.png")) == [0xF4, 0xF1, 0xDE]).all()
+        assert app.get("/api/design.svg") == comb_svg
+        drop_only = render_image({**DROPS, "ops": DROPS["ops"][:1]})[..., :3]
+        assert np.array_equal(png(app.get("/api/frame.png?ops=0")), drop_only)
+        answer = app.post("/api/recipe", DROPS, "PUT")  # back as it was
         # a draft of an unsaved recipe (POST) is rendered, not saved
         moved = {**DROPS, "ops": [{**DROPS["ops"][0], "center": [60, 60]}]}
         req = urllib.request.Request(

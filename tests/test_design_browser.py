@@ -41,16 +41,17 @@ def pixel(page, x: float, y: float) -> str:
     )
 
 
-def settled(page, frames: int, shown: str = "all") -> None:
+def settled(page, frames: int, shown: str = "all", ops: list | None = None) -> None:
     """Wait until the sheet shows an exact frame newer than ``frames`` of the saved
-    recipe (of the ops ``shown``)."""
+    recipe (of the ops ``shown``), and with ``ops``, once the page holds those ops."""
     page.wait_for_function(
-        """([n, shown]) => {
+        """([n, shown, ops]) => {
             const d = document.getElementById('sheet').dataset;
             return Number(d.frames) > n && d.draft === '0' && d.shown === shown
-                && d.version === String(version);
+                && d.version === String(version)
+                && (ops === null || JSON.stringify(doc.ops) === JSON.stringify(ops));
         }""",
-        arg=[frames, shown],
+        arg=[frames, shown, ops],
     )
 
 
@@ -117,17 +118,20 @@ def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
         wait_for(lambda: [op["type"] for op in saved()] == ["drop"], "undone")
         page.click("#redo")
         wait_for(lambda: saved() == ops, "redone")
+        # undo by Ctrl-Z, and hide at once (hide is saved as "hidden": true): an edit
+        # made while a save is on its way applies to what that save left
+        n = frames(page)
         page.keyboard.press("Control+z")
-        wait_for(lambda: len(saved()) == 1, "undone by Ctrl-Z")
-
-        # hide: the drop leaves the picture, and comes back
-        n = frames(page)
         page.click("#op-0 button[data-act=hide]")
-        settled(page, n, shown="")
+        hidden = [{**ops[0], "hidden": True}]
+        wait_for(lambda: saved() == hidden, "undone, then hidden")
+        settled(page, n, ops=hidden)
         assert pixel(page, 180, 160) != INK
+        assert page.text_content("#op-0 button[data-act=hide]") == "show"
         n = frames(page)
         page.click("#op-0 button[data-act=hide]")
-        settled(page, n)
+        wait_for(lambda: saved() == ops[:1], "the show is saved")
+        settled(page, n, ops=ops[:1])
         assert pixel(page, 180, 160) == INK
 
         # an invalid edit is refused with its JSON path; the file is kept

@@ -262,6 +262,13 @@ def test_sliders_of_a_layouts_drops_are_left_out():
     changed, skipped = with_sliders(doc, recipe, {(4, "alpha"): 7.0, (2, "radius"): 9.0})
     assert changed["ops"][2]["alpha"] == 7.0 and doc["ops"][2]["alpha"] == 10
     assert skipped == ["ops[2].radius (a drop of the layout ops[1])"]
+    # hidden ops are not rendered, so they have no sliders: the others keep their entries
+    wave = {"type": "wave", "amplitude": 2, "wavelength": 30, "phase": 0, "angle": 0}
+    doc["ops"][1:1] = [{**wave, "hidden": True}]
+    recipe = parse_recipe(doc)
+    assert file_indices(recipe) == [0, None, None, None, 3]
+    changed, _ = with_sliders(doc, recipe, {(4, "alpha"): 7.0})
+    assert changed["ops"][3]["alpha"] == 7.0 and changed["ops"][1] == doc["ops"][1]
 
 
 def test_the_designers_api_over_a_live_session(session):

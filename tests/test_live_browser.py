@@ -81,7 +81,7 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         page.wait_for_function("document.getElementById('latency').textContent !== '-'")
         page.wait_for_function("Number(document.getElementById('fps').textContent) > 0")
         assert page.is_visible("#counters") and not page.is_visible("[data-act=solo]")
-        assert page.text_content("#oplist") == "0 wave↑↓✕1 vortex↑↓✕"
+        assert page.text_content("#oplist") == "0 wavehide↑↓✕1 vortexhide↑↓✕"
 
         # the loop toggle and the play button drive the session's clock
         assert not page.is_checked("#loop")
@@ -161,6 +161,13 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         drag(page, client, (100, 300), (500, 300))
         ops = wait_for(lambda: len(saved()) == 4 and saved(), "the comb is saved")
         assert ops[3]["type"] == "comb" and ops[3]["angle"] == 0
+        # hide is saved in the file, and the session leaves the op out
+        page.click("#op-3 button[data-act=hide]")
+        wait_for(lambda: saved()[3].get("hidden") is True, "the hide is saved")
+        wait_for(lambda: len(live.get("/params")["ops"]) == 3, "the session leaves it out")
+        page.wait_for_function(
+            "document.querySelector('#op-3 button[data-act=hide]').textContent === 'show'"
+        )
 
         # another program's save: the page follows it
         good = copy.deepcopy(RECIPE)

@@ -490,7 +490,7 @@ def test_schema_is_a_valid_draft_2020_12_schema():
     assert set(REGISTRY) <= set(doc["$defs"])
     for name, params in ((n, tuple(d.kinds)) for n, d in REGISTRY.items()):
         props = doc["$defs"][name]["properties"]
-        assert set(props) == {"type", "start", "end", *params}
+        assert set(props) == {"type", "start", "end", "hidden", *params}
         assert all(props[p]["description"] for p in params)
     json.dumps(doc)  # printable as JSON
     doc["title"] = "changed"
@@ -532,3 +532,43 @@ def test_a_key_given_twice_is_refused_where_it_is(tmp_path):
     top = '{"marblevideo": 1, "ops": [], "ops": []}'
     with pytest.raises(RecipeError, match=r": ops: given twice"):
         load_recipe(write(tmp_path, top))
+
+
+# ---------------------------------------------------------------- hidden ops
+
+
+def test_hidden_ops_stay_in_the_file_and_out_of_the_render():
+    rings = {"type": "rings", "center": [50, 40], "count": 2, "width": 4, "colors": ["#102030"]}
+    doc = recipe_with(
+        OPS["drop"],
+        {**OPS["tine"], "hidden": True},
+        {**rings, "hidden": True},
+        rings,
+        {**OPS["wave"], "hidden": False},
+    )
+    recipe = parse_recipe(doc, "r.json")
+    assert [op.type for op in recipe.ops] == ["drop", "drop", "drop", "wave"]
+    assert [op.index for op in recipe.ops] == [0, 1, 2, 3]
+    assert [op.entry for op in recipe.ops] == [0, 3, 3, 4]
+    assert [op.layout for op in recipe.ops] == [None, ("rings", 3), ("rings", 3), None]
+    assert recipe.entries == 5
+    shown = parse_recipe(recipe_with(OPS["drop"], rings, OPS["wave"]), "r.json")
+    assert recipe.at(1.0) == shown.at(1.0)
+    # a hidden keyed op does not animate the recipe
+    keyed = {**OPS["tine"], "alpha": {"keys": [{"t": 0, "v": 1}, {"t": 9, "v": 5}]}}
+    assert parse_recipe(recipe_with(OPS["drop"], keyed), "r.json").end_time() == 9
+    hidden = parse_recipe(recipe_with(OPS["drop"], {**keyed, "hidden": True}), "r.json")
+    assert not hidden.is_animated and hidden.end_time() == 0
+
+
+def test_hidden_is_a_boolean_and_a_hidden_op_must_still_be_valid():
+    assert op_fault(OPS["tine"], hidden="yes") == (
+        "swirl.json: ops[1].hidden: expected true or false, got string 'yes'"
+    )
+    assert op_fault(OPS["tine"], hidden=True, **{"lambda": -1}) == (
+        "swirl.json: ops[1].lambda: must be > 0, got -1"
+    )
+    assert parse_recipe(recipe_with({**OPS["drop"], "hidden": True}), "r.json").ops == ()
+    defs = schema()["$defs"]
+    for name in ("tine", "rings"):
+        assert defs[name]["properties"]["hidden"]["type"] == "boolean"

@@ -14,7 +14,8 @@ everything through this HTTP API, which scripts and tests may use too:
 - ``GET /api/frame.png?t=T&w=W&draft=1&ops=0,2``: the OpenCL render of the
   saved recipe at ``t`` seconds (default: the recipe's end), at most ``W``
   pixels wide (default: the frame's size), without antialiasing with
-  ``draft=1``, of only the listed ops with ``ops`` (hide and solo).
+  ``draft=1``, of only the listed ops with ``ops`` (solo: they are drawn even
+  when hidden; an op with ``"hidden": true`` in FILE is otherwise left out).
 - ``POST /api/frame.png?...`` (body: a recipe): the same, of a recipe that is
   not saved. The page renders its own copy of the recipe this way (as
   ``frame.rgba``), its drafts while a hand is moving too, so what it shows

@@ -56,9 +56,7 @@ class LiveDesign:
             "scale": s,
             "offset": [dx, dy],
             "end": recipe.end_time(),
-            "ops": len(
-                {op.layout[1] if op.layout else ("op", n) for n, op in enumerate(recipe.ops)}
-            ),
+            "ops": recipe.entries,
         }
 
     def page(self) -> bytes:

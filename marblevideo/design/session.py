@@ -74,7 +74,7 @@ def _number(query: dict, name: str, default: float | None) -> float | None:
 
 
 def _only(query: dict, count: int) -> tuple[int, ...] | None:
-    """``ops=0,2,5``: the op indices to render (hide and solo), or None: all."""
+    """``ops=0,2,5``: the op indices to render (solo; hidden ones too), or None: all."""
     if "ops" not in query:
         return None
     text = query["ops"][-1].strip()
@@ -139,8 +139,9 @@ class DesignSession:
         key = (version, only)
         if key in self._parsed:
             return self._parsed[key]
-        if only is not None:
-            doc = {**doc, "ops": [doc["ops"][i] for i in only]}
+        if only is not None:  # solo: the listed ops, hidden or not
+            ops = [{k: v for k, v in doc["ops"][i].items() if k != "hidden"} for i in only]
+            doc = {**doc, "ops": ops}
         try:
             recipe = parse_recipe(doc, str(self.document.path))
         except RecipeError as exc:

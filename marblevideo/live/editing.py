@@ -19,17 +19,9 @@ from marblevideo.errors import MediaError, RecipeError
 
 
 def file_indices(recipe) -> list[int | None]:
-    """The index in the file's ``ops`` of each op of ``recipe`` (layouts expanded);
-    None for the drops a layout stands for."""
-    found, last = [], -1
-    for op in recipe.ops:
-        if op.layout is not None:
-            last = op.layout[1]
-            found.append(None)
-        else:
-            last += 1
-            found.append(last)
-    return found
+    """The index in the file's ``ops`` of each op of ``recipe`` (layouts expanded,
+    hidden ops left out); None for the drops a layout stands for."""
+    return [None if op.layout is not None else op.entry for op in recipe.ops]
 
 
 def with_sliders(doc: dict, recipe, overrides: dict) -> tuple[dict, list[str]]:

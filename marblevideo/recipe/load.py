@@ -60,8 +60,10 @@ DEFAULT_EDGES = "clamp"
 @dataclass(frozen=True)
 class Op:
     """One op of a recipe: its parameters as tracks, ``start``/``end`` in seconds
-    (None when absent), its ``index`` in ``ops`` and, for the drops a layout
-    stands for, ``layout``: the layout's type and index in the recipe file."""
+    (None when absent), its ``index`` in :attr:`Recipe.ops`, ``entry``: its index
+    in the file's ``ops`` and, for the drops a layout stands for, ``layout``: the
+    layout's type and index in the recipe file. Hidden ops are not in
+    :attr:`Recipe.ops`, so ``index`` and ``entry`` may differ."""
 
     type: str
     params: dict[str, Track] = field(hash=False)
@@ -69,6 +71,7 @@ class Op:
     end: float | None
     index: int
     layout: tuple[str, int] | None = None
+    entry: int = -1
 
     def progress(self, t: float) -> float:
         """The contract's p(t): 0 before ``start``, linear up to ``end``, then 1;
@@ -98,6 +101,8 @@ class Op:
 class Recipe:
     """A validated recipe. ``canvas`` is None when the recipe leaves it to the input.
 
+    ``ops``: what is rendered, the file's ops in order with layouts expanded and
+    hidden ops left out; ``entries``: the length of the file's ``ops``.
     ``source`` is the name used in messages (the file as given, or ``<dict>``);
     ``description`` is the recipe's own (empty if it gives none; not rendered).
     """
@@ -109,6 +114,7 @@ class Recipe:
     edges: str = DEFAULT_EDGES
     source: str = "<dict>"
     description: str = ""
+    entries: int = 0
 
     @classmethod
     def from_dict(cls, data: object, source: str = "<dict>") -> Recipe:
@@ -259,11 +265,12 @@ def _params(op: dict) -> dict[str, Track]:
 def _build(doc: dict, source: str) -> Recipe:
     ops = []
     expanded = [
-        (d, (op["type"], n) if op["type"] in LAYOUTS else None)
+        (d, n, (op["type"], n) if op["type"] in LAYOUTS else None)
         for n, op in enumerate(doc["ops"])
+        if not op.get("hidden", False)
         for d in (expand(op) if op["type"] in LAYOUTS else [op])
     ]
-    for index, (op, layout) in enumerate(expanded):
+    for index, (op, entry, layout) in enumerate(expanded):
         params = _params(op)
         start, end = op.get("start"), op.get("end")
         ops.append(
@@ -274,6 +281,7 @@ def _build(doc: dict, source: str) -> Recipe:
                 end=None if end is None else float(end),
                 index=index,
                 layout=layout,
+                entry=entry,
             )
         )
     canvas = doc.get("canvas")
@@ -285,6 +293,7 @@ def _build(doc: dict, source: str) -> Recipe:
         edges=doc.get("edges", DEFAULT_EDGES),
         source=source,
         description=doc.get("description", ""),
+        entries=len(doc["ops"]),
     )
 
 

@@ -81,6 +81,12 @@ def _op(op: str) -> dict:
             props[param.name]["default"] = param.default
     for name, help_ in _TIME_HELP.items():
         props[name] = {**_ref("time"), "description": help_}
+    props["hidden"] = {
+        "type": "boolean",
+        "default": False,
+        "description": "marblevideo: true keeps the op in the file but leaves it out of every "
+        "render (the designer's hide).",
+    }
     return {
         "title": f"{op} op",
         "description": definition.help,
