@@ -166,6 +166,10 @@ def test_hot_reload_follows_the_file(tmp_path):
         assert json.loads((tmp_path / "r.json").read_text()) == DROPS
     finally:
         assert app.stop(signal.SIGTERM) == 0
+    # the refused save is said once on stderr, as live says it
+    said = [line for line in app.stderr().splitlines() if "invalid JSON" in line]
+    assert said == [f"marblevideo: {info['error']}"], app.stderr()
+    assert said[0].endswith("(keeping the previous recipe)")
 
 
 def test_over_a_photo_the_canvas_sits_in_the_frame(tmp_path):

@@ -96,7 +96,10 @@ def design_command(argv: list[str]) -> int:
     canvas, size = _checked(args)
     if canvas is None and args.input is None:
         canvas = DEFAULT_CANVAS
-    document = RecipeFile(args.ops, canvas)  # a bad FILE is refused here (exit 2)
+    # a bad FILE is refused here (exit 2); a bad save by another program later is said
+    document = RecipeFile(
+        args.ops, canvas, notify=lambda m: print(f"marblevideo: {m}", file=sys.stderr, flush=True)
+    )
     if args.input is None and document.recipe.canvas is None:
         raise UsageError(
             f"{args.ops}: canvas: a blank-sheet design needs canvas [W, H] (or give an INPUT)"

@@ -1,5 +1,5 @@
-"""A recipe file edited over HTTP (the designer's FILE, and ``live``'s recipe
-when its page saves): read, validated, saved atomically, watched.
+"""A recipe file edited over HTTP (the designer's FILE, and ``live``'s recipe):
+read, validated, saved atomically, watched.
 
 :class:`RecipeFile` holds the recipe as JSON (what the page edits) beside the
 validated :class:`~marblevideo.recipe.Recipe` (what renders). A change is
@@ -64,15 +64,28 @@ def file_stamp(path: Path) -> tuple[int, int, int] | None:
 
 
 class RecipeFile:
-    """FILE as the designer sees it: :attr:`doc` (JSON), :attr:`recipe` (validated),
-    :attr:`version` (counts accepted changes, from the page or from disk)."""
+    """FILE as the designer and ``live`` see it: :attr:`doc` (JSON), :attr:`recipe`
+    (validated), :attr:`version` (counts accepted changes, from a page or from
+    disk), :attr:`error` (the last change on disk that was refused, or None).
 
-    def __init__(self, path: str | os.PathLike, canvas: tuple[float, float] | None = None):
+    A missing FILE is made (a blank sheet of ``canvas``) when ``create``, else
+    refused as :func:`~marblevideo.recipe.load_recipe` refuses it. ``notify``
+    gets the one-line message of each change on disk that is refused."""
+
+    def __init__(
+        self,
+        path: str | os.PathLike,
+        canvas: tuple[float, float] | None = None,
+        *,
+        create: bool = True,
+        notify=None,
+    ):
         self.path = Path(path)
         self._lock = threading.Lock()
+        self._notify = notify or (lambda message: None)
         self.error: str | None = None
         self.version = 1
-        if self.path.exists():
+        if self.path.exists() or not create:
             self.recipe = load_recipe(self.path)  # a bad FILE stops the start (exit 2)
             self.doc = json.loads(self.path.read_text(encoding="utf-8-sig"))
         else:
@@ -118,10 +131,10 @@ class RecipeFile:
         with self._lock:
             if self._stamp != stamp:
                 return False
-            if error is not None:
-                self.error = error
-                return False
-            self.doc, self.recipe = doc, recipe
-            self.version += 1
-            self.error = None
-        return True
+            if error is None:
+                self.doc, self.recipe = doc, recipe
+                self.version += 1
+            self.error = error
+        if error is not None:
+            self._notify(error)
+        return error is None

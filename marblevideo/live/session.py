@@ -28,10 +28,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-from marblevideo.errors import RecipeError
 from marblevideo.live.controls import Controls, sliders, with_overrides
 from marblevideo.live.editing import live_api
-from marblevideo.live.recipefile import file_stamp, save_stamped
+from marblevideo.live.recipefile import RecipeFile
 from marblevideo.live.sources import Latest, Source
 
 RELOAD_POLL = 0.5
@@ -86,22 +85,17 @@ class LiveSession:
     ):
         from marblevideo.marbler import Marbler
         from marblevideo.opencl.renderer import Renderer
-        from marblevideo.recipe import load_recipe
 
-        self._load = load_recipe
+        self._say = say or (lambda msg: print(f"marblevideo: {msg}", file=sys.stderr, flush=True))
         self.recipe_path = Path(recipe_path)
-        self.recipe = load_recipe(recipe_path)  # a bad recipe stops the start (exit 2)
-        self._stamp = self._file_stamp()
+        # a bad recipe stops the start (exit 2); later bad saves are said and kept out
+        self.file = RecipeFile(self.recipe_path, create=False, notify=self._say)
         self.source = source
         self.renderer = renderer or Renderer(device, loop_walk=True)  # an edit never stalls a build
         self._Marbler = Marbler
         self.quiet = quiet
-        self._say = say or (lambda msg: print(f"marblevideo: {msg}", file=sys.stderr, flush=True))
         self.controls = Controls()
-        self.recipe_version = 1
-        self.recipe_error: str | None = None
         self._lock = threading.Lock()
-        self._reload_lock = threading.Lock()
         self._marbler = None
         self._marbled_for: tuple[int, int] | None = None  # (recipe, overrides) versions
         # outputs
@@ -124,59 +118,43 @@ class LiveSession:
         self.stop_event = threading.Event()
 
     # -- recipe -------------------------------------------------------------
-    def _file_stamp(self):
-        return file_stamp(self.recipe_path)
+    @property
+    def recipe(self):
+        """The recipe now (:class:`~marblevideo.live.recipefile.RecipeFile`'s)."""
+        return self.file.recipe
+
+    @property
+    def recipe_version(self) -> int:
+        return self.file.version
+
+    @property
+    def recipe_error(self) -> str | None:
+        return self.file.error
 
     def check_reload(self) -> bool:
-        """Reload the recipe if its file changed; returns whether it did (the
-        watcher and the page's saves call it; one at a time)."""
-        with self._reload_lock:
-            return self._reload()
-
-    def put(self, doc: object) -> int:
-        """Validate ``doc``, save it atomically and take it from the next frame
-        (sliders reset); its version. RecipeError, nothing saved, when invalid.
-        The watcher waits meanwhile, and knows the saved file by its stamp."""
-        with self._reload_lock:
-            recipe, stamp = save_stamped(self.recipe_path, doc)
-            with self._lock:
-                self._stamp = stamp
-                self.recipe = recipe
-                self.recipe_version += 1
-                self.recipe_error = None
-                version = self.recipe_version
-        self.controls.reset()
-        return version
-
-    def _reload(self) -> bool:
-        stamp = self._file_stamp()
-        if stamp is None or stamp == self._stamp:
+        """Take the recipe file's contents if another program changed it (sliders
+        reset); whether it did. A change that does not validate is said and kept out."""
+        if not self.file.check_reload():
             return False
-        self._stamp = stamp
-        try:
-            recipe = self._load(self.recipe_path)
-        except RecipeError as exc:
-            with self._lock:
-                self.recipe_error = str(exc)
-            self._say(f"{exc} (keeping the previous recipe)")
-            return False
-        with self._lock:
-            self.recipe = recipe
-            self.recipe_version += 1
-            self.recipe_error = None
         self.controls.reset()
         if not self.quiet:
             self._say(f"reloaded {self.recipe_path}")
         return True
+
+    def put(self, doc: object) -> int:
+        """Validate ``doc``, save it atomically and take it from the next frame
+        (sliders reset); its version. RecipeError, nothing saved, when invalid."""
+        version = self.file.put(doc)
+        self.controls.reset()
+        return version
 
     def _watch(self) -> None:
         while not self.stop_event.wait(RELOAD_POLL):
             try:
                 self.check_reload()
             except Exception as exc:  # noqa: BLE001 - an unreadable save is reported, not fatal
-                with self._lock:
-                    self.recipe_error = f"{self.recipe_path}: {exc}"
-                self._say(f"{self.recipe_path}: {exc} (keeping the previous recipe)")
+                self.file.error = f"{self.recipe_path}: {exc} (keeping the previous recipe)"
+                self._say(self.file.error)
 
     @property
     def clock(self):
@@ -185,19 +163,20 @@ class LiveSession:
 
     def _current(self):
         overrides, bypass, mirror, version = self.controls.snapshot()
+        _, recipe, recipe_version = self.file.snapshot()
         with self._lock:
-            if self._marbled_for != (self.recipe_version, version):
-                recipe = with_overrides(self.recipe, overrides)
-                self._marbler = self._Marbler(recipe, renderer=self.renderer)
-                self._marbled_for = (self.recipe_version, version)
+            if self._marbled_for != (recipe_version, version):
+                self._marbler = self._Marbler(
+                    with_overrides(recipe, overrides), renderer=self.renderer
+                )
+                self._marbled_for = (recipe_version, version)
             return self._marbler, bypass, mirror
 
     # -- controls (from the preview) ----------------------------------------
     def params(self) -> dict:
         """The sliders of the current recipe, with the overridden values."""
         overrides = self.controls.snapshot()[0]
-        with self._lock:
-            recipe, version = self.recipe, self.recipe_version
+        _, recipe, version = self.file.snapshot()
         ops = sliders(recipe, self.source.size)
         for op in ops:
             for p in op["params"]:
@@ -212,9 +191,7 @@ class LiveSession:
 
     def control(self, request: dict) -> dict:
         """Apply a control request (see Controls.apply); the new state."""
-        with self._lock:
-            recipe = self.recipe
-        return self.controls.apply(request, recipe)
+        return self.controls.apply(request, self.recipe)
 
     def state(self) -> dict:
         return self.controls.state()
@@ -224,8 +201,7 @@ class LiveSession:
         lat = self._latency.median()
         p95 = self._latency.quantile(0.95)
         render = self._render_ms.median()
-        with self._lock:
-            error, version = self.recipe_error, self.recipe_version
+        error, version = self.file.error, self.file.snapshot()[2]
         return {
             "frames": self.frames,
             "fps": round(self._rendered.rate(now), 2),
