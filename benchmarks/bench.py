@@ -25,6 +25,8 @@
   recipe with one sample per pixel (every pixel walked and gathered once), one
   keyed turn (a walk of next to nothing) with RGSS and with one sample, and the
   plain transcode of the marbled output (x264's cost for marbled pictures).
+- rake: the bundled samples with rakes, evenly spaced tines summed in closed form
+  (four exponentials a rake) against one exponential per tine, in one program.
 - cluster: a 720p clip (the e2e recipe, animated) rendered whole, in 4
   segments serially (plan, segments and join timed) and on a local Ray with
   1 and 2 workers (cluster_bench.py; needs the extra 'ray').
@@ -212,6 +214,39 @@ def bullseye(device: str | None, drops: int = 30) -> None:
         f"drops walked as one run: {run:.1f} ms; one by one (centres 0.001 px apart): "
         f"{apart:.1f} ms; {apart / run:.2f}x"
     )
+
+
+def rake(device: str | None) -> None:
+    """See the module: the bundled samples with rakes at 960x640, ms per frame
+    (median of 15, interleaved), evenly spaced tines summed in closed form against
+    one by one (the same program; only the packed data differ)."""
+    import json
+
+    from marblevideo.ops import shear
+
+    samples = ROOT / "samples"
+    print("\n## Rakes: bundled samples at 960x640, ms per frame, median of 15")
+    print("| sample | tines | pattern | one by one | closed form | speed-up |")
+    print("|---|---|---|---|---|---|")
+    for name in ("nonpareil", "bouquet", "chevron", "spanish-wave"):
+        recipe = parse_recipe(json.loads((samples / f"{name}.json").read_text()), name)
+        spec = recipe.at(recipe.end_time())
+        tines = sum(len(shear.rake_offsets(op.values)) for op in spec.ops if op.type == "rake")
+        geom = geometry(recipe.canvas, (960, 640))
+        renderers = {"adaptive": Renderer(device), "full": Renderer(device, adaptive=False)}
+        for label, renderer in renderers.items():
+            times: dict[str, list[float]] = {"loop": [], "closed": []}
+            for k in range(17):
+                for mode in times:
+                    shear.RAKE_SERIES_MIN = 10**9 if mode == "loop" else 4
+                    began = time.perf_counter()
+                    renderer.render(spec, geom)
+                    if k >= 2:  # the first two warm up
+                        times[mode].append(time.perf_counter() - began)
+            shear.RAKE_SERIES_MIN = 4
+            loop, closed = (statistics.median(times[m]) * 1e3 for m in ("loop", "closed"))
+            cells = f"{loop:.1f} | {closed:.1f} | {loop / closed:.2f}x"
+            print(f"| {name} | {tines} | {label} | {cells} |", flush=True)
 
 
 def table1(device: str | None) -> None:
@@ -701,6 +736,7 @@ def main() -> None:
                 "lanes": lanes,
                 "svg": svg_part,
                 "bullseye": bullseye,
+                "rake": rake,
             }
             parts[part](args.device)
 

@@ -235,6 +235,45 @@ def test_rake_offsets_centre_on_the_point_and_tines_are_as_given():
     assert np.array_equal(reference_render(a, geom), reference_render(b, geom))
 
 
+@pytest.mark.parametrize(
+    "tines",
+    [
+        {"spacing": 30, "count": 19},  # the samples' rakes: s/L 7.5
+        {"spacing": 8, "count": 43},
+        {"spacing": 0.4, "count": 256},  # s/L 0.1: close tines
+        {"spacing": 3, "count": 4},
+        {"tines": [12, -6, 0, 6, -12]},  # a list, evenly spaced once sorted
+        {"tines": [-9, 0, 5, 14]},  # not evenly spaced: the tines one by one
+        {"spacing": 0.1, "count": 40},  # s/L 0.025: one by one as well
+    ],
+)
+def test_evenly_spaced_rakes_sum_in_closed_form(renderer, tines):
+    """Evenly spaced tines are summed as two geometric series (four exponentials
+    for any count): the section still walks where the float64 sum of every tine
+    says, beside the tines, between them, on them and far out on both sides."""
+    from marblevideo.ops.shear import RAKE_MIN_RATIO, RAKE_SERIES_MIN, even_spacing, rake_offsets
+
+    rake = {"type": "rake", "point": [40, 30], "angle": 30, "alpha": 9, "falloff": 4, **tines}
+    op = parse_recipe({"canvas": [80, 60], "ops": [rake]}, "r.json").at(0).ops[0]
+    offsets = rake_offsets(op.values)
+    even = even_spacing(offsets)
+    closed = len(offsets) >= RAKE_SERIES_MIN and even and even[1] / 4 >= RAKE_MIN_RATIO
+    lists: list = []
+    assert REGISTRY["rake"].pack(op.values, lists)[10] == (1.0 if closed else 0.0)
+    rng = np.random.default_rng(len(offsets))
+    reach = max(abs(o) for o in offsets) + 40
+    t = rng.uniform(-reach, reach, 8192)  # across the tines, from the point
+    t[: len(offsets)] = offsets  # on every tine
+    u = rng.uniform(-50, 50, t.size)  # along them
+    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))  # M = (c, s), N = (-s, c)
+    x = (40 - t * s + u * c).astype(np.float32)
+    y = (30 + t * c + u * s).astype(np.float32)
+    kx, ky, _ = run_op(renderer, op, x, y)
+    rx, ry = REGISTRY["rake"].inverse(op.values, x.astype(np.float64), y.astype(np.float64))
+    err = np.hypot(kx - rx, ky - ry)
+    assert err.max() <= SECTION_PX * max(1.0, reach / 100), (tines, err.max())
+
+
 def test_stir_radii_must_not_be_zero():
     stir = {"type": "stir", "center": [0, 0], "radii": [4, 0], "alpha": 1, "falloff": 1}
     with pytest.raises(RecipeError, match=r"ops\[0\]\.radii\[1\]: must not be 0, got 0"):
