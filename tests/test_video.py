@@ -425,3 +425,9 @@ def test_progress_json_lines(capsys):
     lines = [json.loads(x) for x in capsys.readouterr().err.splitlines()]
     assert lines[-1]["frame"] == 3 and lines[-1]["total"] == 3
     assert set(lines[0]) == {"frame", "total", "fps", "time", "eta"}
+    # other units are named as such (segments of --cluster, items of a batch)
+    with Progress(2, mode="json", unit="segment", interval=0.0) as bar:
+        bar.update()
+    lines = [json.loads(x) for x in capsys.readouterr().err.splitlines()]
+    assert set(lines[0]) == {"segment", "total", "per_second", "time", "eta"}
+    assert (lines[0]["segment"], lines[-1]["segment"], lines[-1]["total"]) == (1, 1, 2)

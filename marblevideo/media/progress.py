@@ -3,7 +3,9 @@
 Three modes: ``"bar"`` (a tqdm bar: count, rate, ETA), ``"json"`` (one JSON
 line per second, ``{"frame", "total", "fps", "time", "eta"}``, for other
 programs; ``time`` and ``eta`` in seconds, ``total``/``eta`` null when
-unknown) and ``"off"``. :func:`progress_mode` turns the CLI's flags into one.
+unknown; work counted in other units names them: ``{"segment", "total",
+"per_second", ...}`` for ``--cluster``, ``"item"`` for batches, ``"band"`` for
+big stills) and ``"off"``. :func:`progress_mode` turns the CLI's flags into one.
 """
 
 from __future__ import annotations
@@ -45,6 +47,7 @@ class Progress:
         interval: float = 1.0,
     ):
         self.stream = stream or sys.stderr
+        self.unit = unit
         self.mode = progress_mode(mode, stream=self.stream)
         self.total = total or None
         self.count = 0
@@ -73,9 +76,9 @@ class Progress:
         if self.total and fps > 0:
             eta = round(max(self.total - self.count, 0) / fps, 1)
         line = {
-            "frame": self.count,
+            self.unit: self.count,
             "total": self.total,
-            "fps": round(fps, 2),
+            "fps" if self.unit == "frame" else "per_second": round(fps, 2),
             "time": round(elapsed, 1),
             "eta": eta,
         }
