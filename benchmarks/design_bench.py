@@ -6,7 +6,8 @@ Runs the real command (a subprocess serving the page on 127.0.0.1) on a blank
 nonpareil scaled to the sheet, 140 drops and 3 rakes), and measures in the page
 (performance.now()):
 
-- click: a click with the drop tool (pointer up) -> the exact (RGSS) 1024x768
+- click: a click with the drop tool (pointer up) -> the first frame drawn (the
+  page's draft of the new recipe), and -> the exact (RGSS) 1024x768
   frame with the new drop drawn on the page's canvas (PUT, render, PNG, decode,
   draw);
 - drag: a pointer move while dragging the comb tool -> the draft frame (no
@@ -54,13 +55,15 @@ LIGHT = [
 # installed in the page: the time from a pointer event to the next frame drawn of its kind
 PROBE = """() => {
   const sheet = document.getElementById('sheet'), overlay = document.getElementById('overlay');
-  window.marks = {click: [], drag: []};
-  let up = null, move = null;
-  overlay.addEventListener('pointerup', () => { up = [performance.now(), version]; }, true);
+  window.marks = {click: [], first: [], drag: []};
+  let up = null, move = null, first = null;
+  overlay.addEventListener('pointerup', () => { up = first = [performance.now(), version]; },
+    true);
   overlay.addEventListener('pointermove', (e) => { if (e.buttons) move = performance.now(); },
     true);
   new MutationObserver(() => {
     const now = performance.now(), d = sheet.dataset;
+    if (first !== null) { marks.first.push(now - first[0]); first = null; }
     if (d.draft === '1' && move !== null) { marks.drag.push(now - move); move = null; }
     if (d.draft === '0' && up !== null && Number(d.version) > up[1]) {
       marks.click.push(now - up[0]); up = null;
@@ -164,6 +167,7 @@ def bench(name: str, repeat: int) -> dict:
     return {
         "design": name,
         "ops": len(design_ops(name)),
+        "click -> first frame (draft)": quantiles(marks["first"][2:]),
         "click -> exact frame": quantiles(marks["click"][2:]),
         "drag -> draft frame": quantiles(marks["drag"][2:]),
         "drag moves without a draft": repeat + 2 - len(marks["drag"]),
