@@ -175,6 +175,47 @@ def test_adaptive_samples_fully_only_near_edges(renderer):
     assert 300 < renderer.last_full_pixels < 1500
 
 
+def test_busy_designs_take_the_full_pattern_after_a_busy_frame(full_pattern):
+    """Where most pixels sit by an ink edge anyway (the nonpareil at its end),
+    adaptive sampling costs more than the full pattern: after such a frame the
+    next frames of that size and program take the full pattern, every eighth is
+    adaptive again, and a new job starts adaptive."""
+    from pathlib import Path
+
+    from marblevideo.opencl.renderer import Renderer
+    from marblevideo.opencl.walks import BUSY_SHARE, PROBE_EVERY
+    from marblevideo.recipe import load_recipe
+
+    recipe = load_recipe(Path(__file__).parent.parent / "samples" / "nonpareil.json")
+    spec, geom = recipe.at(recipe.end_time()), geometry(recipe.canvas, (240, 160))
+    full = full_pattern.render(spec, geom)
+    renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+    listed = []
+    for _ in range(2 * PROBE_EVERY + 1):
+        out = renderer.render(spec, geom)
+        listed.append(renderer.last_full_pixels)
+        if listed[-1] is None:
+            assert np.array_equal(out, full)
+        else:
+            assert agreement(out, full) >= KERNEL_SHARE
+    assert listed[0] > BUSY_SHARE * 240 * 160
+    assert [n is not None for n in listed] == ([True] + [False] * (PROBE_EVERY - 1)) * 2 + [True]
+    # a calm frame (another program) between: adaptive, and the busy one after
+    # it too (only the last frame is remembered); forget_frames: a new job
+    calm = parse_recipe(
+        {"canvas": recipe.canvas, "ops": [{"type": "drop", "center": [60, 40], "radius": 20,
+                                          "color": "red"}]}, "calm.json",
+    )  # fmt: skip
+    renderer.render(calm.at(0), geom)
+    assert 0 < renderer.last_full_pixels < BUSY_SHARE * 240 * 160
+    for adaptive in (True, False):
+        renderer.render(spec, geom)
+        assert (renderer.last_full_pixels is not None) == adaptive
+    renderer.forget_frames()
+    renderer.render(spec, geom)
+    assert renderer.last_full_pixels is not None
+
+
 def test_vortex_centre_sample_is_not_nan(renderer):
     """A subsample exactly at a vortex centre (R = 0) has theta = 0, not NaN."""
     recipe = parse_recipe(

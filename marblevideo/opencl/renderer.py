@@ -73,7 +73,10 @@ class Renderer:
     elsewhere (see marble.cl); False evaluates the full pattern everywhere;
     None (default) is adaptive on blank sheets only, where it halves the time,
     while over an input its four bilinear fetches per pixel stay and the
-    centre pass measured slower than the full pattern (BENCHMARKS.md).
+    centre pass measured slower than the full pattern (BENCHMARKS.md); and
+    after a frame that put most pixels on the full pattern anyway (a busy
+    design: :data:`~marblevideo.opencl.walks.BUSY_SHARE`), the next frames of
+    that size and program take the full pattern, every eighth adaptive again.
     ``reuse_maps``: over an input, when a frame's values, geometry and sizes
     equal the previous frame's (a static recipe over a video), where every
     subsample lands is recorded once and later frames only fetch and blend
@@ -130,6 +133,13 @@ class Renderer:
         next frame is drawn as a new renderer's first would be (the tables it holds
         stay valid; only which frame came last is forgotten)."""
         self.tables.forget_last()
+        self.adaptive_walk.forget()
+
+    def _adaptive(self, has_input: bool, w: int, h: int, structure: Structure) -> bool:
+        """Whether a frame with more than one subsample is sampled adaptively."""
+        if self.adaptive is not None:
+            return self.adaptive
+        return not has_input and self.adaptive_walk.worth(w, h, structure)
 
     def prebuild(self, structure: Structure) -> None:
         """Build ``structure``'s program in the background (see Programs.prebuild)."""
@@ -287,10 +297,9 @@ class Renderer:
             samples = queue.samples(spec.antialias)
             common = (src, np.int32(sw), np.int32(sh), pbuf, samples, *maps, float4(bg + [255.0]))
             common += (lbuf,)
-            adaptive = self.adaptive if self.adaptive is not None else not has_input
             if reuse:
                 self.tables.render(built, dst, w, h, common, key)
-            elif adaptive and len(pattern(spec.antialias)) > 1:
+            elif len(pattern(spec.antialias)) > 1 and self._adaptive(has_input, w, h, structure):
                 self.adaptive_walk.render(built, dst, w, h, common, pbuf, maps, has_input)
             else:
                 self.fresh.render(built, dst, w, h, common)

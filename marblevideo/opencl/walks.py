@@ -17,6 +17,13 @@ from marblevideo.opencl.queue import DeviceQueue
 
 #: Work-group size of marble_classify (its list takes one global atomic per group).
 CLASSIFY_GROUP = 64
+#: Above this share of pixels on the list, the three passes cost more than the
+#: full pattern everywhere (measured on the samples: a share of 0.6 took 0.92x
+#: the full pattern's time, 0.8 took 1.13x; BENCHMARKS.md, session 12).
+BUSY_SHARE = 0.7
+#: After a busy frame, frames of its size and program take the full pattern, and
+#: every PROBE_EVERY-th is adaptive again, to see whether the design is still busy.
+PROBE_EVERY = 8
 
 
 class FreshWalk:
@@ -33,12 +40,30 @@ class FreshWalk:
 
 class AdaptiveWalk:
     """The three passes of adaptive antialiasing; :attr:`last_full_pixels`: the
-    pixels the last render gave the full pattern."""
+    pixels the last render gave the full pattern. :meth:`worth` says whether
+    the next frame of a size should take them (see BUSY_SHARE)."""
 
     def __init__(self, queue: DeviceQueue, lanes: int):
         self.queue, self.lanes = queue, lanes
         self.group = min(CLASSIFY_GROUP, queue.info.device.max_work_group_size)
         self.last_full_pixels: int | None = None
+        self._busy = None  # (w, h, program) of the last busy frame
+        self._full_since = 0  # frames like it given the full pattern since
+        self._asked = None
+
+    def worth(self, w: int, h: int, program) -> bool:
+        """Whether a frame of ``w`` x ``h`` drawn by ``program`` (a hashable key)
+        should be sampled adaptively: not after a busy frame of the same size and
+        program, except every PROBE_EVERY-th frame."""
+        self._asked = (w, h, program)
+        if self._busy != self._asked:
+            return True
+        self._full_since += 1
+        return self._full_since >= PROBE_EVERY
+
+    def forget(self) -> None:
+        """A new job: no frame came before."""
+        self._busy = None
 
     def render(self, built: Built, dst, w, h, common, pbuf, maps, has_input: bool) -> None:
         """``maps``: the geometry's two float4 kernel arguments; ``pbuf``: the params."""
@@ -74,6 +99,8 @@ class AdaptiveWalk:
         n = queue.count(counter)
         del cleared  # copied before the count was read
         self.last_full_pixels = n
+        self._busy = self._asked if n > BUSY_SHARE * w * h else None
+        self._full_since = 0
         if n:
             full = built.kernels["marble_list"]
             full.set_args(dst, np.int32(w), listing, np.int32(n), *common)
