@@ -25,8 +25,9 @@
   recipe with one sample per pixel (every pixel walked and gathered once), one
   keyed turn (a walk of next to nothing) with RGSS and with one sample, and the
   plain transcode of the marbled output (x264's cost for marbled pictures).
-- rake: the bundled samples with rakes, evenly spaced tines summed in closed form
-  (four exponentials a rake) against one exponential per tine, in one program.
+- series: the bundled samples with rakes and the pst design (rakes and a stir),
+  evenly spaced tines and rings summed in closed form (four exponentials an op)
+  against one exponential per term, in one program.
 - cluster: a 720p clip (the e2e recipe, animated) rendered whole, in 4
   segments serially (plan, segments and join timed) and on a local Ray with
   1 and 2 workers (cluster_bench.py; needs the extra 'ray').
@@ -216,37 +217,51 @@ def bullseye(device: str | None, drops: int = 30) -> None:
     )
 
 
-def rake(device: str | None) -> None:
-    """See the module: the bundled samples with rakes at 960x640, ms per frame
-    (median of 15, interleaved), evenly spaced tines summed in closed form against
-    one by one (the same program; only the packed data differ)."""
+def series(device: str | None) -> None:
+    """See the module: the bundled samples with rakes and the pst design (rakes
+    and a stir) at 960x640, ms per frame (median of 15, interleaved), evenly
+    spaced tines and rings summed in closed form against term by term (the same
+    program; only the packed data differ)."""
     import json
 
+    from marblevideo.ops import series as sums
     from marblevideo.ops import shear
 
     samples = ROOT / "samples"
-    print("\n## Rakes: bundled samples at 960x640, ms per frame, median of 15")
-    print("| sample | tines | pattern | one by one | closed form | speed-up |")
+    designs = {
+        name: json.loads((samples / f"{name}.json").read_text())
+        for name in ("nonpareil", "bouquet", "chevron", "spanish-wave")
+    }
+    designs["pst (1024 canvas)"] = recipe_pst()
+    print("\n## Rakes and stirs: 960x640, ms per frame, median of 15")
+    print("| design | terms | pattern | term by term | closed form | speed-up |")
     print("|---|---|---|---|---|---|")
-    for name in ("nonpareil", "bouquet", "chevron", "spanish-wave"):
-        recipe = parse_recipe(json.loads((samples / f"{name}.json").read_text()), name)
+    for name, data in designs.items():
+        recipe = parse_recipe(data, name)
         spec = recipe.at(recipe.end_time())
-        tines = sum(len(shear.rake_offsets(op.values)) for op in spec.ops if op.type == "rake")
+        terms = sum(
+            len(shear.rake_offsets(op.values)) if op.type == "rake" else len(op.values["radii"])
+            for op in spec.ops
+            if op.type in ("rake", "stir")
+        )
         geom = geometry(recipe.canvas, (960, 640))
-        renderers = {"adaptive": Renderer(device), "full": Renderer(device, adaptive=False)}
+        renderers = {
+            "adaptive": Renderer(device, adaptive=True),
+            "full": Renderer(device, adaptive=False),
+        }
         for label, renderer in renderers.items():
-            times: dict[str, list[float]] = {"loop": [], "closed": []}
+            times: dict[str, list[float]] = {"terms": [], "closed": []}
             for k in range(17):
                 for mode in times:
-                    shear.RAKE_SERIES_MIN = 10**9 if mode == "loop" else 4
+                    sums.SERIES_MIN = 10**9 if mode == "terms" else 4
                     began = time.perf_counter()
                     renderer.render(spec, geom)
                     if k >= 2:  # the first two warm up
                         times[mode].append(time.perf_counter() - began)
-            shear.RAKE_SERIES_MIN = 4
-            loop, closed = (statistics.median(times[m]) * 1e3 for m in ("loop", "closed"))
+            sums.SERIES_MIN = 4
+            loop, closed = (statistics.median(times[m]) * 1e3 for m in ("terms", "closed"))
             cells = f"{loop:.1f} | {closed:.1f} | {loop / closed:.2f}x"
-            print(f"| {name} | {tines} | {label} | {cells} |", flush=True)
+            print(f"| {name} | {terms} | {label} | {cells} |", flush=True)
 
 
 def table1(device: str | None) -> None:
@@ -736,7 +751,7 @@ def main() -> None:
                 "lanes": lanes,
                 "svg": svg_part,
                 "bullseye": bullseye,
-                "rake": rake,
+                "series": series,
             }
             parts[part](args.device)
 

@@ -114,6 +114,33 @@ inline vf exp_neg(vf x) {
     return select(q * scale, (vf)0.0f, x >= 87.0f);
 }
 
+/* sum_k c_k e^(-|u - o_k| / L) (inv_l = 1/L) over a rake's tines or a stir's
+ * rings, their data at d (marblevideo/ops/series.py). Term by term: n positions
+ * o_k, then n coefficients c_k. In closed form (even), for o_k = o0 + k s and
+ * c_k = c0 sigma^k (sigma = +-1): with j the last o_k at or below u (-1 .. n-1)
+ * and b = u - o_j, the terms up to j sum to c_j e^(-b/L) (1 - (sigma q)^(j+1))
+ * / (1 - sigma q) and those above to c_(j+1) e^(-(s-b)/L) (1 - (sigma
+ * q)^(n-1-j)) / (1 - sigma q), q = e^(-s/L): four exponentials for any n; a
+ * side without terms gets an argument of 0 and a factor of exactly 0.
+ * d: o0, 1/s, s, s/L, 1/(1 - sigma q), c0, sigma, sigma^(n-1). */
+inline vf series_sum(vf u, __global const float *d, int n, int even, float inv_l) {
+    if (!even) {
+        vf sum = (vf)0.0f;
+        for (int k = 0; k < n; k++)
+            sum += d[n + k] * exp_neg(fabs(u - d[k]) * inv_l);
+        return sum;
+    }
+    const float step = d[2], ratio = d[3], sigma = d[6];
+    vf j = clamp(floor((u - d[0]) * d[1]), -1.0f, (float)(n - 1));
+    vf b = u - (d[0] + j * step);
+    vf sj = 1.0f + (sigma - 1.0f) * (j - 2.0f * floor(0.5f * j)); /* sigma^j */
+    vf below = exp_neg(select(b, (vf)0.0f, j < 0.0f) * inv_l);
+    vf above = exp_neg(select(step - b, (vf)0.0f, j >= (float)(n - 1)) * inv_l);
+    below *= 1.0f - sj * sigma * exp_neg((j + 1.0f) * ratio);
+    above *= sigma * (1.0f - d[7] * sj * exp_neg(((float)(n - 1) - j) * ratio));
+    return (d[5] * d[4]) * sj * (below + above);
+}
+
 /* z^(1/3) for z > 0, without the library: a guess from the exponent bits (within
  * 4%), then three Newton steps (relative error < 1e-7). */
 inline vf cbrt_pos(vf z) {

@@ -17,6 +17,7 @@ from marblevideo.errors import RecipeError
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.opencl.selfcheck import agreement
 from marblevideo.ops import REGISTRY
+from marblevideo.ops.shear import rake_offsets
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import OpState, geometry
 from marblevideo.reference import render as reference_render
@@ -235,43 +236,59 @@ def test_rake_offsets_centre_on_the_point_and_tines_are_as_given():
     assert np.array_equal(reference_render(a, geom), reference_render(b, geom))
 
 
+RAKE = {"type": "rake", "point": [40, 30], "angle": 30, "alpha": 9, "falloff": 4}
+STIR = {"type": "stir", "center": [40, 30], "alpha": 30, "falloff": 15}
+
+
 @pytest.mark.parametrize(
-    "tines",
+    "op, closed",
     [
-        {"spacing": 30, "count": 19},  # the samples' rakes: s/L 7.5
-        {"spacing": 8, "count": 43},
-        {"spacing": 0.4, "count": 256},  # s/L 0.1: close tines
-        {"spacing": 3, "count": 4},
-        {"tines": [12, -6, 0, 6, -12]},  # a list, evenly spaced once sorted
-        {"tines": [-9, 0, 5, 14]},  # not evenly spaced: the tines one by one
-        {"spacing": 0.1, "count": 40},  # s/L 0.025: one by one as well
+        ({**RAKE, "spacing": 30, "count": 19}, True),  # the samples' rakes: s/L 7.5
+        ({**RAKE, "spacing": 8, "count": 43}, True),
+        ({**RAKE, "spacing": 0.4, "count": 256}, True),  # s/L 0.1: close tines
+        ({**RAKE, "spacing": 3, "count": 4}, True),
+        ({**RAKE, "tines": [12, -6, 0, 6, -12]}, True),  # evenly spaced once sorted
+        ({**RAKE, "tines": [-9, 0, 5, 14]}, False),  # uneven: term by term
+        ({**RAKE, "spacing": 0.1, "count": 40}, False),  # s/L 0.025: term by term
+        ({**RAKE, "spacing": 5, "count": 3}, False),  # too few to gain
+        ({**STIR, "radii": [60, -120, 180, -240, 300, -360, 420, -480]}, True),  # alternating
+        ({**STIR, "radii": [-480, 420, -360, 300, -240, 180, -120, 60]}, True),  # reversed
+        ({**STIR, "radii": [30, 60, 90, 120, 150]}, True),
+        ({**STIR, "radii": [-20, -40, -60, -80]}, True),
+        ({**STIR, "radii": [10, -20, 30, 40]}, False),  # neither equal nor alternating
     ],
 )
-def test_evenly_spaced_rakes_sum_in_closed_form(renderer, tines):
-    """Evenly spaced tines are summed as two geometric series (four exponentials
-    for any count): the section still walks where the float64 sum of every tine
-    says, beside the tines, between them, on them and far out on both sides."""
-    from marblevideo.ops.shear import RAKE_MIN_RATIO, RAKE_SERIES_MIN, even_spacing, rake_offsets
-
-    rake = {"type": "rake", "point": [40, 30], "angle": 30, "alpha": 9, "falloff": 4, **tines}
-    op = parse_recipe({"canvas": [80, 60], "ops": [rake]}, "r.json").at(0).ops[0]
-    offsets = rake_offsets(op.values)
-    even = even_spacing(offsets)
-    closed = len(offsets) >= RAKE_SERIES_MIN and even and even[1] / 4 >= RAKE_MIN_RATIO
-    lists: list = []
-    assert REGISTRY["rake"].pack(op.values, lists)[10] == (1.0 if closed else 0.0)
-    rng = np.random.default_rng(len(offsets))
-    reach = max(abs(o) for o in offsets) + 40
-    t = rng.uniform(-reach, reach, 8192)  # across the tines, from the point
-    t[: len(offsets)] = offsets  # on every tine
-    u = rng.uniform(-50, 50, t.size)  # along them
-    c, s = math.cos(math.radians(30)), math.sin(math.radians(30))  # M = (c, s), N = (-s, c)
-    x = (40 - t * s + u * c).astype(np.float32)
-    y = (30 + t * c + u * s).astype(np.float32)
-    kx, ky, _ = run_op(renderer, op, x, y)
-    rx, ry = REGISTRY["rake"].inverse(op.values, x.astype(np.float64), y.astype(np.float64))
-    err = np.hypot(kx - rx, ky - ry)
-    assert err.max() <= SECTION_PX * max(1.0, reach / 100), (tines, err.max())
+def test_evenly_spaced_tines_and_rings_sum_in_closed_form(renderer, op, closed):
+    """A rake's evenly spaced tines and a stir's evenly spaced rings whose signs
+    are equal or alternate are summed as two geometric series (four
+    exponentials for any count): the section still walks where the float64 sum
+    of every term says, on, between and far off the tines or rings."""
+    state = parse_recipe({"canvas": [80, 60], "ops": [op]}, "r.json").at(0).ops[0]
+    definition = REGISTRY[op["type"]]
+    packed = definition.pack(state.values, [])
+    assert packed[-1] == (1.0 if closed else 0.0)
+    rng = np.random.default_rng(len(str(op)))
+    if op["type"] == "rake":
+        offsets = rake_offsets(state.values)
+        reach = max(abs(o) for o in offsets) + 40
+        t = rng.uniform(-reach, reach, 8192)  # across the tines, from the point
+        t[: len(offsets)] = offsets  # on every tine
+        u = rng.uniform(-50, 50, t.size)  # along them
+        c, s = math.cos(math.radians(30)), math.sin(math.radians(30))  # M = (c, s), N = (-s, c)
+        x, y = 40 - t * s + u * c, 30 + t * c + u * s
+    else:
+        radii = [abs(r) for r in op["radii"]]
+        reach = max(radii) + 40
+        r = rng.uniform(0, reach, 8192)
+        r[: len(radii)] = radii  # on every ring
+        a = rng.uniform(0, 2 * math.pi, r.size)
+        x, y = 40 + r * np.cos(a), 30 + r * np.sin(a)
+    x, y = x.astype(np.float32), y.astype(np.float32)
+    rx, ry = definition.inverse(state.values, x.astype(np.float64), y.astype(np.float64))
+    for lanes in (None, 1):  # vectors, and the scalar code of GPUs
+        kx, ky, _ = run_op(renderer, state, x, y, lanes)
+        err = np.hypot(kx - rx, ky - ry)
+        assert err.max() <= SECTION_PX * max(1.0, reach / 100), (op, lanes, err.max())
 
 
 def test_stir_radii_must_not_be_zero():

@@ -38,16 +38,12 @@ inline void turn_about(vf *x, vf *y, float cx, float cy, vf turns) {
 }
 
 /* stir: rotate P' - C by -theta, theta = alpha sum_i sign(r_i) e^(-|R - |r_i|| / L) / R
- * (0 at R = 0). p: cx, cy, alpha / (2 pi), 1/L, where the radii start in lists, n */
+ * (0 at R = 0). p: cx, cy, alpha / (2 pi), 1/L, then the rings as a series of
+ * |r_i| with coefficients sign(r_i) (prelude's series_sum): where, n, even */
 inline void op_stir(OP_ARGS) {
     vf qx = *x - p[0], qy = *y - p[1];
     vf R = sqrt(qx * qx + qy * qy);
-    const int at = (int)p[4], n = (int)p[5];
-    vf sum = (vf)0.0f;
-    for (int k = 0; k < n; k++) {
-        const float r = lists[at + k];
-        sum += copysign(1.0f, r) * exp_neg(fabs(R - fabs(r)) * p[3]);
-    }
+    vf sum = series_sum(R, lists + (int)p[4], (int)p[5], p[6] != 0.0f, p[3]);
     turn_about(x, y, p[0], p[1], -p[2] * sum * recip(fmax(R, 1e-30f)));
 }
 

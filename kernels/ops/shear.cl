@@ -38,30 +38,11 @@ inline void op_shift(OP_ARGS) {
 }
 
 /* rake: P = P' - alpha * sum_i exp(-|d_i| / L) * M, d_i = (P' - A) . N - o_i.
- * p: ax, ay, mx, my, nx, ny, alpha, 1/L, where its data start in lists, n tines,
- * even (1: evenly spaced; lists holds o0, 1/s, s, s/L, 1/(1 - q), q = e^(-s/L);
- * 0: the offsets o_i). Evenly spaced tines o0 + k s sum in closed form: with
- * j the last tine at or below the point (-1 .. n-1) and b = d_j, the tines
- * 0..j give e^(-b/L) (1 - q^(j+1)) / (1 - q) and the tines j+1..n-1 give
- * e^(-(s-b)/L) (1 - q^(n-1-j)) / (1 - q): four exponentials for any n. */
+ * p: ax, ay, mx, my, nx, ny, alpha, 1/L, then the tines as a series (prelude's
+ * series_sum): where their data start in lists, n, even */
 inline void op_rake(OP_ARGS) {
     vf across = (*x - p[0]) * p[4] + (*y - p[1]) * p[5];
-    const int at = (int)p[8], n = (int)p[9];
-    vf sum = (vf)0.0f;
-    if (p[10] != 0.0f) {
-        const float o0 = lists[at], inv_s = lists[at + 1], step = lists[at + 2];
-        const float ratio = lists[at + 3], g = lists[at + 4];
-        vf j = clamp(floor((across - o0) * inv_s), -1.0f, (float)(n - 1));
-        vf b = across - (o0 + j * step);
-        /* no tine on a side: an argument of 0 and 1 - q^0 = 0 give exactly 0 */
-        vf below = exp_neg(select(b, (vf)0.0f, j < 0.0f) * p[7]);
-        vf above = exp_neg(select(step - b, (vf)0.0f, j >= (float)(n - 1)) * p[7]);
-        sum = (below * (1.0f - exp_neg((j + 1.0f) * ratio)) +
-               above * (1.0f - exp_neg(((float)(n - 1) - j) * ratio))) * g;
-    } else {
-        for (int k = 0; k < n; k++)
-            sum += exp_neg(fabs(across - lists[at + k]) * p[7]);
-    }
+    vf sum = series_sum(across, lists + (int)p[8], (int)p[9], p[10] != 0.0f, p[7]);
     vf s = p[6] * sum;
     *x -= s * p[2];
     *y -= s * p[3];

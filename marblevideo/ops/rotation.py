@@ -22,6 +22,7 @@ from marblevideo.ops.base import (
     Values,
     direction,
 )
+from marblevideo.ops.series import pack_series
 
 
 def _rotate(sign: float, circle: bool):
@@ -134,11 +135,13 @@ def _stir_theta(v: Values, big_r: np.ndarray) -> np.ndarray:
 
 
 def pack_stir(v: Values, lists: list) -> tuple[float, ...]:
-    """cx, cy, alpha / (2 pi) (turns), 1/falloff, where the radii start in ``lists``,
-    how many."""
-    at = len(lists)
-    lists.extend(float(r) for r in v["radii"])
-    return (*v["center"], v["alpha"] / (2 * math.pi), 1.0 / v["falloff"], at, len(v["radii"]))
+    """cx, cy, alpha / (2 pi) (turns), 1/falloff, and the rings as a series of
+    |r_i| with coefficients sign(r_i) (where their data start in ``lists``, how
+    many, whether in closed form: :mod:`marblevideo.ops.series`)."""
+    radii = [float(r) for r in v["radii"]]
+    signs = [math.copysign(1.0, r) for r in radii]
+    series = pack_series([abs(r) for r in radii], signs, v["falloff"], lists)
+    return (*v["center"], v["alpha"] / (2 * math.pi), 1.0 / v["falloff"], *series)
 
 
 STIR = OpDef(

@@ -22,6 +22,7 @@ from marblevideo.ops.base import (
     Values,
     direction,
 )
+from marblevideo.ops.series import pack_series
 
 
 def _tine_shift(v: Values, x: np.ndarray, y: np.ndarray, comb: bool):
@@ -159,44 +160,13 @@ def _rake_shift(v: Values, x: np.ndarray, y: np.ndarray, comb: bool = False):
     return v["alpha"] * total, mx, my
 
 
-#: Evenly spaced tines (at least this many, spacing / falloff at least RAKE_MIN_RATIO)
-#: are summed in closed form; closer tines lose float32 precision in 1 - q^k.
-RAKE_SERIES_MIN = 4
-RAKE_MIN_RATIO = 0.05
-
-
-def even_spacing(offsets: list[float]) -> tuple[float, float] | None:
-    """(first, spacing) when the offsets, sorted, are evenly spaced (to 1e-9 of the
-    spacing), else None."""
-    o = sorted(offsets)
-    n = len(o)
-    if n < 2 or o[-1] <= o[0]:
-        return None
-    step = (o[-1] - o[0]) / (n - 1)
-    if any(abs(o[k] - (o[0] + k * step)) > 1e-9 * step for k in range(n)):
-        return None
-    return o[0], step
-
-
 def pack_rake(v: Values, lists: list) -> tuple[float, ...]:
-    """ax, ay, M, N, alpha, 1/falloff, where its data start in ``lists``, how many
-    tines, and 1 when they are evenly spaced: then ``lists`` holds the first
-    offset o0, 1/s, s, s/falloff and 1/(1 - q), q = exp(-s/falloff), for the
-    sum in closed form (two geometric series either side of the point), else
-    the offsets."""
+    """ax, ay, M, N, alpha, 1/falloff, and its tines as a series (where their data
+    start in ``lists``, how many, whether in closed form: :mod:`marblevideo.ops.series`)."""
     ca, sa = direction(v["angle"])
     offsets = rake_offsets(v)
-    at, n = len(lists), len(offsets)
-    even = even_spacing(offsets) if n >= RAKE_SERIES_MIN else None
-    ratio = even[1] / v["falloff"] if even else 0.0
-    if even and ratio >= RAKE_MIN_RATIO:
-        o0, step = even
-        lists.extend((o0, 1.0 / step, step, ratio, 1.0 / -math.expm1(-ratio)))
-    else:
-        lists.extend(offsets)
-        even = None
-    head = (*v["point"], ca, sa, -sa, ca, v["alpha"], 1.0 / v["falloff"])
-    return (*head, at, n, 1.0 if even else 0.0)
+    series = pack_series(offsets, [1.0] * len(offsets), v["falloff"], lists)
+    return (*v["point"], ca, sa, -sa, ca, v["alpha"], 1.0 / v["falloff"], *series)
 
 
 def check_rake(op, tracks) -> list:

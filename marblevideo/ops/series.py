@@ -1,0 +1,57 @@
+"""Sums of exponential fall-offs, sum_k c_k e^(-|u - o_k| / L): a rake's tines
+(u across the motion, c_k = 1) and a stir's rings (u the radius, c_k the
+rings' signs), packed for the kernel's ``series_sum`` (kernels/prelude.cl).
+
+Evenly spaced positions whose coefficients are all equal or alternate in sign
+are summed in closed form there: two geometric series either side of u, four
+exponentials for any n (the same sum; float32 agrees with the float64 sum of
+every term). Closer positions than ``MIN_RATIO`` falloffs apart lose float32
+precision in the series, and fewer than ``SERIES_MIN`` gain nothing: those,
+and uneven ones, are summed term by term.
+"""
+
+from __future__ import annotations
+
+import math
+
+#: Fewest terms summed in closed form.
+SERIES_MIN = 4
+#: Smallest spacing / falloff summed in closed form.
+MIN_RATIO = 0.05
+
+
+def pack_series(
+    positions: list[float], coefficients: list[float], falloff: float, lists: list
+) -> tuple[int, int, float]:
+    """Append the sum's data to ``lists``; (where they start, n, 1.0 when in closed
+    form else 0.0). Closed form: o0, 1/s, s, s/L, 1/(1 - sigma q), c0, sigma,
+    sigma^(n-1), with q = e^(-s/L), for o_k = o0 + k s (sorted) and c_k = c0
+    sigma^k; term by term: the n positions, then the n coefficients."""
+    at, n = len(lists), len(positions)
+    closed = _closed_form(positions, coefficients, falloff) if n >= SERIES_MIN else None
+    if closed is not None:
+        lists.extend(closed)
+        return at, n, 1.0
+    lists.extend(float(o) for o in positions)
+    lists.extend(float(c) for c in coefficients)
+    return at, n, 0.0
+
+
+def _closed_form(positions, coefficients, falloff: float) -> tuple[float, ...] | None:
+    pairs = sorted(zip(positions, coefficients, strict=True))
+    o, c = [p[0] for p in pairs], [p[1] for p in pairs]
+    n = len(o)
+    step = (o[-1] - o[0]) / (n - 1)
+    if step <= 0 or any(abs(o[k] - (o[0] + k * step)) > 1e-9 * step for k in range(n)):
+        return None
+    ratio = step / falloff
+    if ratio < MIN_RATIO:
+        return None
+    if all(ck == c[0] for ck in c):
+        sigma = 1.0
+    elif all(ck == c[0] * (-1) ** k for k, ck in enumerate(c)):
+        sigma = -1.0
+    else:
+        return None
+    g = 1.0 / -math.expm1(-ratio) if sigma > 0 else 1.0 / (1.0 + math.exp(-ratio))
+    return (o[0], 1.0 / step, step, ratio, g, c[0], sigma, sigma ** (n - 1))
