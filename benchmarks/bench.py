@@ -28,6 +28,8 @@
 - series: the bundled samples with rakes and the pst design (rakes and a stir),
   evenly spaced tines and rings summed in closed form (four exponentials an op)
   against one exponential per term, in one program.
+- animations: every frame of four sample animations at 960x640, the ops that
+  have not started skipped by the walk against every op walked.
 - cluster: a 720p clip (the e2e recipe, animated) rendered whole, in 4
   segments serially (plan, segments and join timed) and on a local Ray with
   1 and 2 workers (cluster_bench.py; needs the extra 'ray').
@@ -262,6 +264,42 @@ def series(device: str | None) -> None:
             loop, closed = (statistics.median(times[m]) * 1e3 for m in ("terms", "closed"))
             cells = f"{loop:.1f} | {closed:.1f} | {loop / closed:.2f}x"
             print(f"| {name} | {terms} | {label} | {cells} |", flush=True)
+
+
+def animations(device: str | None) -> None:
+    """See the module: every frame of sample animations at 960x640 (30 fps,
+    blank sheet, the default renderer), ms per frame (mean over the animation,
+    best of two passes), with the ops that have not started skipped by the walk
+    against every op walked (OpDef.still switched off), in one process."""
+    import json
+
+    from marblevideo.ops.base import OpDef
+
+    still = OpDef.still
+    samples = ROOT / "samples"
+    print("\n## Animations: every frame at 960x640, ms per frame (best of 2 passes)")
+    print("| sample | frames | every op walked | not started skipped | speed-up |")
+    print("|---|---|---|---|---|")
+    for name in ("figure6", "nonpareil", "bouquet", "chevron"):
+        recipe = parse_recipe(json.loads((samples / f"{name}.json").read_text()), name)
+        geom = geometry(recipe.canvas, (960, 640))
+        n = int(recipe.end_time() * 30) + 1
+        renderer = Renderer(device)
+        best = {"all": math.inf, "skip": math.inf}
+        for _ in range(2):
+            for mode in best:
+                OpDef.still = still if mode == "skip" else (lambda self, values: False)
+                renderer.forget_frames()
+                renderer.render(recipe.at(0), geom)  # the program, built or from the cache
+                began = time.perf_counter()
+                for k in range(n):
+                    renderer.render(recipe.at(k / 30), geom)
+                best[mode] = min(best[mode], (time.perf_counter() - began) / n * 1e3)
+        OpDef.still = still
+        ratio = best["all"] / best["skip"]
+        print(
+            f"| {name} | {n} | {best['all']:.1f} | {best['skip']:.1f} | {ratio:.2f}x |", flush=True
+        )
 
 
 def table1(device: str | None) -> None:
@@ -752,6 +790,7 @@ def main() -> None:
                 "svg": svg_part,
                 "bullseye": bullseye,
                 "series": series,
+                "animations": animations,
             }
             parts[part](args.device)
 

@@ -12,8 +12,11 @@
 #define FOR_CHAINS for (int c = 0; c < CHAINS; c++)
 #define PARAMS(i) (params + (i) * PSTRIDE)
 /* Op i of type `name` in every chain (the generated WALK is a list of these, or
- * a loop whose switch has one case per op type). */
-#define OP(i, name) FOR_CHAINS CAT(op_, name)(&px[c], &py[c], &ink[c], PARAMS(i), i, lists);
+ * a loop whose switch has one case per op type). An op still this frame (type
+ * code -1: not started yet) is skipped, by a branch every lane takes alike. */
+#define OP(i, name)                                                            \
+    if (PARAMS(i)[PSTRIDE - 1] >= 0.0f)                                        \
+        FOR_CHAINS CAT(op_, name)(&px[c], &py[c], &ink[c], PARAMS(i), i, lists);
 /* The colour of ink op i for the lanes whose walk ended there (INK lists these). */
 #define INK_COLOR(i)                                                           \
     { vi m = ink[c] == i;                                                      \

@@ -273,3 +273,39 @@ def test_concentric_runs_match_the_reference(renderer, full_pattern, t):
     for r in (renderer, full_pattern):
         check(r, CONCENTRIC, (120, 90), image, t)
         check(r, CONCENTRIC, (120, 90), None, t)
+
+
+def test_ops_not_started_are_skipped_as_if_absent(full_pattern):
+    """Ops still at a frame (before their start) are skipped by the walk: the
+    frame equals, pixel for pixel, the render of the recipe without them, in the
+    unrolled and the loop walk, a still drop at the head of a concentric run
+    included (the run is linked over the drops walked)."""
+    from marblevideo.opencl.renderer import Renderer
+
+    later = {"start": 5.0, "end": 6.0}
+    drops = [
+        {"type": "drop", "center": [60, 45], "radius": 20, "color": "#1d3557"},
+        {"type": "drop", "center": [60, 45], "radius": 14, "color": "#e9c46a"},
+    ]
+    comb = {"type": "comb", "point": [0, 0], "angle": 90, "spacing": 24, "alpha": 10, "lambda": 6}
+    wave = {"type": "wave", "amplitude": 6, "wavelength": 40, "phase": 0, "angle": 30}
+    with_still = {
+        "canvas": [120, 90],
+        "ops": [
+            {"type": "drop", "center": [60, 45], "radius": 25, "color": "#b23a48", **later},
+            *drops,
+            {**comb, **later},
+            wave,
+            {"type": "rake", "point": [60, 45], "angle": 0, "alpha": 9, "falloff": 4,
+             "spacing": 10, "count": 5, **later},
+        ],
+    }  # fmt: skip
+    without = {"canvas": [120, 90], "ops": [*drops, wave]}
+    geom = geometry((120, 90), (120, 90))
+    image = make_image(100, 80, 5)
+    for renderer in (full_pattern, Renderer(adaptive=False, loop_walk=True)):
+        for source in (None, image):
+            a = renderer.render(parse_recipe(with_still, "s.json").at(1.0), geom, source)
+            b = renderer.render(parse_recipe(without, "w.json").at(1.0), geom, source)
+            assert np.array_equal(a, b)
+    check(full_pattern, with_still, (120, 90), image, 1.0)

@@ -82,6 +82,29 @@ def test_packing_fits_and_ink_colours_sit_where_the_kernel_reads_them(definition
 
 
 @pytest.mark.parametrize("definition", OPS, ids=IDS)
+def test_an_op_before_its_start_is_still_and_skipped(definition):
+    """At progress 0 every op moves nothing and holds no ink (the float64 inverse
+    is the identity to its rounding, no point is ink): it is still, and packed with the code
+    the walk skips; at its end it is not."""
+    import numpy as np
+
+    from marblevideo.opencl.program import STILL_CODE
+
+    op = {**definition.example, "start": 1.0, "end": 2.0}
+    recipe = parse_recipe({"canvas": [80, 60], "ops": [op]}, "ex.json")
+    before, after = recipe.at(0.5).ops[0], recipe.at(2.0).ops[0]
+    assert definition.still(before.values) and not definition.still(after.values)
+    rng = np.random.default_rng(definition.code)
+    x, y = rng.uniform(-20, 100, 500), rng.uniform(-20, 80, 500)
+    ix, iy = definition.inverse(before.values, x, y)  # the identity, to float64's rounding
+    assert np.abs(ix - x).max() <= 1e-12 and np.abs(iy - y).max() <= 1e-12
+    if definition.ink:
+        assert not definition.contains(before.values, x, y).any()
+    assert pack_params(recipe.at(0.5)).params[-1] == STILL_CODE
+    assert pack_params(recipe.at(2.0)).params[-1] == definition.code
+
+
+@pytest.mark.parametrize("definition", OPS, ids=IDS)
 def test_forward_then_inverse_is_the_identity(definition):
     """On points where the op is not ink, in float64: the contract's exact inverses."""
     recipe = parse_recipe({"canvas": [80, 60], "ops": [dict(definition.example)]}, "ex.json")

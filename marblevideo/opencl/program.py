@@ -130,19 +130,31 @@ class Packed:
         return self.params.tobytes() + b"|" + self.lists.tobytes()
 
 
+#: The type code of an op that is still this frame (:meth:`OpDef.still`): the
+#: walk skips it (no case of the loop walk's switch; a test in the unrolled one).
+STILL_CODE = -1
+
+
 def pack_params(spec: FrameSpec) -> Packed:
     """Per-frame op values: each op's definition packs its floats
     (:attr:`marblevideo.ops.OpDef.pack`; no library trigonometry is left for the
-    kernel), the last float of its row is its type code. ``lists`` begins with
-    the number of ops (the loop walk's count; see :func:`walk_source`)."""
+    kernel), the last float of its row is its type code, or STILL_CODE for an
+    op that moves nothing and holds no ink this frame (one not started yet).
+    ``lists`` begins with the number of ops (the loop walk's count; see
+    :func:`walk_source`)."""
     out = np.zeros((max(len(spec.ops), 1), PSTRIDE), dtype=np.float64)
     lists: list[float] = [float(len(spec.ops))]
+    walked = []
     for i, op in enumerate(spec.ops):
         definition = op_def(op.type)
         row = definition.packed(op.values, lists)
         out[i, : len(row)] = row
-        out[i, PSTRIDE - 1] = definition.code
-    link_concentric_drops(spec.ops, out)
+        if definition.still(op.values):
+            out[i, PSTRIDE - 1] = STILL_CODE
+        else:
+            out[i, PSTRIDE - 1] = definition.code
+            walked.append(i)
+    link_concentric_drops(spec.ops, out, walked)
     # Products of valid values (radius**2, alpha * lambda) can pass float32's range:
     # saturate them rather than hand the kernel inf (and inf * 0 = NaN).
     f32 = float(np.finfo(np.float32).max)

@@ -164,6 +164,17 @@ class OpDef:
         progress 0) holds no point and moves nothing."""
         return self.ink and values["radius"] <= 0
 
+    def still(self, values: Values) -> bool:
+        """Whether the op moves nothing and holds no ink at these values: an
+        absent ink op, or one whose every progress-scaled parameter is 0 (at
+        progress 0, before its ``start``, or given as 0). The kernel skips it."""
+        if self.ink:
+            return self.absent(values)
+        return bool(self.progress) and all(
+            all(c == 0 for c in v) if isinstance(v := values[name], tuple) else v == 0
+            for name, _ in self.progress
+        )
+
     def param(self, name: str) -> Param:
         for p in self.params:
             if p.name == name:

@@ -39,7 +39,7 @@ def pack_drop(v: Values, lists: list) -> tuple[float, ...]:
     return (*pack_circle(v, lists), 0.0, 1.0)
 
 
-def link_concentric_drops(ops, rows: np.ndarray) -> None:
+def link_concentric_drops(ops, rows: np.ndarray, walked: list[int] | None = None) -> None:
     """Link each run of adjacent drops with one centre in the packed ``rows``.
 
     Walked back through a run, a point's squared distance to the centre drops
@@ -47,21 +47,29 @@ def link_concentric_drops(ops, rows: np.ndarray) -> None:
     the run is one drop: each drop tests ink against |P' - C|^2 less the r^2 of
     the drops walked before it (RUN_OFFSET), and only the run's last drop
     walked moves the point, by all of them at once (RUN_MOVES): one square
-    root for the run instead of one per drop, the same map.
+    root for the run instead of one per drop, the same map. ``walked``: the
+    indices of the ops the kernel walks (default: all); the others (skipped,
+    as still) do not part a run.
     """
-    i = len(ops) - 1
-    while i >= 0:
+    order = list(range(len(ops))) if walked is None else walked
+    n = len(order) - 1
+    while n >= 0:
+        i = order[n]
         if ops[i].type != "drop":
-            i -= 1
+            n -= 1
             continue
-        j = i
-        while j > 0 and ops[j - 1].type == "drop" and ops[j - 1]["center"] == ops[i]["center"]:
-            j -= 1
+        m = n
+        while (
+            m > 0
+            and ops[order[m - 1]].type == "drop"
+            and (ops[order[m - 1]]["center"] == ops[i]["center"])
+        ):
+            m -= 1
         offset = 0.0
-        for k in range(i, j - 1, -1):  # walk order: i first
-            rows[k, RUN_OFFSET], rows[k, RUN_MOVES] = offset, float(k == j)
+        for k in reversed(order[m : n + 1]):  # walk order: i first
+            rows[k, RUN_OFFSET], rows[k, RUN_MOVES] = offset, float(k == order[m])
             offset += rows[k, 2]
-        i = j - 1
+        n = m - 1
 
 
 def drop_forward(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
