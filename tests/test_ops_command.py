@@ -60,6 +60,7 @@ def test_ops_type_shows_one_in_full(cli, type_):
         keyed = f"{squashed(p.help)} May be a keyframe track."
         assert (keyed in flat) == p.tracked, p.name
     assert "start seconds optional" in flat and "end seconds optional" in flat
+    assert "hidden true/false false marblevideo: true keeps the op in the file" in flat
     example = proc.stdout.split("Example (JSON):\n", 1)[1].strip()
     assert json.loads(example) == definition.example
     parse_recipe({"canvas": [80, 60], "ops": [json.loads(example)]})  # a valid op as printed

@@ -119,7 +119,8 @@ def _param_rows(params) -> list[tuple[str, str, str, str]]:
 
 def _overview() -> str:
     note = (
-        "Every op also takes `start` and `end` (seconds, optional). The numbers, points and "
+        "Every op also takes `start` and `end` (seconds, optional) and `hidden` (true keeps "
+        "it in the file, out of every render). The numbers, points and "
         'colors of ops may be keyframe tracks {"keys": [{"t": ..., "v": ...}, ...]}; lists, '
         "counts and the layouts' fields are constants. `marblevideo ops TYPE` shows one in "
         "full; docs/recipe-format.md gives the formulas."
@@ -151,6 +152,7 @@ def _detail(type_: str) -> str:
     rows += [
         (name, "seconds", "optional", fields[name]["description"]) for name in ("start", "end")
     ]
+    rows.append(("hidden", "true/false", "false", fields["hidden"]["description"]))
     if type_ in LAYOUTS:
         notes = [
             "A drop layout: it stands for drops, expanded when the recipe loads. Its fields are "
