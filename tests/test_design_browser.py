@@ -235,3 +235,37 @@ def test_a_nonpareil_a_bouquet_and_a_swirl_over_a_photo_by_mouse_then_rendered(
     out = cv2.imread(str(tmp_path / "mine.png"))
     photo = cv2.imread(str(COFFEE))
     assert out.shape == photo.shape and np.abs(out.astype(int) - photo).mean() > 10
+
+
+def test_the_pages_keyed_values_are_the_renderers(browser, tmp_path):
+    """Where a slider on a keyed number starts: the page's copy of the track's
+    evaluation (eases included) against marblevideo.recipe.keyframes, on every
+    named ease, a custom cubic-bezier (a flat-then-steep one that needs the
+    bisection), hold, before the first key, on keys and after the last."""
+    from marblevideo.recipe import parse_recipe
+
+    tracks = [
+        {"keys": [{"t": 0.5, "v": 10, "ease": ease}, {"t": 2.5, "v": -30}, {"t": 3, "v": 5}]}
+        for ease in ("linear", "hold", "ease-in", "ease-out", "ease-in-out", [0, 0.9, 0, 1],
+                     [0.7, -0.4, 0.2, 1.6])
+    ]  # fmt: skip
+    times = [0, 0.5, 0.6, 1.0, 1.37, 2.0, 2.49, 2.5, 2.8, 3, 4]
+    app = LiveProcess(
+        "--ops", tmp_path / "k.json", "--canvas", "200x100", "--no-browser", "--port", "0",
+        "--duration", "60", cwd=tmp_path, command="design",
+    )  # fmt: skip
+    try:
+        page, errors = watched_page(browser, app.url, "body[data-ready='1']")
+        ours = page.evaluate(
+            "([tracks, times]) => tracks.map((v) => times.map((tt) => valueNow(v, tt)))",
+            [tracks, times],
+        )
+        page.close()
+    finally:
+        assert app.stop() == 0
+    for track, row in zip(tracks, ours, strict=True):
+        op = {"type": "tine", "point": [0, 0], "angle": 0, "alpha": track, "lambda": 5}
+        alpha = parse_recipe({"canvas": [200, 100], "ops": [op]}).ops[0].params["alpha"]
+        expected = [alpha.at(tt) for tt in times]
+        assert np.allclose(row, expected, rtol=0, atol=1e-9), (track["keys"][0]["ease"], row)
+    assert errors == []
