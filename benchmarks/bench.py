@@ -28,6 +28,8 @@
 - series: the bundled samples with rakes and the pst design (rakes and a stir),
   evenly spaced tines and rings summed in closed form (four exponentials an op)
   against one exponential per term, in one program.
+- busy: every blank-sheet sample halfway and at its end, the share of pixels
+  adaptive sampling lists against its time and the full pattern's.
 - animations: every frame of four sample animations at 960x640, the ops that
   have not started skipped by the walk against every op walked.
 - cluster: a 720p clip (the e2e recipe, animated) rendered whole, in 4
@@ -268,9 +270,10 @@ def series(device: str | None) -> None:
 
 def animations(device: str | None) -> None:
     """See the module: every frame of sample animations at 960x640 (30 fps,
-    blank sheet, the default renderer), ms per frame (mean over the animation,
-    best of two passes), with the ops that have not started skipped by the walk
-    against every op walked (OpDef.still switched off), in one process."""
+    blank sheet), ms per frame (mean over the animation, best of two passes),
+    in one process: every op walked and adaptive sampling on every frame (as
+    before session 12), the ops not started skipped (OpDef.still), and that
+    with the default renderer, which takes the full pattern after a busy frame."""
     import json
 
     from marblevideo.ops.base import OpDef
@@ -278,17 +281,18 @@ def animations(device: str | None) -> None:
     still = OpDef.still
     samples = ROOT / "samples"
     print("\n## Animations: every frame at 960x640, ms per frame (best of 2 passes)")
-    print("| sample | frames | every op walked | not started skipped | speed-up |")
+    print("| sample | frames | every op, adaptive | not started skipped | and busy frames full |")
     print("|---|---|---|---|---|")
     for name in ("figure6", "nonpareil", "bouquet", "chevron"):
         recipe = parse_recipe(json.loads((samples / f"{name}.json").read_text()), name)
         geom = geometry(recipe.canvas, (960, 640))
         n = int(recipe.end_time() * 30) + 1
-        renderer = Renderer(device)
-        best = {"all": math.inf, "skip": math.inf}
+        adaptive, default = Renderer(device, adaptive=True), Renderer(device)
+        modes = {"all": (adaptive, False), "skip": (adaptive, True), "busy": (default, True)}
+        best = dict.fromkeys(modes, math.inf)
         for _ in range(2):
-            for mode in best:
-                OpDef.still = still if mode == "skip" else (lambda self, values: False)
+            for mode, (renderer, skip) in modes.items():
+                OpDef.still = still if skip else (lambda self, values: False)
                 renderer.forget_frames()
                 renderer.render(recipe.at(0), geom)  # the program, built or from the cache
                 began = time.perf_counter()
@@ -296,10 +300,39 @@ def animations(device: str | None) -> None:
                     renderer.render(recipe.at(k / 30), geom)
                 best[mode] = min(best[mode], (time.perf_counter() - began) / n * 1e3)
         OpDef.still = still
-        ratio = best["all"] / best["skip"]
-        print(
-            f"| {name} | {n} | {best['all']:.1f} | {best['skip']:.1f} | {ratio:.2f}x |", flush=True
-        )
+        a, b, c = (best[m] for m in modes)
+        print(f"| {name} | {n} | {a:.1f} | {b:.1f} ({a / b:.2f}x) | {c:.1f} ({a / c:.2f}x) |")
+
+
+def busy(device: str | None) -> None:
+    """See the module: every blank-sheet sample at 960x640, halfway and at its
+    end: the share of pixels adaptive sampling lists for the full pattern, and
+    adaptive against full-pattern time (median of 7, interleaved)."""
+    import json
+
+    adaptive, full = Renderer(device, adaptive=True), Renderer(device, adaptive=False)
+    print("\n## Adaptive against full pattern: blank-sheet samples at 960x640, ms, median of 7")
+    print("| sample | time | listed | adaptive | full | ratio |")
+    print("|---|---|---|---|---|---|")
+    for path in sorted((ROOT / "samples").glob("*.json")):
+        data = json.loads(path.read_text())
+        if path.name == "recipe.schema.json" or "canvas" not in data:
+            continue
+        recipe = parse_recipe(data, path.name)
+        geom = geometry(recipe.canvas, (960, 640))
+        for t in sorted({recipe.end_time() / 2, recipe.end_time()}):
+            spec = recipe.at(t)
+            if spec.antialias == "none":
+                continue
+            times: dict[str, list[float]] = {"adaptive": [], "full": []}
+            for _ in range(7):
+                for name, renderer in (("adaptive", adaptive), ("full", full)):
+                    began = time.perf_counter()
+                    renderer.render(spec, geom)
+                    times[name].append(time.perf_counter() - began)
+            share = adaptive.last_full_pixels / (960 * 640)
+            a, f = (statistics.median(times[k]) * 1e3 for k in ("adaptive", "full"))
+            print(f"| {path.stem} | {t:g} s | {share:.2f} | {a:.1f} | {f:.1f} | {a / f:.2f} |")
 
 
 def table1(device: str | None) -> None:
@@ -791,6 +824,7 @@ def main() -> None:
                 "bullseye": bullseye,
                 "series": series,
                 "animations": animations,
+                "busy": busy,
             }
             parts[part](args.device)
 
