@@ -262,9 +262,9 @@ class LiveSession:
         """Render until ``stop_event``, ``duration`` seconds, or the end of the source.
         The program is built (a blank frame of the source's size rendered) before
         the source and the clock start, so a cold build delays no frame."""
-        marbler, _, _ = self._current()
         w, h = self.source.size
-        marbler.render(np.zeros((h, w, 4), np.uint8), 0.0)
+        if w > 0 and h > 0:  # a source that knows its size before it starts
+            self._current()[0].render(np.zeros((h, w, 4), np.uint8), 0.0)
         self._spawn("watch", self._watch)
         if self.jpeg:
             self._spawn("jpeg", self._encode_jpeg)
