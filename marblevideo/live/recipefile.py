@@ -19,7 +19,8 @@ from pathlib import Path
 
 from marblevideo.errors import RecipeError, UsageError
 from marblevideo.media.output import atomic_output
-from marblevideo.recipe import Recipe, load_recipe, parse_recipe
+from marblevideo.recipe import Recipe, parse_recipe
+from marblevideo.recipe.load import read_recipe
 
 #: Canvas of a new blank-sheet recipe.
 DEFAULT_CANVAS = (1024, 768)
@@ -86,8 +87,7 @@ class RecipeFile:
         self.error: str | None = None
         self.version = 1
         if self.path.exists() or not create:
-            self.recipe = load_recipe(self.path)  # a bad FILE stops the start (exit 2)
-            self.doc = json.loads(self.path.read_text(encoding="utf-8-sig"))
+            self.doc, self.recipe = read_recipe(self.path)  # a bad FILE stops the start (exit 2)
         else:
             self.doc = new_recipe(canvas)
             self.recipe = save_recipe(self.path, self.doc)
@@ -123,8 +123,7 @@ class RecipeFile:
                 return False
             self._stamp = stamp
         try:
-            recipe = load_recipe(self.path)
-            doc = json.loads(self.path.read_text(encoding="utf-8-sig"))
+            doc, recipe = read_recipe(self.path)
             error = None
         except (RecipeError, UsageError, ValueError) as exc:
             error = f"{exc} (keeping the previous recipe)"

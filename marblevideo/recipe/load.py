@@ -163,6 +163,12 @@ def load_recipe(path: str | os.PathLike[str]) -> Recipe:
 
     Raises UsageError if the file cannot be read, RecipeError if it is not a valid recipe.
     """
+    return read_recipe(path)[1]
+
+
+def read_recipe(path: str | os.PathLike[str]) -> tuple[object, Recipe]:
+    """:func:`load_recipe`, with the JSON the recipe was built from: both from one
+    read of the file (an editor's document and what it renders always agree)."""
     path = recipe_file(path)
     source = os.fspath(path)
     try:
@@ -185,7 +191,7 @@ def load_recipe(path: str | os.PathLike[str]) -> Recipe:
         ) from None
     except RecursionError:
         raise RecipeError(source, "", f"nested too deeply (over {MAX_DEPTH} levels)") from None
-    return parse_recipe(data, source)
+    return data, parse_recipe(data, source)
 
 
 def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
