@@ -1,7 +1,8 @@
 """The live page's edits of the recipe file itself (``marblevideo live
 --preview``), as the designer's HTTP API (:mod:`marblevideo.design`) names them:
 
-- ``GET /api/recipe``: the recipe file, as JSON.
+- ``GET /api/recipe``: the recipe file as the session took it (its last valid
+  save), as JSON.
 - ``PUT /api/recipe``: a recipe, validated and saved atomically; the session
   takes it at once, as any save (sliders reset). 400 with the one-line
   JSON-path error, nothing saved, when invalid.
@@ -43,13 +44,13 @@ def live_api(session, method: str, path: str, body: bytes | None):
     """Answer an API request of the live page: (status, body, content type)."""
     try:
         if (method, path) == ("GET", "/api/recipe"):
-            return 200, session.recipe_path.read_bytes(), "application/json"
+            return json_answer(session.file.snapshot()[0])
         if (method, path) == ("PUT", "/api/recipe"):
             return json_answer({"version": session.put(json.loads(body or b"null"))})
         if (method, path) == ("POST", "/api/save-sliders"):
-            doc = json.loads(session.recipe_path.read_bytes())
+            doc, recipe, _ = session.file.snapshot()  # the file's JSON and what it renders
             overrides = session.controls.snapshot()[0]
-            doc, skipped = with_sliders(doc, session.recipe, overrides)
+            doc, skipped = with_sliders(doc, recipe, overrides)
             return json_answer({"version": session.put(doc), "skipped": skipped})
     except (RecipeError, ValueError) as exc:
         return json_answer({"error": str(exc)}, 400)
