@@ -26,9 +26,8 @@ from __future__ import annotations
 import json
 from importlib import resources
 
-from marblevideo.design.session import registry
+from marblevideo.design.session import page_info, registry
 from marblevideo.live.editing import json_answer
-from marblevideo.recipe.frame import fit
 
 
 class LiveDesign:
@@ -40,24 +39,10 @@ class LiveDesign:
 
     def info(self) -> dict:
         live = self.live
-        stats = live.stats()
-        recipe = live.recipe
-        w, h = live.source.size
-        canvas = recipe.canvas or (w, h)
-        s, dx, dy = fit(canvas, w, h)
-        return {
-            "mode": "live",
-            "version": stats["recipe_version"],
-            "error": stats["recipe_error"],
-            "file": str(live.recipe_path),
-            "input": {"kind": "live", "name": live.source.name, "duration": None},
-            "size": [w, h],
-            "canvas": list(canvas),
-            "scale": s,
-            "offset": [dx, dy],
-            "end": recipe.end_time(),
-            "ops": recipe.entries,
-        }
+        _, recipe, version = live.file.snapshot()
+        source = {"kind": "live", "name": live.source.name, "duration": None}
+        size = live.source.size
+        return page_info("live", live.recipe_path, version, live.file.error, source, size, recipe)
 
     def page(self) -> bytes:
         """The designer's page (it reads the mode from ``/api/info``)."""

@@ -53,6 +53,29 @@ def registry() -> dict:
     return types
 
 
+def page_info(mode: str, file, version: int, error, source: dict, size, recipe: Recipe) -> dict:
+    """``/api/info``, the page's one description of what it edits, for the designer
+    and for live mode: the frame's ``size``, how the canvas sits in it (output o =
+    ``scale`` * c + ``offset``; a recipe without canvas takes the frame's), the
+    animation's ``end`` and the file's number of ``ops``."""
+    w, h = size
+    canvas = recipe.canvas or (w, h)
+    s, dx, dy = fit(canvas, w, h)
+    return {
+        "mode": mode,
+        "version": version,
+        "error": error,
+        "file": str(file),
+        "input": source,
+        "size": [w, h],
+        "canvas": list(canvas),
+        "scale": s,
+        "offset": [dx, dy],
+        "end": recipe.end_time(),
+        "ops": recipe.entries,
+    }
+
+
 class Answer(Exception):
     """An API error: HTTP status ``code`` and a one-line ``message``."""
 
@@ -111,27 +134,13 @@ class DesignSession:
     def info(self) -> dict:
         """What the page needs besides the recipe: version, error, the frame's size
         and how the canvas sits in it (output o = scale * c + offset)."""
-        doc, recipe, version = self.document.snapshot()
-        w, h = self.out_size(recipe)
-        canvas = recipe.canvas or self.backdrop.size
-        s, dx, dy = fit(canvas, w, h)
-        return {
-            "mode": "design",
-            "version": version,
-            "error": self.document.error,
-            "file": str(self.document.path),
-            "input": {
-                "kind": self.backdrop.kind,
-                "name": self.backdrop.name,
-                "duration": self.backdrop.duration,
-            },
-            "size": [w, h],
-            "canvas": list(canvas),
-            "scale": s,
-            "offset": [dx, dy],
-            "end": recipe.end_time(),
-            "ops": len(doc.get("ops", [])),
-        }
+        _, recipe, version = self.document.snapshot()
+        b = self.backdrop
+        source = {"kind": b.kind, "name": b.name, "duration": b.duration}
+        size = self.out_size(recipe)
+        return page_info(
+            "design", self.document.path, version, self.document.error, source, size, recipe
+        )
 
     def _recipe(self, doc: dict, version: int | bytes, only) -> Recipe:
         """``doc`` (of ``version``: a number, or a POSTed body) with only the ops
