@@ -23,6 +23,45 @@ settings.register_profile("ci", derandomize=True, database=None, deadline=None)
 settings.register_profile("dev", deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
+#: The integration tier: modules that run whole commands, servers, browsers,
+#: encoders or clusters. Every other test, unless it is marked ``slow`` or runs
+#: the command line (the ``cli`` fixture) or a browser, is in the ``fast`` tier
+#: (``pytest -m fast``: the recipe, the ops, the reference and the kernels
+#: against it), so a new test module is fast until it is listed here.
+INTEGRATION_MODULES = {
+    "test_batch",
+    "test_clean_build",
+    "test_cli",
+    "test_cluster",
+    "test_design",
+    "test_design_browser",
+    "test_encoder_options",
+    "test_fuzz_recipes",
+    "test_hostile",
+    "test_live",
+    "test_live_browser",
+    "test_media_formats",
+    "test_readme",
+    "test_segments",
+    "test_selfcheck",
+    "test_vector",
+    "test_video_marbling",
+}
+#: Fixtures that make a test an integration test wherever it is.
+INTEGRATION_FIXTURES = {"cli", "browser"}
+
+
+def pytest_collection_modifyitems(items):
+    """Mark the fast tier (see :data:`INTEGRATION_MODULES`)."""
+    for item in items:
+        module = item.module.__name__.rpartition(".")[2] if item.module else ""
+        if (
+            module not in INTEGRATION_MODULES
+            and not INTEGRATION_FIXTURES.intersection(getattr(item, "fixturenames", ()))
+            and item.get_closest_marker("slow") is None
+        ):
+            item.add_marker(pytest.mark.fast)
+
 
 @pytest.fixture(scope="session")
 def renderer():
