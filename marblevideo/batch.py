@@ -7,7 +7,9 @@ template, serially or on a local process pool.
 - Outputs are ``str.format`` templates over each input: ``{stem}`` (name
   without extension), ``{name}``, ``{suffix}`` (with its dot), ``{parent}``
   (the input's folder) and ``{index}`` (0-based, in input order; ``{index:04d}``).
-  Two inputs that would write one output are a usage error.
+  Two inputs that would write one output are a usage error. The folders an
+  output names are made as its item is rendered (a file in their place is a
+  usage error, before any work).
 - Every item is a normal render (:func:`marblevideo.api.render_still` or
   :func:`~marblevideo.api.render_video`, by the output's kind): atomic, and an
   input is never an output.
@@ -136,6 +138,17 @@ def plan_items(inputs: list[Path], template: str) -> list[Item]:
     return items
 
 
+def check_folders(items: list[Item]) -> None:
+    """UsageError for an output folder that cannot be one: a file stands at it or
+    above it. Missing folders are made as their first item is rendered."""
+    for folder in sorted({item.dst.parent for item in items}):
+        for part in (folder, *folder.parents):
+            if part.exists():
+                if not part.is_dir():
+                    raise UsageError(f"{folder}: cannot be an output folder; {part} is a file")
+                break
+
+
 def job_digest(recipe_text: str, options: dict) -> str:
     """What makes an output: the recipe's text and the options, hashed."""
     blob = json.dumps({"recipe": recipe_text, "options": options}, sort_keys=True)
@@ -183,6 +196,7 @@ class Manifest:
 
     def save(self) -> None:
         """Write atomically (a temporary file renamed), so a kill keeps the last one."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
         tmp = self.path.with_name(f".{self.path.name}.part")
         tmp.write_text(json.dumps({"items": self.items}, indent=1, sort_keys=True))
         os.replace(tmp, self.path)
@@ -193,6 +207,10 @@ def render_item(recipe, item: Item, options: dict, overwrite: bool, renderer=Non
     one-line error."""
     from marblevideo.api import render_still, render_video
 
+    try:
+        item.dst.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        return f"{item.dst.parent}: cannot make the folder: {exc.strerror or exc}"
     try:
         if output_kind(item.dst) == "still":
             render_still(
@@ -247,9 +265,7 @@ def run_batch(
     items = plan_items(expand_inputs(patterns), template)
     if "time" in options and any(output_kind(item.dst) != "still" for item in items):
         raise UsageError("--time: applies to still outputs; this batch writes videos")
-    for folder in {item.dst.parent for item in items}:
-        if not folder.is_dir():
-            raise UsageError(f"{folder}: output folder does not exist")
+    check_folders(items)
     recipe_text = Path(recipe).read_text(encoding="utf-8")
     digest = job_digest(recipe_text, {k: repr(v) for k, v in options.items()})
     book = Manifest(Path(manifest) if manifest else items[0].dst.parent / MANIFEST_NAME, digest)

@@ -97,7 +97,8 @@ def test_videos_in_a_batch(tmp_path):
         (["in/*.jpg", "-o", "out/all.png"], "name each output from its input"),
         (["in/*.jpg", "-o", "out/{suffix}.png"], "would both write"),
         (["nothing/*.jpg", "-o", "out/{stem}.png"], "matches no file"),
-        (["in/*.jpg", "-o", "missing/{stem}.png"], "output folder does not exist"),
+        (["in/*.jpg", "-o", "in/p0.jpg/{stem}.png"], "in/p0.jpg is a file"),
+        (["in/*.jpg", "-o", "out/{name}/{stem}.png"], "out/p0.jpg is a file"),
         (["in/*.jpg", "-o", "in/{stem}.jpg"], "is one of the inputs"),
         (["in/*.jpg", "-o", "out/{stem}.png", "--jobs", "0"], "--jobs"),
         (["in/*.jpg", "-o", "out/{stem}.mp4", "--time", "1"], "--time: applies to still outputs"),
@@ -105,8 +106,26 @@ def test_videos_in_a_batch(tmp_path):
     ],
 )
 def test_usage_errors_before_any_work(cli, photos, args, fault):
+    (photos / "out" / "p0.jpg").write_bytes(b"a file where a folder would go")
     ops = [] if "--ops" in args else ["--ops", "comb-wave"]
     proc = cli("batch", *args, *ops)
     assert proc.returncode == 2, proc.stderr
     assert fault in one_line(proc)
-    assert files(photos / "out") == []
+    assert files(photos / "out") == ["p0.jpg"]
+    assert files(photos / "in") == [f"p{i}.jpg" for i in range(4)]
+
+
+def test_templates_make_their_folders(cli, photos):
+    """Folders a template names (fixed parts and {parent}) are made, each output
+    still written atomically inside them; the manifest lands beside the first."""
+    (photos / "in" / "sub").mkdir()
+    cv2.imwrite(str(photos / "in" / "sub" / "q.png"), np.full((32, 40, 3), 90, np.uint8))
+    proc = cli("batch", "in/**/*.*g", "--ops", "comb-wave", "-o", "made/{parent}/{stem}/x.png")
+    assert proc.returncode == 0, proc.stderr
+    assert "5 written" in proc.stderr.splitlines()[-1]
+    assert files(photos / "made" / "in" / "p0") == [MANIFEST_NAME, "x.png"]
+    for stem in ("p1", "p2", "p3", "sub/q"):
+        assert files(photos / "made" / "in" / stem) == ["x.png"]
+    single = photos / "single.png"
+    api.render_still(photos / "in" / "sub" / "q.png", "comb-wave", single)
+    assert _same(photos / "made" / "in" / "sub" / "q" / "x.png", single)
