@@ -36,7 +36,7 @@ from marblevideo.media.images import decode_image, encode_image, read_image, wri
 from marblevideo.media.inputs import check_input
 from marblevideo.media.output import atomic_output, check_output
 from marblevideo.media.progress import Progress
-from marblevideo.media.tiled import TILED_ABOVE, can_stream, write_bands
+from marblevideo.media.tiled import TILED_ABOVE, can_stream, check_still_size, write_bands
 from marblevideo.media.tiled import band_rows as tiled_rows
 from marblevideo.opencl.program import Structure
 from marblevideo.opencl.renderer import Renderer
@@ -96,6 +96,8 @@ def render_still(
     inputs = [src] if is_local(src) else []
     if src is None:
         blank_canvas(recipe)
+    if size or src is None:  # else the input's, within the input limit
+        check_still_size(dst, ext, size or blank_size(recipe), not to_stdout)
     if not to_stdout:
         dst = check_output(dst, overwrite, inputs)
     if is_local(src) and not is_sequence(src):  # before the build, which an exit would wait for

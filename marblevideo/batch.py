@@ -49,6 +49,7 @@ from marblevideo.cluster import RayPool, require_ray
 from marblevideo.errors import MarbleError, MediaError, UsageError
 from marblevideo.media.formats import output_kind
 from marblevideo.media.progress import Progress
+from marblevideo.media.tiled import check_still_size
 
 MANIFEST_NAME = "marblevideo-batch.json"
 TEMPLATE_FIELDS = ("stem", "name", "suffix", "parent", "index")
@@ -266,6 +267,9 @@ def run_batch(
     if "time" in options and any(output_kind(item.dst) != "still" for item in items):
         raise UsageError("--time: applies to still outputs; this batch writes videos")
     check_folders(items)
+    for item in items if "size" in options else ():
+        if output_kind(item.dst) == "still":
+            check_still_size(item.dst, item.dst.suffix.lower(), options["size"])
     recipe_text = Path(recipe).read_text(encoding="utf-8")
     digest = job_digest(recipe_text, {k: repr(v) for k, v in options.items()})
     book = Manifest(Path(manifest) if manifest else items[0].dst.parent / MANIFEST_NAME, digest)
