@@ -6,6 +6,7 @@ another aspect than its canvas. Each through the real command in a subprocess
 
 from __future__ import annotations
 
+import json
 import os
 import signal
 import subprocess
@@ -17,13 +18,21 @@ import cv2
 import numpy as np
 import pytest
 from conftest import ROOT, files, one_line
+from recipes import make_image
+from tolerances import KERNEL_SHARE
 
+from marblevideo.marbler import Marbler
 from marblevideo.media.formats import (
     EXTENSION_FORMATS,
     IMAGE_EXTENSIONS,
     VECTOR_EXTENSIONS,
     output_kinds,
 )
+from marblevideo.opencl.selfcheck import agreement
+from marblevideo.recipe import parse_recipe
+from marblevideo.recipe.frame import Geometry
+from marblevideo.reference import render as reference_render
+from marblevideo.reference.motion import rest_note
 
 
 @pytest.mark.parametrize("src, dst", [(None, "o.xyz"), (None, "o"), ("in.mp4", "o.avi")])
@@ -113,3 +122,114 @@ def test_a_batch_of_stills_too_big_for_their_format(cli, tmp_path):
     assert proc.returncode == 2
     assert "a.jpg: 30000x20000 is over" in one_line(proc)
     assert files(tmp_path) == ["a.png"]
+
+
+# ---------------------------------------------------------------- a still at rest
+
+
+def _wave(keys: list[tuple[float, float]]) -> dict:
+    amplitude = {"keys": [{"t": t, "v": v} for t, v in keys]}
+    wave = {"type": "wave", "amplitude": amplitude, "wavelength": 32, "phase": 0, "angle": 0}
+    return {"canvas": [64, 48], "antialias": "none", "ops": [wave]}
+
+
+@pytest.mark.parametrize(
+    "keys, strongest",
+    [
+        ([(0, 0), (2, 10), (4, 0)], "2"),
+        ([(0, 0), (1, 12), (3, 1.2)], "1"),
+        ([(0, 0), (1, 12), (3, 6)], None),
+        ([(0, 0), (4, 12)], None),
+    ],
+)
+def test_a_still_at_the_end_of_an_animation_back_at_rest(keys, strongest):
+    recipe = parse_recipe(_wave(keys), "v.json")
+    note = rest_note(recipe, recipe.canvas)
+    if strongest is None:
+        assert note is None
+    else:
+        assert note.startswith("v.json: the still is taken at the animation's end")
+        assert f"strongest at {strongest} s (--time {strongest})" in note
+
+
+def test_the_rest_note_says_what_the_still_shows(cli, tmp_path, renderer):
+    """swirl over a picture: at its end (the default) the still is nearly the
+    picture, at the time the note names it is marbled; the note goes with the
+    default time only."""
+    picture = make_image(160, 90)
+    cv2.imwrite(str(tmp_path / "in.png"), cv2.cvtColor(picture, cv2.COLOR_RGBA2BGR))
+    proc = cli("in.png", "--ops", "swirl", "-o", "end.png")
+    assert proc.returncode == 0, proc.stderr
+    note = proc.stderr.splitlines()[0]
+    assert "swirl.json: the still is taken at the animation's end (6 s)" in note
+    assert note.endswith("strongest at 3 s (--time 3)")
+    proc = cli("in.png", "--ops", "swirl", "-o", "at3.png", "--time", "3")
+    assert proc.returncode == 0 and proc.stderr.splitlines() == ["wrote at3.png"]
+    plain = cv2.imread(str(tmp_path / "in.png")).astype(int)
+    moved = [
+        np.abs(cv2.imread(str(tmp_path / name)).astype(int) - plain).mean()
+        for name in ("end.png", "at3.png")
+    ]
+    assert moved[0] * 3 < moved[1]
+    proc = cli("--ops", "figure6", "-o", "f.png", "--size", "64x64")
+    assert proc.stderr.splitlines() == ["wrote f.png"]
+
+
+# ---------------------------------------------------------- a blank sheet's aspect
+
+SHEET = {
+    "canvas": [64, 48],
+    "antialias": "none",
+    "background": "#f0e8d8",
+    "ops": [
+        {"type": "drop", "center": [8, 8], "radius": 10, "color": "#203080"},
+        {"type": "drop", "center": [56, 40], "radius": 10, "color": "#a03020"},
+        {"type": "comb", "point": [0, 24], "angle": 0, "spacing": 12, "alpha": 20, "lambda": 8},
+    ],
+}
+
+
+def _expected_geometry(fit: str | None, w: int, h: int) -> Geometry:
+    """The canvas 64 x 48 in w x h, from the definitions: the contract's uniform
+    scale to fit (default and pad), to cover (crop), per axis (stretch); centred."""
+    sx, sy = w / 64, h / 48
+    if fit in (None, "pad", "crop"):
+        sx = sy = (min if fit != "crop" else max)(sx, sy)
+    dx, dy = (w - 64 * sx) / 2, (h - 48 * sy) / 2
+    return Geometry(w, h, (1 / sx, 1 / sy, -dx / sx, -dy / sy), (sx, sy, dx, dy))
+
+
+@pytest.mark.parametrize("fit", [None, "pad", "crop", "stretch"])
+@pytest.mark.parametrize("size", [(96, 32), (40, 80)])
+def test_fit_places_a_blank_canvas(renderer, fit, size):
+    recipe = parse_recipe(SHEET, "sheet.json")
+    out = Marbler(recipe, renderer, fit=fit).render(None, None, size)
+    expected = reference_render(recipe.at(0, recipe.canvas), _expected_geometry(fit, *size))
+    assert agreement(out, expected) >= KERNEL_SHARE
+
+
+def test_a_blank_sheet_at_another_aspect_says_so(cli, tmp_path):
+    (tmp_path / "sheet.json").write_text(json.dumps(SHEET))
+    proc = cli("--ops", "sheet.json", "-o", "wide.png", "--size", "96x32")
+    assert proc.returncode == 0, proc.stderr
+    assert proc.stderr.splitlines() == [
+        "marblevideo: canvas 64x48 fitted into 96x32 and centred (another aspect: what the ops "
+        "carry past the canvas may be cut; --fit crop fills the frame, stretch distorts)",
+        "wrote wide.png",
+    ]
+    for fit in ("pad", "crop", "stretch"):
+        proc = cli("--ops", "sheet.json", "-o", f"{fit}.png", "--size", "96x32", "--fit", fit)
+        assert proc.stderr.splitlines() == [f"wrote {fit}.png"], fit
+    assert _pixels(tmp_path / "pad.png") == _pixels(tmp_path / "wide.png")  # the contract's
+    assert _pixels(tmp_path / "crop.png") != _pixels(tmp_path / "wide.png")
+    proc = cli("--ops", "sheet.json", "-o", "same.png", "--size", "128x96")
+    assert proc.stderr.splitlines() == ["wrote same.png"]
+    proc = cli("--ops", "sheet.json", "-o", "v.mp4", "--size", "96x32", "--fit", "crop",
+               "--duration", "0.2")  # fmt: skip
+    assert proc.returncode == 0 and "fitted" not in proc.stderr, proc.stderr
+    proc = cli("--ops", "sheet.json", "-o", "v.svg", "--size", "96x32", "--fit", "crop")
+    assert proc.returncode == 2 and "--fit" in one_line(proc)
+
+
+def _pixels(path: Path) -> bytes:
+    return cv2.imread(str(path), cv2.IMREAD_UNCHANGED).tobytes()

@@ -77,7 +77,8 @@ def _render_parser() -> argparse.ArgumentParser:
         "--fit",
         choices=FIT_MODES,
         help="an input of another aspect than --size: stretch it (default), crop it to "
-        "fill, or pad it with the recipe's background",
+        "fill, or pad it with the recipe's background; a blank sheet's canvas: fitted and "
+        "centred (default, as pad), cropped to fill, or stretched",
     )
     p.add_argument(
         "--format",
