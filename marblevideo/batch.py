@@ -35,12 +35,15 @@ template, serially or on a local process pool.
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
 import glob
 import hashlib
 import json
 import multiprocessing
 import os
+import signal
 import string
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -229,6 +232,8 @@ def render_item(recipe, item: Item, options: dict, overwrite: bool, renderer=Non
 
 def _init_worker(threads: int) -> None:
     os.environ.setdefault("POCL_MAX_PTHREAD_COUNT", str(threads))
+    # Ctrl-C reaches the whole process group: the batch itself decides (on_processes)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def run_batch(
@@ -301,22 +306,66 @@ def run_batch(
             for item in todo:
                 finished(item, render_item(recipe, item, options, overwrite))
         else:
-            threads = max(1, (os.cpu_count() or 1) // jobs)
-            context = multiprocessing.get_context("spawn")  # OpenCL does not survive fork
-            with concurrent.futures.ProcessPoolExecutor(
-                jobs, mp_context=context, initializer=_init_worker, initargs=(threads,)
-            ) as pool:
-                futures = {
-                    pool.submit(render_item, str(recipe), item, options, overwrite): item
-                    for item in todo
-                }
-                for future in concurrent.futures.as_completed(futures):
-                    try:
-                        error = future.result()
-                    except concurrent.futures.process.BrokenProcessPool:
-                        raise MediaError("a batch worker died; run again to resume") from None
-                    finished(futures[future], error)
+            on_processes(str(recipe), todo, options, overwrite, jobs, finished)
     return result
+
+
+def on_processes(recipe: str, todo: list[Item], options, overwrite, jobs: int, finished) -> None:
+    """Every item of ``todo`` on ``jobs`` worker processes; ``finished(item, error)``
+    as each ends. An interrupt here (Ctrl-C, SIGTERM; workers ignore Ctrl-C) stops
+    the workers at once: what was queued is dropped, the temporary files of the
+    renders cut short are removed, and outputs finished meanwhile are recorded."""
+    threads = max(1, (os.cpu_count() or 1) // jobs)
+    context = multiprocessing.get_context("spawn")  # OpenCL does not survive fork
+    pool = concurrent.futures.ProcessPoolExecutor(
+        jobs, mp_context=context, initializer=_init_worker, initargs=(threads,)
+    )
+    futures, recorded, started = {}, set(), time.time()
+    try:
+        for item in todo:
+            futures[pool.submit(render_item, recipe, item, options, overwrite)] = item
+        for future in concurrent.futures.as_completed(futures):
+            try:
+                error = future.result()
+            except concurrent.futures.process.BrokenProcessPool:
+                raise MediaError("a batch worker died; run again to resume") from None
+            recorded.add(future)
+            finished(futures[future], error)
+    except BaseException:
+        workers = list((pool._processes or {}).values())  # private: no public way
+        pool.shutdown(wait=False, cancel_futures=True)
+        for worker in workers:  # stopped at once
+            with contextlib.suppress(OSError):
+                worker.kill()
+        pool.shutdown(wait=True)
+        for future, item in futures.items():
+            if future in recorded:
+                continue
+            if _succeeded(future) or _written_since(item.dst, started):  # as it came
+                finished(item, None)
+            else:  # a render cut short leaves its temporary file (media.output)
+                for tmp in item.dst.parent.glob(f".{item.dst.stem}.*.part{item.dst.suffix}"):
+                    tmp.unlink(missing_ok=True)
+        raise
+    pool.shutdown()
+
+
+def _written_since(path: Path, started: float) -> bool:
+    """Whether ``path`` was put in place since ``started`` (a worker killed between
+    its rename and its answer); a second's slack for file-system clocks."""
+    try:
+        return path.stat().st_mtime >= started - 1
+    except OSError:
+        return False
+
+
+def _succeeded(future: concurrent.futures.Future) -> bool:
+    return (
+        future.done()
+        and not future.cancelled()
+        and future.exception() is None
+        and (future.result() is None)
+    )
 
 
 def on_ray(recipe, todo: list[Item], options: dict, overwrite: bool, jobs, finished) -> None:

@@ -4,12 +4,17 @@ and on a local process pool; resuming from the manifest; usage errors."""
 from __future__ import annotations
 
 import json
+import os
+import signal
+import subprocess
+import sys
+import time
 
 import cv2
 import numpy as np
 import pytest
 from clips import probe, write_clip
-from conftest import files, one_line
+from conftest import ROOT, files, one_line
 
 from marblevideo import api
 from marblevideo.batch import MANIFEST_NAME, run_batch
@@ -129,3 +134,53 @@ def test_templates_make_their_folders(cli, photos):
     single = photos / "single.png"
     api.render_still(photos / "in" / "sub" / "q.png", "comb-wave", single)
     assert _same(photos / "made" / "in" / "sub" / "q" / "x.png", single)
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_interrupting_a_batch_on_workers(tmp_path, sig, code):
+    """A signal to the batch (as a process manager sends it, to the main process
+    only) stops its workers too: out soon, one line, no temporary file, and every
+    output there is recorded done, so a re-run resumes."""
+    (tmp_path / "in").mkdir()
+    for i in range(8):
+        cv2.imwrite(str(tmp_path / "in" / f"p{i}.jpg"), np.full((30, 40, 3), 20 * i, np.uint8))
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "marblevideo",
+            "batch",
+            "in/*.jpg",
+            "--ops",
+            "swirl",
+            "-o",
+            "out/{stem}.png",
+            "--size",
+            "2400x1800",
+            "--jobs",
+            "2",
+            "-q",
+        ],  # fmt: skip
+        cwd=tmp_path,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )
+    manifest = tmp_path / "out" / MANIFEST_NAME
+    deadline = time.monotonic() + 180
+    while not manifest.exists() and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.05)
+    assert proc.poll() is None, proc.communicate()
+    proc.send_signal(sig)
+    try:
+        _, err = proc.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        raise
+    assert proc.returncode == code
+    assert err.splitlines() == ["marblevideo: interrupted"]
+    written = sorted(f"out/{p.name}" for p in (tmp_path / "out").glob("*.png"))
+    record = json.loads(manifest.read_text())["items"]
+    assert sorted(k for k, v in record.items() if v["status"] == "done") == written
+    assert 0 < len(written) < 8
+    assert [p.name for p in (tmp_path / "out").iterdir() if ".part" in p.name] == []
