@@ -113,9 +113,7 @@ def render_still(
         notes.append(rest_note(recipe, marbler.canvas(input_size)))
     for note in filter(None, notes) if notify else ():
         notify(note)
-    out_size = size or (
-        (image.shape[1], image.shape[0]) if image is not None else blank_size(recipe)
-    )
+    out_size = size or input_size or blank_size(recipe)
     if to_stdout:
         out = marbler.render(image, time, size, view)
         sys.stdout.buffer.write(encode_image(out, ext, has_alpha, "-"))
@@ -123,23 +121,23 @@ def render_still(
         return "-"
     if can_stream(ext) and (band_rows or out_size[0] * out_size[1] > TILED_ABOVE):
         rows = band_rows or tiled_rows(out_size[0])
-        total = -(-out_size[1] // rows)
-        with (
-            atomic_output(dst, overwrite, inputs) as tmp,
-            Progress(total, progress, unit="band") as bar,
-        ):
-
-            def counted():
-                for band in marbler.render_bands(image, time, out_size, view, rows):
-                    yield band
-                    bar.update()
-
-            write_bands(tmp, ext, *out_size, 4 if has_alpha else 3, counted())
+        with atomic_output(dst, overwrite, inputs) as tmp:
+            bands = marbler.render_bands(image, time, out_size, view, rows)
+            counted = _counted(bands, -(-out_size[1] // rows), progress)
+            write_bands(tmp, ext, *out_size, 4 if has_alpha else 3, counted)
         return dst
     out = marbler.render(image, time, size, view)
     with atomic_output(dst, overwrite, inputs) as tmp:
         write_image(tmp, out, alpha=has_alpha, fmt=ext, name=dst)
     return dst
+
+
+def _counted(bands, total: int, progress: str):
+    """``bands`` passed through, counted on a progress bar of ``total`` bands."""
+    with Progress(total, progress, unit="band") as bar:
+        for band in bands:
+            yield band
+            bar.update()
 
 
 def still_input(
