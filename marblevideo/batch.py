@@ -50,7 +50,7 @@ from pathlib import Path
 
 from marblevideo.cluster import RayPool, require_ray
 from marblevideo.errors import MarbleError, MediaError, UsageError
-from marblevideo.media.formats import output_kind
+from marblevideo.media.formats import is_sequence, output_format, output_kind, output_kinds
 from marblevideo.media.progress import Progress
 from marblevideo.media.tiled import check_still_size
 
@@ -151,6 +151,19 @@ def check_folders(items: list[Item]) -> None:
                 if not part.is_dir():
                     raise UsageError(f"{folder}: cannot be an output folder; {part} is a file")
                 break
+
+
+def check_outputs(items: list[Item], size: tuple[int, int] | None) -> None:
+    """UsageError for an output a batch cannot write: an unknown extension (the
+    kinds listed), vectors, or a still of ``size`` too big for its format."""
+    for item in items:
+        kind, ext = output_kind(item.dst), item.dst.suffix.lower()
+        if kind == "vector":
+            raise UsageError(f"{item.dst}: a batch writes stills and videos, not {ext} vectors")
+        if kind == "video" and output_format(item.dst) is None and not is_sequence(item.dst):
+            raise UsageError(f"{item.dst}: unknown output extension {ext!r}; use {output_kinds()}")
+        if kind == "still" and size is not None:
+            check_still_size(item.dst, ext, size)
 
 
 def job_digest(recipe_text: str, options: dict) -> str:
@@ -272,9 +285,7 @@ def run_batch(
     if "time" in options and any(output_kind(item.dst) != "still" for item in items):
         raise UsageError("--time: applies to still outputs; this batch writes videos")
     check_folders(items)
-    for item in items if "size" in options else ():
-        if output_kind(item.dst) == "still":
-            check_still_size(item.dst, item.dst.suffix.lower(), options["size"])
+    check_outputs(items, options.get("size"))
     recipe_text = Path(recipe).read_text(encoding="utf-8")
     digest = job_digest(recipe_text, {k: repr(v) for k, v in options.items()})
     book = Manifest(Path(manifest) if manifest else items[0].dst.parent / MANIFEST_NAME, digest)

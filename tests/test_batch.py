@@ -105,6 +105,8 @@ def test_videos_in_a_batch(tmp_path):
         (["in/*.jpg", "-o", "in/p0.jpg/{stem}.png"], "in/p0.jpg is a file"),
         (["in/*.jpg", "-o", "out/{name}/{stem}.png"], "out/p0.jpg is a file"),
         (["in/*.jpg", "-o", "in/{stem}.jpg"], "is one of the inputs"),
+        (["in/*.jpg", "-o", "out/{stem}.xyz"], "unknown output extension '.xyz'; use stills"),
+        (["in/*.jpg", "-o", "out/{stem}.svg"], "not .svg vectors"),
         (["in/*.jpg", "-o", "out/{stem}.png", "--jobs", "0"], "--jobs"),
         (["in/*.jpg", "-o", "out/{stem}.mp4", "--time", "1"], "--time: applies to still outputs"),
         (["in/*.jpg", "-o", "out/{stem}.png", "--ops", "nopreset"], "nor a preset"),
