@@ -229,6 +229,9 @@ def test_a_blank_sheet_at_another_aspect_says_so(cli, tmp_path):
     assert proc.returncode == 0 and "fitted" not in proc.stderr, proc.stderr
     proc = cli("--ops", "sheet.json", "-o", "v.svg", "--size", "96x32", "--fit", "crop")
     assert proc.returncode == 2 and "--fit" in one_line(proc)
+    proc = cli("--ops", "sheet.json", "-o", "z.png", "--size", "96x32", "--fit", "crop",
+               "--view", "0,0,32,24")  # fmt: skip
+    assert proc.returncode == 2 and "--fit: --view places" in one_line(proc)
 
 
 def _pixels(path: Path) -> bytes:

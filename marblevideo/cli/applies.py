@@ -79,6 +79,8 @@ def check_options(args: argparse.Namespace) -> tuple[str, str]:
     if args.fit is not None:
         if job in ("vectors", "uv"):
             raise UsageError(f"--fit: places a raster's input or canvas; {out} is not one")
+        if source == "blank" and args.view:
+            raise UsageError("--fit: --view places a blank sheet's window itself; give one of them")
         if args.size is None:
             raise UsageError(
                 "--fit: goes with --size (without it the output is the input's or canvas's size)"
