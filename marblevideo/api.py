@@ -23,6 +23,7 @@ from marblevideo.marbler import (
     as_recipe,
     blank_canvas,
     blank_size,
+    fit_note,
 )
 from marblevideo.media.decode import grab_frame, open_input, stdin_source
 from marblevideo.media.formats import (
@@ -36,12 +37,12 @@ from marblevideo.media.images import decode_image, encode_image, read_image, wri
 from marblevideo.media.inputs import check_input
 from marblevideo.media.output import atomic_output, check_output
 from marblevideo.media.progress import Progress
-from marblevideo.media.tiled import TILED_ABOVE, can_stream, write_bands
+from marblevideo.media.tiled import TILED_ABOVE, can_stream, check_still_size, write_bands
 from marblevideo.media.tiled import band_rows as tiled_rows
 from marblevideo.opencl.program import Structure
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.outputs.svg import VectorStats, design_svg, pdf_writer
-from marblevideo.recipe.frame import stretch_note
+from marblevideo.reference.motion import rest_note
 
 
 def render_image(
@@ -81,10 +82,11 @@ def render_still(
     image sequence read at ``rate`` frames per second, ``-`` or a URL).
     ``src`` ``-`` is standard input (a still or a video); ``dst`` ``-`` is
     standard output, in ``format`` (png, jpeg, tiff). ``fit`` (stretch, crop,
-    pad) places an input of another aspect than ``size``; ``notify`` takes
-    one-line notices (a stretched input). ``renderer``: an OpenCL renderer to
-    draw with (its context and built programs kept between jobs) instead of
-    one of ``device``.
+    pad) places an input, or a blank sheet's canvas, of another aspect than
+    ``size``; ``notify`` takes one-line notices (a stretched input, a fitted
+    canvas, a still at the end of an animation that has come back to rest).
+    ``renderer``: an OpenCL renderer to draw with (its context and built
+    programs kept between jobs) instead of one of ``device``.
 
     PNG and TIFF outputs over :data:`marblevideo.media.tiled.TILED_ABOVE` pixels (or any,
     given ``band_rows``) are rendered in bands and written progressively, so
@@ -96,20 +98,22 @@ def render_still(
     inputs = [src] if is_local(src) else []
     if src is None:
         blank_canvas(recipe)
+    if size or src is None:  # else the input's, within the input limit
+        check_still_size(dst, ext, size or blank_size(recipe), not to_stdout)
     if not to_stdout:
         dst = check_output(dst, overwrite, inputs)
     if is_local(src) and not is_sequence(src):  # before the build, which an exit would wait for
         check_input(src, "an image" if is_image_name(src) else "a video")
-    marbler = Marbler(recipe, renderer, device=device, fit=fit or "stretch")
+    marbler = Marbler(recipe, renderer, device=device, fit=fit)
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))  # while the input loads
-    image, has_alpha, time = still_input(src, time, rate)
-    if image is not None and size is not None and fit is None and notify is not None:
-        note = stretch_note((image.shape[1], image.shape[0]), size)
-        if note:
-            notify(note)
-    out_size = size or (
-        (image.shape[1], image.shape[0]) if image is not None else blank_size(recipe)
-    )
+    image, has_alpha, time = still_input(src, time, rate)  # a grab's time: its frame's
+    input_size = None if image is None else (image.shape[1], image.shape[0])
+    notes = [fit_note(recipe, input_size, size, fit)]
+    if time is None:
+        notes.append(rest_note(recipe, marbler.canvas(input_size)))
+    for note in filter(None, notes) if notify else ():
+        notify(note)
+    out_size = size or input_size or blank_size(recipe)
     if to_stdout:
         out = marbler.render(image, time, size, view)
         sys.stdout.buffer.write(encode_image(out, ext, has_alpha, "-"))
@@ -117,23 +121,23 @@ def render_still(
         return "-"
     if can_stream(ext) and (band_rows or out_size[0] * out_size[1] > TILED_ABOVE):
         rows = band_rows or tiled_rows(out_size[0])
-        total = -(-out_size[1] // rows)
-        with (
-            atomic_output(dst, overwrite, inputs) as tmp,
-            Progress(total, progress, unit="band") as bar,
-        ):
-
-            def counted():
-                for band in marbler.render_bands(image, time, out_size, view, rows):
-                    yield band
-                    bar.update()
-
-            write_bands(tmp, ext, *out_size, 4 if has_alpha else 3, counted())
+        with atomic_output(dst, overwrite, inputs) as tmp:
+            bands = marbler.render_bands(image, time, out_size, view, rows)
+            counted = _counted(bands, -(-out_size[1] // rows), progress)
+            write_bands(tmp, ext, *out_size, 4 if has_alpha else 3, counted)
         return dst
     out = marbler.render(image, time, size, view)
     with atomic_output(dst, overwrite, inputs) as tmp:
         write_image(tmp, out, alpha=has_alpha, fmt=ext, name=dst)
     return dst
+
+
+def _counted(bands, total: int, progress: str):
+    """``bands`` passed through, counted on a progress bar of ``total`` bands."""
+    with Progress(total, progress, unit="band") as bar:
+        for band in bands:
+            yield band
+            bar.update()
 
 
 def still_input(
@@ -284,7 +288,7 @@ def render_video(
         check_output(dst, opts.overwrite, inputs)
     if is_local(src) and not is_sequence(src):
         check_input(src, "an image" if still else "a video")
-    marbler = Marbler(recipe, renderer, device=device, fit=opts.fit or "stretch")
+    marbler = Marbler(recipe, renderer, device=device, fit=opts.fit)
     # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))
     if src is not None and not still:
@@ -294,9 +298,7 @@ def render_video(
     duration = recipe.end_time() + 1.0 if duration is None else duration
     size = opts.size or (blank_size(recipe) if image is None else image.shape[1::-1])
     frames = SheetFrames(marbler, tuple(size), image)
-    note = None
-    if image is not None and opts.size is not None and opts.fit is None:
-        note = stretch_note(image.shape[1::-1], opts.size)
+    note = fit_note(recipe, None if image is None else image.shape[1::-1], opts.size, opts.fit)
     notes = (note,) if note else ()
     return render_sheet(dst, frames, duration, fps or DEFAULT_FPS, opts, plan=plan, notes=notes)
 

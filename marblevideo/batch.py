@@ -7,7 +7,9 @@ template, serially or on a local process pool.
 - Outputs are ``str.format`` templates over each input: ``{stem}`` (name
   without extension), ``{name}``, ``{suffix}`` (with its dot), ``{parent}``
   (the input's folder) and ``{index}`` (0-based, in input order; ``{index:04d}``).
-  Two inputs that would write one output are a usage error.
+  Two inputs that would write one output are a usage error. The folders an
+  output names are made as its item is rendered (a file in their place is a
+  usage error, before any work).
 - Every item is a normal render (:func:`marblevideo.api.render_still` or
   :func:`~marblevideo.api.render_video`, by the output's kind): atomic, and an
   input is never an output.
@@ -33,20 +35,24 @@ template, serially or on a local process pool.
 from __future__ import annotations
 
 import concurrent.futures
+import contextlib
 import glob
 import hashlib
 import json
 import multiprocessing
 import os
+import signal
 import string
+import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
 from marblevideo.cluster import RayPool, require_ray
 from marblevideo.errors import MarbleError, MediaError, UsageError
-from marblevideo.media.formats import output_kind
+from marblevideo.media.formats import is_sequence, output_format, output_kind, output_kinds
 from marblevideo.media.progress import Progress
+from marblevideo.media.tiled import check_still_size
 
 MANIFEST_NAME = "marblevideo-batch.json"
 TEMPLATE_FIELDS = ("stem", "name", "suffix", "parent", "index")
@@ -136,6 +142,30 @@ def plan_items(inputs: list[Path], template: str) -> list[Item]:
     return items
 
 
+def check_folders(items: list[Item]) -> None:
+    """UsageError for an output folder that cannot be one: a file stands at it or
+    above it. Missing folders are made as their first item is rendered."""
+    for folder in sorted({item.dst.parent for item in items}):
+        for part in (folder, *folder.parents):
+            if part.exists():
+                if not part.is_dir():
+                    raise UsageError(f"{folder}: cannot be an output folder; {part} is a file")
+                break
+
+
+def check_outputs(items: list[Item], size: tuple[int, int] | None) -> None:
+    """UsageError for an output a batch cannot write: an unknown extension (the
+    kinds listed), vectors, or a still of ``size`` too big for its format."""
+    for item in items:
+        kind, ext = output_kind(item.dst), item.dst.suffix.lower()
+        if kind == "vector":
+            raise UsageError(f"{item.dst}: a batch writes stills and videos, not {ext} vectors")
+        if kind == "video" and output_format(item.dst) is None and not is_sequence(item.dst):
+            raise UsageError(f"{item.dst}: unknown output extension {ext!r}; use {output_kinds()}")
+        if kind == "still" and size is not None:
+            check_still_size(item.dst, ext, size)
+
+
 def job_digest(recipe_text: str, options: dict) -> str:
     """What makes an output: the recipe's text and the options, hashed."""
     blob = json.dumps({"recipe": recipe_text, "options": options}, sort_keys=True)
@@ -183,6 +213,7 @@ class Manifest:
 
     def save(self) -> None:
         """Write atomically (a temporary file renamed), so a kill keeps the last one."""
+        self.path.parent.mkdir(parents=True, exist_ok=True)
         tmp = self.path.with_name(f".{self.path.name}.part")
         tmp.write_text(json.dumps({"items": self.items}, indent=1, sort_keys=True))
         os.replace(tmp, self.path)
@@ -193,6 +224,10 @@ def render_item(recipe, item: Item, options: dict, overwrite: bool, renderer=Non
     one-line error."""
     from marblevideo.api import render_still, render_video
 
+    try:
+        item.dst.parent.mkdir(parents=True, exist_ok=True)
+    except OSError as exc:
+        return f"{item.dst.parent}: cannot make the folder: {exc.strerror or exc}"
     try:
         if output_kind(item.dst) == "still":
             render_still(
@@ -210,6 +245,8 @@ def render_item(recipe, item: Item, options: dict, overwrite: bool, renderer=Non
 
 def _init_worker(threads: int) -> None:
     os.environ.setdefault("POCL_MAX_PTHREAD_COUNT", str(threads))
+    # Ctrl-C reaches the whole process group: the batch itself decides (on_processes)
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def run_batch(
@@ -247,9 +284,8 @@ def run_batch(
     items = plan_items(expand_inputs(patterns), template)
     if "time" in options and any(output_kind(item.dst) != "still" for item in items):
         raise UsageError("--time: applies to still outputs; this batch writes videos")
-    for folder in {item.dst.parent for item in items}:
-        if not folder.is_dir():
-            raise UsageError(f"{folder}: output folder does not exist")
+    check_folders(items)
+    check_outputs(items, options.get("size"))
     recipe_text = Path(recipe).read_text(encoding="utf-8")
     digest = job_digest(recipe_text, {k: repr(v) for k, v in options.items()})
     book = Manifest(Path(manifest) if manifest else items[0].dst.parent / MANIFEST_NAME, digest)
@@ -281,22 +317,66 @@ def run_batch(
             for item in todo:
                 finished(item, render_item(recipe, item, options, overwrite))
         else:
-            threads = max(1, (os.cpu_count() or 1) // jobs)
-            context = multiprocessing.get_context("spawn")  # OpenCL does not survive fork
-            with concurrent.futures.ProcessPoolExecutor(
-                jobs, mp_context=context, initializer=_init_worker, initargs=(threads,)
-            ) as pool:
-                futures = {
-                    pool.submit(render_item, str(recipe), item, options, overwrite): item
-                    for item in todo
-                }
-                for future in concurrent.futures.as_completed(futures):
-                    try:
-                        error = future.result()
-                    except concurrent.futures.process.BrokenProcessPool:
-                        raise MediaError("a batch worker died; run again to resume") from None
-                    finished(futures[future], error)
+            on_processes(str(recipe), todo, options, overwrite, jobs, finished)
     return result
+
+
+def on_processes(recipe: str, todo: list[Item], options, overwrite, jobs: int, finished) -> None:
+    """Every item of ``todo`` on ``jobs`` worker processes; ``finished(item, error)``
+    as each ends. An interrupt here (Ctrl-C, SIGTERM; workers ignore Ctrl-C) stops
+    the workers at once: what was queued is dropped, the temporary files of the
+    renders cut short are removed, and outputs finished meanwhile are recorded."""
+    threads = max(1, (os.cpu_count() or 1) // jobs)
+    context = multiprocessing.get_context("spawn")  # OpenCL does not survive fork
+    pool = concurrent.futures.ProcessPoolExecutor(
+        jobs, mp_context=context, initializer=_init_worker, initargs=(threads,)
+    )
+    futures, recorded, started = {}, set(), time.time()
+    try:
+        for item in todo:
+            futures[pool.submit(render_item, recipe, item, options, overwrite)] = item
+        for future in concurrent.futures.as_completed(futures):
+            try:
+                error = future.result()
+            except concurrent.futures.process.BrokenProcessPool:
+                raise MediaError("a batch worker died; run again to resume") from None
+            recorded.add(future)
+            finished(futures[future], error)
+    except BaseException:
+        workers = list((pool._processes or {}).values())  # private: no public way
+        pool.shutdown(wait=False, cancel_futures=True)
+        for worker in workers:  # stopped at once
+            with contextlib.suppress(OSError):
+                worker.kill()
+        pool.shutdown(wait=True)
+        for future, item in futures.items():
+            if future in recorded:
+                continue
+            if _succeeded(future) or _written_since(item.dst, started):  # as it came
+                finished(item, None)
+            else:  # a render cut short leaves its temporary file (media.output)
+                for tmp in item.dst.parent.glob(f".{item.dst.stem}.*.part{item.dst.suffix}"):
+                    tmp.unlink(missing_ok=True)
+        raise
+    pool.shutdown()
+
+
+def _written_since(path: Path, started: float) -> bool:
+    """Whether ``path`` was put in place since ``started`` (a worker killed between
+    its rename and its answer); a second's slack for file-system clocks."""
+    try:
+        return path.stat().st_mtime >= started - 1
+    except OSError:
+        return False
+
+
+def _succeeded(future: concurrent.futures.Future) -> bool:
+    return (
+        future.done()
+        and not future.cancelled()
+        and future.exception() is None
+        and (future.result() is None)
+    )
 
 
 def on_ray(recipe, todo: list[Item], options: dict, overwrite: bool, jobs, finished) -> None:

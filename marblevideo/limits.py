@@ -10,6 +10,12 @@ NUMBER_LIMIT = 1e30
 MAX_DEPTH = 32
 #: Largest input image, in pixels (16384 x 16384), judged from the file's header.
 MAX_PIXELS = 1 << 28
+#: Largest still rendered and encoded in one piece (a JPEG or WebP, or any still to
+#: standard output): 16384 x 16384, as an input; PNG and TIFF files are written in
+#: bands at any size.
+MAX_ONE_PIECE = 1 << 28
+#: Largest side of a WebP (libwebp's WEBP_MAX_DIMENSION).
+WEBP_MAX_SIDE = 16383
 #: Largest output (or input) side, in pixels (OpenCL buffers and int indices).
 MAX_SIDE = 1 << 15
 #: SVG and PDF outlines lie within this many output pixels of the exact design

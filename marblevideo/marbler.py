@@ -18,7 +18,14 @@ from marblevideo.errors import RecipeError, UsageError
 from marblevideo.media.yuv import YuvMatrix, split_i420
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
-from marblevideo.recipe.frame import FIT_MODES, FrameSpec, Geometry, geometry
+from marblevideo.recipe.frame import (
+    FIT_MODES,
+    FrameSpec,
+    Geometry,
+    canvas_note,
+    geometry,
+    stretch_note,
+)
 
 RecipeLike = Recipe | dict | str | os.PathLike
 
@@ -44,14 +51,27 @@ def blank_canvas(recipe: Recipe) -> tuple[float, float]:
     return recipe.canvas
 
 
+def fit_note(
+    recipe: Recipe, input_size: tuple[int, int] | None, size: tuple[int, int] | None, fit
+) -> str | None:
+    """The notice for an output ``size`` of another aspect than what it shows, when
+    no ``fit`` is given: an input stretched, or a blank sheet's canvas fitted."""
+    if size is None or fit is not None:
+        return None
+    if input_size is not None:
+        return stretch_note(input_size, size)
+    return canvas_note(blank_canvas(recipe), size)
+
+
 class Marbler:
     """A recipe bound to an OpenCL renderer.
 
     ``render`` makes one frame; ``transform`` returns the callable that the
     video pipeline calls per frame (RGBA frame, time) -> RGBA frame. ``fit``
     (:data:`~marblevideo.recipe.frame.FIT_MODES`) says how an input of another
-    aspect than the output fills it; with "pad" what lies outside the input is
-    the recipe's background, whatever its ``edges``.
+    aspect than the output fills it (default: stretched), or a blank sheet's
+    canvas (default: the contract's uniform scale, centred); with "pad" what
+    lies outside the input is the recipe's background, whatever its ``edges``.
     """
 
     def __init__(
@@ -60,9 +80,9 @@ class Marbler:
         renderer: Renderer | None = None,
         device: str | None = None,
         adaptive: bool | None = None,
-        fit: str = "stretch",
+        fit: str | None = None,
     ):
-        if fit not in FIT_MODES:
+        if fit is not None and fit not in FIT_MODES:
             raise UsageError(f"--fit: expected one of {', '.join(FIT_MODES)}, got {fit!r}")
         self.recipe = as_recipe(recipe)
         self.renderer = renderer or Renderer(device, adaptive=adaptive)

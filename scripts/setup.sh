@@ -32,5 +32,9 @@ if [ "${1:-}" = "--test" ] && ! command -v chromium >/dev/null; then
   echo "setup: installing Debian's chromium for the live preview's browser tests" >&2
   apt_install chromium
 fi
+if [ "${1:-}" = "--test" ] && ! command -v ffmpeg >/dev/null; then
+  echo "setup: installing Debian's ffmpeg, the independent reader the output tests decode with" >&2
+  apt_install ffmpeg
+fi
 .venv/bin/python -m pip install -q --disable-pip-version-check --upgrade pip >/dev/null
 .venv/bin/python -m pip install -q --disable-pip-version-check -e ".${extra}"

@@ -4,12 +4,17 @@ and on a local process pool; resuming from the manifest; usage errors."""
 from __future__ import annotations
 
 import json
+import os
+import signal
+import subprocess
+import sys
+import time
 
 import cv2
 import numpy as np
 import pytest
 from clips import probe, write_clip
-from conftest import files, one_line
+from conftest import ROOT, files, one_line
 
 from marblevideo import api
 from marblevideo.batch import MANIFEST_NAME, run_batch
@@ -97,16 +102,87 @@ def test_videos_in_a_batch(tmp_path):
         (["in/*.jpg", "-o", "out/all.png"], "name each output from its input"),
         (["in/*.jpg", "-o", "out/{suffix}.png"], "would both write"),
         (["nothing/*.jpg", "-o", "out/{stem}.png"], "matches no file"),
-        (["in/*.jpg", "-o", "missing/{stem}.png"], "output folder does not exist"),
+        (["in/*.jpg", "-o", "in/p0.jpg/{stem}.png"], "in/p0.jpg is a file"),
+        (["in/*.jpg", "-o", "out/{name}/{stem}.png"], "out/p0.jpg is a file"),
         (["in/*.jpg", "-o", "in/{stem}.jpg"], "is one of the inputs"),
+        (["in/*.jpg", "-o", "out/{stem}.xyz"], "unknown output extension '.xyz'; use stills"),
+        (["in/*.jpg", "-o", "out/{stem}.svg"], "not .svg vectors"),
         (["in/*.jpg", "-o", "out/{stem}.png", "--jobs", "0"], "--jobs"),
         (["in/*.jpg", "-o", "out/{stem}.mp4", "--time", "1"], "--time: applies to still outputs"),
         (["in/*.jpg", "-o", "out/{stem}.png", "--ops", "nopreset"], "nor a preset"),
     ],
 )
 def test_usage_errors_before_any_work(cli, photos, args, fault):
+    (photos / "out" / "p0.jpg").write_bytes(b"a file where a folder would go")
     ops = [] if "--ops" in args else ["--ops", "comb-wave"]
     proc = cli("batch", *args, *ops)
     assert proc.returncode == 2, proc.stderr
     assert fault in one_line(proc)
-    assert files(photos / "out") == []
+    assert files(photos / "out") == ["p0.jpg"]
+    assert files(photos / "in") == [f"p{i}.jpg" for i in range(4)]
+
+
+def test_templates_make_their_folders(cli, photos):
+    """Folders a template names (fixed parts and {parent}) are made, each output
+    still written atomically inside them; the manifest lands beside the first."""
+    (photos / "in" / "sub").mkdir()
+    cv2.imwrite(str(photos / "in" / "sub" / "q.png"), np.full((32, 40, 3), 90, np.uint8))
+    proc = cli("batch", "in/**/*.*g", "--ops", "comb-wave", "-o", "made/{parent}/{stem}/x.png")
+    assert proc.returncode == 0, proc.stderr
+    assert "5 written" in proc.stderr.splitlines()[-1]
+    assert files(photos / "made" / "in" / "p0") == [MANIFEST_NAME, "x.png"]
+    for stem in ("p1", "p2", "p3", "sub/q"):
+        assert files(photos / "made" / "in" / stem) == ["x.png"]
+    single = photos / "single.png"
+    api.render_still(photos / "in" / "sub" / "q.png", "comb-wave", single)
+    assert _same(photos / "made" / "in" / "sub" / "q" / "x.png", single)
+
+
+@pytest.mark.parametrize("sig, code", [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_interrupting_a_batch_on_workers(tmp_path, sig, code):
+    """A signal to the batch (as a process manager sends it, to the main process
+    only) stops its workers too: out soon, one line, no temporary file, and every
+    output there is recorded done, so a re-run resumes."""
+    (tmp_path / "in").mkdir()
+    for i in range(8):
+        cv2.imwrite(str(tmp_path / "in" / f"p{i}.jpg"), np.full((30, 40, 3), 20 * i, np.uint8))
+    proc = subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            "marblevideo",
+            "batch",
+            "in/*.jpg",
+            "--ops",
+            "swirl",
+            "-o",
+            "out/{stem}.png",
+            "--size",
+            "2400x1800",
+            "--jobs",
+            "2",
+            "-q",
+        ],  # fmt: skip
+        cwd=tmp_path,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONPATH": str(ROOT)},
+    )
+    manifest = tmp_path / "out" / MANIFEST_NAME
+    deadline = time.monotonic() + 180
+    while not manifest.exists() and time.monotonic() < deadline and proc.poll() is None:
+        time.sleep(0.05)
+    assert proc.poll() is None, proc.communicate()
+    proc.send_signal(sig)
+    try:
+        _, err = proc.communicate(timeout=60)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        raise
+    assert proc.returncode == code
+    assert err.splitlines() == ["marblevideo: interrupted"]
+    written = sorted(f"out/{p.name}" for p in (tmp_path / "out").glob("*.png"))
+    record = json.loads(manifest.read_text())["items"]
+    assert sorted(k for k, v in record.items() if v["status"] == "done") == written
+    assert 0 < len(written) < 8
+    assert [p.name for p in (tmp_path / "out").iterdir() if ".part" in p.name] == []

@@ -77,10 +77,14 @@ def check_options(args: argparse.Namespace) -> tuple[str, str]:
         if args.duration is not None and args.end is not None:
             raise UsageError("--duration and --end: give one")
     if args.fit is not None:
-        if source == "blank":
-            raise UsageError("--fit: places an input; a blank sheet has none")
+        if job in ("vectors", "uv"):
+            raise UsageError(f"--fit: places a raster's input or canvas; {out} is not one")
+        if source == "blank" and args.view:
+            raise UsageError("--fit: --view places a blank sheet's window itself; give one of them")
         if args.size is None:
-            raise UsageError("--fit: goes with --size (without it the output is the input's size)")
+            raise UsageError(
+                "--fit: goes with --size (without it the output is the input's or canvas's size)"
+            )
     if args.format is not None and job in ("vectors", "uv"):
         raise UsageError(f"--format: {out} is written as its extension says")
     check_cluster(args, job, source)

@@ -26,7 +26,7 @@ from marblevideo.cli.arguments import (
 from marblevideo.cli.vectors import render_extra
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
-from marblevideo.media.formats import is_stdio
+from marblevideo.media.formats import is_stdio, output_kinds
 from marblevideo.recipe.frame import FIT_MODES
 from marblevideo.version import __version__
 
@@ -68,9 +68,8 @@ def _render_parser() -> argparse.ArgumentParser:
         "-o",
         "--output",
         required=True,
-        help="output; the format follows the extension: stills .png .jpg .tif .webp, "
-        "video .mp4 .mov .mkv .webm .gif .apng, an image sequence name_%%04d.png, "
-        "vectors .svg .pdf, or - (standard output, with --format)",
+        help="output; the format follows the extension: "
+        f"{output_kinds().replace('%', '%%')}; or - (standard output, with --format)",
     )
     p.add_argument("-y", "--overwrite", action="store_true", help="replace an existing output")
     p.add_argument("--size", metavar="WxH", help="output size (default: input or canvas)")
@@ -78,7 +77,8 @@ def _render_parser() -> argparse.ArgumentParser:
         "--fit",
         choices=FIT_MODES,
         help="an input of another aspect than --size: stretch it (default), crop it to "
-        "fill, or pad it with the recipe's background",
+        "fill, or pad it with the recipe's background; a blank sheet's canvas: fitted and "
+        "centred (default, as pad), cropped to fill, or stretched",
     )
     p.add_argument(
         "--format",

@@ -16,11 +16,11 @@ import numpy as np
 from marblevideo.errors import UsageError
 from marblevideo.media.encoders import check_encoder, option_table, quiet_environment, quiet_options
 from marblevideo.media.formats import (
-    EXTENSION_FORMATS,
     FORMATS,
     is_sequence,
     is_stdio,
     output_format,
+    output_kinds,
 )
 from marblevideo.media.palette import PaletteFrames
 from marblevideo.media.progress import MODES
@@ -88,8 +88,8 @@ def plan_output(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
         if is_stdio(dst):
             raise UsageError("-o -: name the stream's format with --format (e.g. matroska, nut)")
         ext = Path(dst).suffix.lower()
-        known = ", ".join(EXTENSION_FORMATS)
-        raise UsageError(f"{dst}: unknown output extension {ext or '(none)'!r}; use one of {known}")
+        known = output_kinds()
+        raise UsageError(f"{dst}: unknown output extension {ext or '(none)'!r}; use {known}")
     fmt = FORMATS[name]
     codec_name = options.codec or fmt.codec
     try:

@@ -99,6 +99,15 @@ EXTENSION_FORMATS = {
 }
 
 
+def output_kinds() -> str:
+    """Every kind of output an ``-o`` name makes, by extension, from the tables
+    above: what ``--help`` shows and an unknown extension's error lists."""
+    stills = " ".join(sorted(IMAGE_EXTENSIONS))
+    video = " ".join(EXTENSION_FORMATS)
+    vectors = " ".join(VECTOR_EXTENSIONS)
+    return f"stills {stills}; video {video}; an image sequence name_%04d.png; vectors {vectors}"
+
+
 def is_stdio(name: str | os.PathLike | None) -> bool:
     return name is not None and os.fspath(name) == STDIO
 

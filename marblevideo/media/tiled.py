@@ -22,12 +22,16 @@ from collections.abc import Callable, Iterator
 
 import numpy as np
 
+from marblevideo.errors import UsageError
+from marblevideo.limits import MAX_ONE_PIECE, WEBP_MAX_SIDE
 from marblevideo.recipe.frame import Geometry
 
-#: Pixels per band (about 64 MiB of RGBA).
-BAND_PIXELS = 16 << 20
-#: Outputs with more pixels than this are rendered in bands (PNG and TIFF).
-TILED_ABOVE = 64 << 20
+#: Pixels per band (about 64 MiB of RGBA); ``MARBLEVIDEO_BAND_PIXELS`` sets another
+#: (the tests' way to make small outputs take the banded path).
+BAND_PIXELS = int(os.environ.get("MARBLEVIDEO_BAND_PIXELS", 16 << 20))
+#: Outputs with more pixels than this (four bands: 64 Mpixel) are rendered in
+#: bands (PNG and TIFF).
+TILED_ABOVE = 4 * BAND_PIXELS
 STREAM_EXTENSIONS = frozenset({".png", ".tif", ".tiff"})
 
 
@@ -43,6 +47,26 @@ def can_stream(fmt: str) -> bool:
     except ImportError:
         return False
     return True
+
+
+def check_still_size(
+    name: str | os.PathLike, fmt: str, size: tuple[int, int], stream: bool = True
+) -> None:
+    """UsageError, before any work, for a still of ``size`` (w, h) that extension
+    ``fmt`` cannot hold: over :data:`MAX_ONE_PIECE` pixels where it is written in
+    one piece (formats other than PNG and TIFF, or ``stream`` False: standard
+    output), or a WebP over its side limit. The message names what can."""
+    w, h = size
+    what = "PNG and TIFF" if can_stream(".tif") else "PNG (TIFF with marblevideo[extras])"
+    bands = f"{what} files are written in bands at any size"
+    if fmt == ".webp" and max(w, h) > WEBP_MAX_SIDE:
+        raise UsageError(f"{name}: {w}x{h} is over WebP's {WEBP_MAX_SIDE} pixels a side; {bands}")
+    if (not stream or not can_stream(fmt)) and w * h > MAX_ONE_PIECE:
+        kind = "to standard output" if not stream else f"as {fmt}"
+        raise UsageError(
+            f"{name}: {w}x{h} is over {MAX_ONE_PIECE} pixels, the most a still written "
+            f"{kind} is rendered in one piece; {bands}"
+        )
 
 
 def band_rows(width: int, band_pixels: int = BAND_PIXELS) -> int:
@@ -99,7 +123,12 @@ class PngStream:
             self.file.write(_chunk(b"IDAT", data))
         self.rows += n
 
+    def abort(self) -> None:
+        """Close the file as it is, unfinished (the caller removes it)."""
+        self.file.close()
+
     def close(self) -> None:
+        """Finish the PNG; ValueError (the file closed) when rows are missing."""
         if self.file.closed:
             return
         try:
@@ -142,8 +171,10 @@ def write_bands(
         try:
             for band in band_iter:
                 png.write(band)
-        finally:
-            png.close()
+        except BaseException:  # an interrupt or a failure: not hidden by finishing
+            png.abort()
+            raise
+        png.close()
         return
     import tifffile
 

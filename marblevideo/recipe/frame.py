@@ -24,7 +24,9 @@ Value = float | tuple[float, ...]
 EDGE_MODES = ("clamp", "repeat", "mirror", "background")
 #: How an input of another aspect than the output fills it (``--fit``): stretched
 #: per axis (the contract's), scaled to cover it and cropped, or scaled to fit
-#: inside it on the recipe's background.
+#: inside it on the recipe's background. A blank sheet's canvas is by default
+#: scaled to fit and centred (the contract's, as "pad"); "crop" scales it to
+#: cover the output, "stretch" per axis.
 FIT_MODES = ("stretch", "crop", "pad")
 
 
@@ -76,6 +78,18 @@ def stretch_note(input_size: tuple[int, int], out_size: tuple[int, int]) -> str 
     return f"{iw}x{ih} stretched to {w}x{h} (another aspect; --fit crop or pad keeps it)"
 
 
+def canvas_note(canvas: tuple[float, float], out_size: tuple[int, int]) -> str | None:
+    """The notice for a blank sheet's canvas shown in an output of another aspect
+    (over 1 %) without ``--fit``, or None."""
+    (cw, ch), (w, h) = canvas, out_size
+    if abs((w / h) / (cw / ch) - 1) <= 0.01:
+        return None
+    return (
+        f"canvas {cw:g}x{ch:g} fitted into {w}x{h} and centred (another aspect: what the "
+        "ops carry past the canvas may be cut; --fit crop fills the frame, stretch distorts)"
+    )
+
+
 def fit(canvas: tuple[float, float], w: int, h: int) -> tuple[float, float, float]:
     """Scale and offsets that show ``canvas`` uniformly scaled and centred in w x h:
     output point o = s * c + (dx, dy)."""
@@ -89,7 +103,7 @@ def geometry(
     out_size: tuple[int, int],
     input_size: tuple[int, int] | None = None,
     view: tuple[float, float, float, float] | None = None,
-    fit_mode: str = "stretch",
+    fit_mode: str | None = None,
 ) -> Geometry:
     """Build the maps for an output of ``out_size`` = (w, h).
 
@@ -101,7 +115,10 @@ def geometry(
     With "crop" or "pad" the frame of the input's own size, made as the
     contract says, is scaled uniformly to cover the output (cropped) or to fit
     inside it (centred; what lies outside the input is then the renderer's
-    ``edges`` business, and the marbler uses the background).
+    ``edges`` business, and the marbler uses the background). Without an input
+    (``input_size`` None), "crop" scales the canvas uniformly to cover the
+    output and "stretch" per axis to fill it, both centred; None or "pad" is
+    the contract's mapping.
     """
     w, h = out_size
     if input_size is not None and fit_mode in ("crop", "pad"):
@@ -112,6 +129,13 @@ def geometry(
         s, dx, dy = fit(canvas, iw, ih)  # canvas -> input frame
         unzoomed = (1.0 / (k * s), 1.0 / (k * s), (-ex / k - dx) / s, (-ey / k - dy) / s)
         to_input = (s, s, dx, dy)
+    elif input_size is None and fit_mode in ("crop", "stretch"):
+        sx, sy = w / canvas[0], h / canvas[1]
+        if fit_mode == "crop":
+            sx = sy = max(sx, sy)
+        dx, dy = (w - sx * canvas[0]) / 2.0, (h - sy * canvas[1]) / 2.0
+        unzoomed = (1.0 / sx, 1.0 / sy, -dx / sx, -dy / sy)
+        to_input = (sx, sy, dx, dy)
     else:
         s, dx, dy = fit(canvas, w, h)
         unzoomed = (1.0 / s, 1.0 / s, -dx / s, -dy / s)
