@@ -52,7 +52,7 @@ def write_video_with_sound(
         video.width, video.height, video.pix_fmt = *size, "yuv420p"
         sound = out.add_stream("pcm_s16le", rate=rate, layout=layout)
         for i in range(frames):
-            frame = av.VideoFrame.from_ndarray(np.full((*size[::-1], 3), 8 * i, np.uint8))
+            frame = av.VideoFrame.from_ndarray(np.full((*size[::-1], 3), 8 * i % 256, np.uint8))
             frame.pts, frame.time_base = i, Fraction(1, fps)
             out.mux(video.encode(frame))
         out.mux(video.encode(None))
