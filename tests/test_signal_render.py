@@ -246,3 +246,19 @@ def test_refusals_are_one_line_exit_2_and_write_nothing(
     assert proc.returncode == 2, proc.stderr
     assert expected in one_line(proc)
     assert not out.exists()
+
+
+def test_a_batch_refuses_an_input_with_nothing_to_follow_before_any_work(cli, tmp_path, beat_clip):
+    import shutil
+
+    import cv2
+
+    shutil.copy(beat_clip, tmp_path / "a.mkv")
+    cv2.imwrite(str(tmp_path / "b.png"), np.zeros((36, 64, 3), np.uint8))
+    proc = cli("batch", "*.mkv", "*.png", "--ops", PULSE, "-o", "{stem}-out.png", "--time", 0.1)
+    assert proc.returncode == 2
+    assert (
+        "ops[9].radius: follows audio.low, but there is no audio to follow (b.png is an image"
+        in (one_line(proc))
+    )
+    assert not list(tmp_path.glob("*-out.png"))
