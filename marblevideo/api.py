@@ -42,7 +42,7 @@ from marblevideo.opencl.program import Structure
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.outputs.svg import VectorStats, design_svg, pdf_writer
 from marblevideo.recipe.frame import stretch_note
-from marblevideo.signals.follow import follow
+from marblevideo.signals.follow import check_soundtrack, follow
 
 
 def render_image(
@@ -290,6 +290,8 @@ def render_video(
         check_output(dst, opts.overwrite, inputs)
     if is_local(src) and not is_sequence(src):
         check_input(src, "an image" if still else "a video")
+    if opts.soundtrack is not None:
+        check_soundtrack(opts.soundtrack)
     recipe = follow(recipe, src, opts.soundtrack)
     marbler = Marbler(recipe, renderer, device=device, fit=opts.fit or "stretch")
     # the program builds (without the GIL) while the input opens

@@ -262,3 +262,28 @@ def test_a_batch_refuses_an_input_with_nothing_to_follow_before_any_work(cli, tm
         in (one_line(proc))
     )
     assert not list(tmp_path.glob("*-out.png"))
+
+
+def test_the_soundtrack_replaces_the_inputs_audio_on_the_renders_clock(cli, tmp_path, beat_clip):
+    """From --start 0.5: the output's audio is the soundtrack's from the first frame
+    kept on, placed where it plays against the frames (whole packets, copied)."""
+    from sound import tone
+
+    sound = pcm16([tone(440, 2.0, RATE, 0.5)])
+    write_wav(tmp_path / "tone.wav", sound, RATE)
+    out = tmp_path / "out.mkv"
+    proc = cli(beat_clip, "--ops", PULSE, "--soundtrack", "tone.wav", "--start", 0.5, "-o", out)
+    assert proc.returncode == 0, proc.stderr
+    with av.open(str(out)) as container:
+        assert len(container.streams.audio) == 1
+        frames = list(container.decode(audio=0))
+    first = float(frames[0].pts * frames[0].time_base)
+    heard = np.concatenate([f.to_ndarray().reshape(-1) for f in frames])
+    # the output starts at the first frame kept (0.52 s at 25 fps), its audio with it
+    at = round((first + 0.52) * RATE)  # the soundtrack's sample at the output's first audio
+    assert 0 <= first < 0.2
+    whole = sound.reshape(-1)
+    # Matroska keeps milliseconds: the sample is within one of them
+    near = [k for k in range(at - 23, at + 24) if np.array_equal(heard, whole[k : k + len(heard)])]
+    assert len(near) == 1, (at, first)
+    assert 1.3 * RATE <= len(heard) <= 1.6 * RATE  # up to the video's end (2 s)

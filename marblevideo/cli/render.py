@@ -178,13 +178,15 @@ def _where(dst) -> str:
 def render_command(argv: list[str]) -> int:
     from marblevideo.api import as_recipe, render_still
     from marblevideo.signals.follow import check as check_signals
-    from marblevideo.signals.follow import follow
+    from marblevideo.signals.follow import check_soundtrack, follow
 
     args = _render_parser().parse_args(argv)
     configure_logging(args.verbose)
     recipe = as_recipe(args.ops)  # validated before any input is opened
     size = parse_size(args.size) if args.size else None
     job, _ = check_options(args)
+    if args.soundtrack is not None:
+        check_soundtrack(args.soundtrack)
     check_signals(recipe, args.input, args.soundtrack)  # refusals before any work
     if job in ("vectors", "uv") or args.tolerance is not None:
         recipe = follow(recipe, args.input, args.soundtrack)
