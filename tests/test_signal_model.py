@@ -225,3 +225,17 @@ def test_signal_uses_name_the_file_entries_of_hidden_and_layout_recipes():
     shown = {**VORTEX, "lambda": {"signal": "midi:cc:1:7", "range": [5, 50]}}
     recipe = parse_recipe(recipe_with(rings, hidden, shown))
     assert [path for path, _ in recipe.signal_uses()] == ["ops[2].lambda"]
+
+
+def test_an_ops_own_rule_holds_at_both_ends_of_a_range():
+    jiggle = dict(type_def("jiggle").example)
+    wavelength = jiggle["wavelength"]
+    fine = {"signal": "audio.low", "range": [0, wavelength / 10]}
+    parse_recipe(recipe_with({**jiggle, "major": fine}))
+    too_far = {"signal": "audio.low", "range": [0, wavelength / 5]}  # 2 pi / 5 > 1
+    message = fault(recipe_with({**jiggle, "major": too_far}))
+    assert message.startswith("pulse.json: ops[0].major.range[1]: |2 pi major / wavelength|")
+    low_end = {"signal": "osc:/w", "range": [wavelength, 2]}  # at y = 1 the wavelength is 2
+    message = fault(recipe_with({**jiggle, "major": 1, "wavelength": low_end}))
+    assert message.startswith("pulse.json: ops[0].major: |2 pi major / wavelength|")  # its choice
+    assert "got 3.14 at t=0" in message

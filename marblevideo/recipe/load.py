@@ -47,7 +47,13 @@ from marblevideo.recipe.faults import (
 )
 from marblevideo.recipe.frame import FrameSpec, OpState
 from marblevideo.recipe.keyframes import Key, Track
-from marblevideo.recipe.signals import SignalTrack, SignalValues, signal_faults, signal_track
+from marblevideo.recipe.signals import (
+    SignalTrack,
+    SignalValues,
+    check_at_ends,
+    signal_faults,
+    signal_track,
+)
 
 DEFAULT_BACKGROUND = "#ffffff"
 #: Parameter kinds whose value is one number (the others are tuples).
@@ -135,11 +141,8 @@ class Recipe:
     @property
     def is_animated(self) -> bool:
         """Whether any value depends on time (keys, start/end, signals)."""
-        return (
-            bool(self.background.key_times)
-            or any(op.times for op in self.ops)
-            or bool(self.signal_uses())
-        )
+        keyed = bool(self.background.key_times) or any(op.times for op in self.ops)
+        return keyed or bool(self.signal_uses())
 
     def signal_uses(self) -> list[tuple[str, SignalTrack]]:
         """(JSON path of the parameter, its track) for every parameter rendered
@@ -376,8 +379,7 @@ def _semantic_faults(doc: dict) -> list[Fault]:
     for path, track in tracks:
         if isinstance(track, dict) and "signal" in track:
             faults += [make_fault(doc, [*path, *sub], m) for sub, m in signal_faults(track)]
-            continue
-        if not isinstance(track, dict):
+        if not isinstance(track, dict) or "signal" in track:
             continue
         keys = track["keys"]
         for k in range(1, len(keys)):
@@ -392,6 +394,6 @@ def _semantic_faults(doc: dict) -> list[Fault]:
     for i, op in enumerate(doc["ops"]):  # the ops' own rules, on well-formed tracks
         check = type_def(op["type"]).check
         tracks = {} if op["type"] in LAYOUTS else _params(op)
-        for path, message in check(op, tracks) if check is not None else ():
+        for path, message in check_at_ends(check, op, tracks) if check is not None else ():
             faults.append(make_fault(doc, ["ops", i, *path], message))
     return faults

@@ -21,6 +21,8 @@ import re
 from dataclasses import dataclass
 from typing import Protocol
 
+from marblevideo.recipe.keyframes import Track
+
 #: The audio bands, as signal names.
 AUDIO_NAMES = ("audio.level", "audio.low", "audio.mid", "audio.high")
 #: The forms a controller signal's name takes, for messages.
@@ -178,3 +180,23 @@ def signal_track(value: dict) -> SignalTrack:
         initial=float(value.get("initial", 0.0)),
     )
     return SignalTrack(signal, lo, hi)
+
+
+def check_at_ends(check, op: dict, tracks: dict) -> list[tuple[list, str]]:
+    """An op's own ``check`` (:class:`~marblevideo.ops.base.OpDef`) where some of its
+    parameters follow signals: run with each signal at the low end of its range,
+    then at the high end; a fault on such a parameter points at that end
+    (``major.range[1]``)."""
+    signals = {n for n, t in tracks.items() if isinstance(t, SignalTrack)}
+    if not signals:
+        return check(op, tracks)
+    for end in (0, 1):
+        ends = {
+            n: Track.constant((t.lo, t.hi)[end]) if n in signals else t for n, t in tracks.items()
+        }
+        found = check(op, ends)
+        if found:
+            return [
+                ([p[0], "range", end, *p[1:]] if p and p[0] in signals else p, m) for p, m in found
+            ]
+    return []
