@@ -239,3 +239,22 @@ def test_an_ops_own_rule_holds_at_both_ends_of_a_range():
     message = fault(recipe_with({**jiggle, "major": 1, "wavelength": low_end}))
     assert message.startswith("pulse.json: ops[0].major: |2 pi major / wavelength|")  # its choice
     assert "got 3.14 at t=0" in message
+
+
+def test_sources_ask_the_source_of_each_signals_kind():
+    from marblevideo.signals import Sources
+
+    class Held:
+        def __init__(self, y):
+            self.y = y
+
+        def at(self, signal, t):
+            return self.y
+
+    both = Sources(audio=Ramp(), osc=Held(0.25))
+    recipe = recipe_with(
+        {**VORTEX, "alpha": {**LOW, "range": [0, 100]}},
+        {**VORTEX, "lambda": {"signal": "osc:/l", "range": [10, 50]}},
+    )
+    frame = parse_recipe(recipe).bind(both).at(5.0)
+    assert frame.ops[0]["alpha"] == pytest.approx(50) and frame.ops[1]["lambda"] == 20
