@@ -65,7 +65,6 @@ Conventions
 
 from __future__ import annotations
 
-import contextlib
 import os
 import queue
 import threading
@@ -86,7 +85,7 @@ from marblevideo.media.output import check_output
 from marblevideo.media.progress import Progress, progress_mode
 from marblevideo.media.retime import rate_fraction, retimed
 from marblevideo.media.sinks import SequenceWriter, video_writer
-from marblevideo.media.soundtrack import Soundtrack
+from marblevideo.media.soundtrack import opened
 from marblevideo.media.video import (
     QUEUE_FRAMES,
     AudioItem,
@@ -330,11 +329,11 @@ def transcode(
         check_output(dst, options.overwrite, inputs)
     stats = Stats()
     sequence_in = is_sequence(src)
-    with open_input(src, options.fps, stream) as container, _soundtrack(options) as sound:
+    with open_input(src, options.fps, stream) as container, opened(options.soundtrack) as sound:
         say = notifier(options, stats)
         name = "standard output" if plan.stream else f"{Path(dst).suffix} files"
         own = audio_plan(container, plan, options, name, say) if sound is None else {}
-        audio = own if sound is None else sound.plan(plan, options, name, say)
+        audio = own or (sound.plan(plan, options, say) if sound else {})
         encoders = set(audio.values()) - {"copy"}
         stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
         vin = container.streams.video[0]
@@ -408,11 +407,6 @@ def transcode(
     return stats
 
 
-def _soundtrack(options: VideoOptions):
-    """The open ``--soundtrack`` of a job, or a context of None."""
-    return Soundtrack(options.soundtrack) if options.soundtrack else contextlib.nullcontext()
-
-
 def iter_frames(
     src: str | os.PathLike, transform: Transform | None = None, options: VideoOptions | None = None
 ) -> Iterator[tuple[float, np.ndarray]]:
@@ -445,13 +439,12 @@ def render_sheet(
     telling ``notes`` first.
 
     Constant frame rate (time base 1/fps for integer rates), no audio but
-    ``options.soundtrack``'s, colours untagged (BT.601, limited range).
-    For a yuv420p output, ``render_at.i420(t,
-    matrix)``, where present, gives the frame as I420 in ``matrix`` (None where
-    it cannot, e.g. odd sizes) and swscale is skipped; ``render_at.i420_start(t,
-    matrix)``, where present, is used instead: it returns a function giving that
-    frame (or None where it cannot), called once the next frame is started.
-    ``plan`` as for :func:`transcode`.
+    ``options.soundtrack``, colours untagged (BT.601, limited range). For a
+    yuv420p output, ``render_at.i420(t, matrix)``, where present, gives the frame
+    as I420 in ``matrix`` (None where it cannot, e.g. odd sizes) and swscale is
+    skipped; ``render_at.i420_start(t, matrix)``, where present, is used instead:
+    it returns a function giving that frame (or None where it cannot), called once
+    the next frame is started. ``plan`` as for :func:`transcode`.
     """
     options = options or VideoOptions()
     if duration <= 0 or fps <= 0:
@@ -495,12 +488,11 @@ def render_sheet(
             writer.open_audio({sound.stream.index: (sound.stream, audio[sound.stream.index])})
 
     with (
-        _soundtrack(options) as sound,
+        opened(options.soundtrack) as sound,
         video_writer(dst, plan, options, stats) as writer,
         library_logs(options.verbose),
     ):
-        name = "standard output" if plan.stream else f"{Path(dst).suffix} files"
-        audio = {} if sound is None else sound.plan(plan, options, name, notifier(options, stats))
+        audio = {} if sound is None else sound.plan(plan, options, notifier(options, stats))
         stats.audio = next(iter(audio.values()), "none")
         _run(writer, plan, options, produce, render, setup, count)
     stats.seconds = time.monotonic() - began

@@ -10,6 +10,7 @@ video by time; what lies before the output's first frame (a render from
 
 from __future__ import annotations
 
+import contextlib
 import os
 from collections.abc import Iterator
 from fractions import Fraction
@@ -43,8 +44,9 @@ class Soundtrack:
     def __exit__(self, *exc) -> None:
         self.container.close()
 
-    def plan(self, plan: OutputPlan, options: VideoOptions, name: str, say) -> dict[int, str]:
+    def plan(self, plan: OutputPlan, options: VideoOptions, say) -> dict[int, str]:
         """{stream index: "copy" or the encoder} for the output, or {} (no audio)."""
+        name = "standard output" if plan.stream else "the output"
         full = audio_plan(self.container, plan, options, name, say)
         self.how = full.get(self.stream.index)
         return {} if self.how is None else {self.stream.index: self.how}
@@ -101,3 +103,8 @@ def _placed(pending: tuple[float, AudioItem], shift: float) -> Iterator[AudioIte
         payload.dts = pts - (payload.pts - payload.dts)
     payload.pts = pts
     yield item
+
+
+def opened(path: str | os.PathLike | None):
+    """The open soundtrack at ``path``, or a context of None when there is none."""
+    return Soundtrack(path) if path else contextlib.nullcontext()
