@@ -1,20 +1,20 @@
-"""Write samples/pulse.wav: 8 s of a 120 bpm beat to render samples/pulse.json against.
+"""Write samples/pulse.opus: 8 s of a 120 bpm beat to render samples/pulse.json against.
 
 A kick (a sine falling from 120 to 50 Hz) on every beat, a hi-hat (a short burst
 of differentiated noise: mostly above 4 kHz) half-way between, and a quiet chord
-under both; mono, 22050 Hz, 16-bit. Run from the repository root:
-``python samples/make_pulse_sound.py [SECONDS]``; the tests make theirs with
-:func:`beat`.
+under both; mono, 48 kHz, Opus at 32 kbit/s (about 30 KB). Run from the
+repository root: ``python samples/make_pulse_sound.py [SECONDS]``; the tests
+make theirs with :func:`beat`.
 """
 
 import sys
-import wave
 from pathlib import Path
 
+import av
 import numpy as np
 
 HERE = Path(__file__).resolve().parent
-RATE, BPM = 22050, 120
+RATE, BPM = 48000, 120
 
 
 def beat(seconds: float, rate: int = RATE, bpm: float = BPM) -> np.ndarray:
@@ -36,13 +36,17 @@ def beat(seconds: float, rate: int = RATE, bpm: float = BPM) -> np.ndarray:
 
 def main() -> None:
     seconds = float(sys.argv[1]) if len(sys.argv) > 1 else 8.0
-    samples = np.round(beat(seconds) * 32767).astype(np.int16)
-    with wave.open(str(HERE / "pulse.wav"), "wb") as out:
-        out.setnchannels(1)
-        out.setsampwidth(2)
-        out.setframerate(RATE)
-        out.writeframes(samples.tobytes())
-    print(f"wrote {HERE / 'pulse.wav'}: {seconds:g} s")
+    samples = beat(seconds).astype(np.float32)[None]
+    target = HERE / "pulse.opus"
+    with av.open(str(target), "w", format="ogg") as out:
+        stream = out.add_stream("libopus", rate=RATE, layout="mono")
+        stream.bit_rate = 32000
+        for at in range(0, samples.shape[1], 960):
+            frame = av.AudioFrame.from_ndarray(samples[:, at : at + 960], "flt", "mono")
+            frame.sample_rate, frame.pts = RATE, at
+            out.mux(stream.encode(frame))
+        out.mux(stream.encode(None))
+    print(f"wrote {target}: {seconds:g} s, {target.stat().st_size // 1024} KB")
 
 
 if __name__ == "__main__":
