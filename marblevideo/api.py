@@ -43,6 +43,7 @@ from marblevideo.opencl.program import Structure
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.outputs.svg import VectorStats, design_svg, pdf_writer
 from marblevideo.reference.motion import rest_note
+from marblevideo.signals.follow import check_soundtrack, follow
 
 
 def render_image(
@@ -75,6 +76,7 @@ def render_still(
     band_rows: int | None = None,
     notify: Callable[[str], None] | None = None,
     renderer: Renderer | None = None,
+    soundtrack: str | os.PathLike | None = None,
 ) -> Path | str:
     """Render a still (PNG, JPEG, TIFF, WebP) atomically, of an image file, of a
     blank sheet, or of one frame of a video (a frame grab: the frame shown at
@@ -86,7 +88,9 @@ def render_still(
     ``size``; ``notify`` takes one-line notices (a stretched input, a fitted
     canvas, a still at the end of an animation that has come back to rest).
     ``renderer``: an OpenCL renderer to draw with (its context and built
-    programs kept between jobs) instead of one of ``device``.
+    programs kept between jobs) instead of one of ``device``. Parameters that
+    follow audio signals hear ``soundtrack`` (a sound file, its first sample at
+    t = 0), else the input video's audio.
 
     PNG and TIFF outputs over :data:`marblevideo.media.tiled.TILED_ABOVE` pixels (or any,
     given ``band_rows``) are rendered in bands and written progressively, so
@@ -104,6 +108,7 @@ def render_still(
         dst = check_output(dst, overwrite, inputs)
     if is_local(src) and not is_sequence(src):  # before the build, which an exit would wait for
         check_input(src, "an image" if is_image_name(src) else "a video")
+    recipe = follow(recipe, src, soundtrack)
     marbler = Marbler(recipe, renderer, device=device, fit=fit)
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))  # while the input loads
     image, has_alpha, time = still_input(src, time, rate)  # a grab's time: its frame's
@@ -260,7 +265,9 @@ def render_video(
     second) at ``fps`` (default 30). ``options`` are the fields of
     :class:`marblevideo.media.video.VideoOptions` (codec, crf, preset, pix_fmt,
     encoder_opts, audio, start, end, size, fit, format, overwrite, quiet,
-    progress, verbose, notify). ``renderer`` as for :func:`render_still`.
+    progress, verbose, notify, soundtrack: a sound file that replaces the
+    input's audio, its first sample at t = 0, and that parameters following
+    audio signals hear). ``renderer`` as for :func:`render_still`.
     Returns the job's :class:`marblevideo.media.video.Stats`."""
     from marblevideo.media.encode import plan_output
     from marblevideo.media.pipeline import render_sheet, transcode
@@ -288,6 +295,9 @@ def render_video(
         check_output(dst, opts.overwrite, inputs)
     if is_local(src) and not is_sequence(src):
         check_input(src, "an image" if still else "a video")
+    if opts.soundtrack is not None:
+        check_soundtrack(opts.soundtrack)
+    recipe = follow(recipe, src, opts.soundtrack)
     marbler = Marbler(recipe, renderer, device=device, fit=opts.fit)
     # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))
@@ -312,9 +322,10 @@ def marbled_frames(
     start: float | None = None,
     end: float | None = None,
 ):
-    """Iterate ``(t, rgba)``: the frames of video ``src`` marbled at their own times."""
+    """Iterate ``(t, rgba)``: the frames of video ``src`` marbled at their own times
+    (audio signals follow its audio)."""
     from marblevideo.media.pipeline import iter_frames
 
-    marbler = Marbler(recipe, device=device)
+    marbler = Marbler(follow(as_recipe(recipe), src), device=device)
     opts = _video_options({"start": start, "end": end})
     yield from iter_frames(src, marbler.transform(size), opts)

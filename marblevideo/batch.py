@@ -272,6 +272,7 @@ def run_batch(
     decides the exit status)."""
     from marblevideo.bundled import recipe_file
     from marblevideo.recipe import load_recipe
+    from marblevideo.signals.follow import check as check_signals
 
     if jobs is not None and jobs < 1:
         raise UsageError(f"--jobs: expected a count >= 1, got {jobs}")
@@ -280,8 +281,10 @@ def run_batch(
     if cluster == "ray":
         require_ray()
     recipe = recipe_file(recipe)
-    load_recipe(recipe)  # a bad recipe stops the batch before any work (exit 2)
+    loaded = load_recipe(recipe)  # a bad recipe stops the batch before any work (exit 2)
     items = plan_items(expand_inputs(patterns), template)
+    for item in items:  # so does a signal with nothing to follow (exit 2)
+        check_signals(loaded, item.src)
     if "time" in options and any(output_kind(item.dst) != "still" for item in items):
         raise UsageError("--time: applies to still outputs; this batch writes videos")
     check_folders(items)

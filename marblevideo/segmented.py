@@ -38,6 +38,8 @@ from marblevideo.media.progress import Progress, progress_mode
 from marblevideo.media.segments import Segment, join_segments, plan_segments, segment_plan
 from marblevideo.media.video import Stats, VideoOptions, notifier
 from marblevideo.recipe import Recipe
+from marblevideo.signals.follow import check as check_signals
+from marblevideo.signals.follow import follow
 
 CLUSTERS = ("serial", "ray")
 NOT_SPLIT = {"start": "--start", "end": "--end", "fps": "--fps"}
@@ -88,7 +90,8 @@ def render_segment(
     options.audio, options.quiet, options.progress, options.overwrite = "none", True, "off", True
     options.notify = lambda message: None  # noted in the stats, told by the driver
     plan = segment_plan(plan_output(dst, options), dst)
-    marbler = Marbler(job.recipe, renderer, fit=options.fit or "stretch")
+    recipe = follow(job.recipe, job.src)  # the whole file's audio: every segment hears the same
+    marbler = Marbler(recipe, renderer, fit=options.fit or "stretch")
     transform = Primed(marbler.transform(options.size), segment.before)
     stats = transcode(job.src, dst, transform, options, plan=plan, pts_origin=segment.origin)
     return stats.frames, stats.notes
@@ -100,6 +103,11 @@ def check_split(src, options: VideoOptions) -> None:
     if src is None or not is_local(src) or is_sequence(src) or is_image_name(src):
         what = "a blank sheet" if src is None else src
         raise UsageError(f"--cluster: {what} is not a video file; segments are cut from one")
+    if options.soundtrack is not None:
+        raise UsageError(
+            "--soundtrack: not with --cluster (segments are joined with the input's own audio; "
+            "mux the sound into the input first)"
+        )
     for name, flag in NOT_SPLIT.items():
         if getattr(options, name) is not None:
             raise UsageError(f"{flag}: not with --cluster (cut or convert the input first)")
@@ -132,6 +140,8 @@ def render_split(
     opts = VideoOptions(**options)
     recipe = as_recipe(recipe)
     check_split(src, opts)
+    check_signals(recipe, src)
+    recipe = recipe.bind(None)  # each worker analyses the input's audio itself
     plan = plan_output(dst, opts)
     segment_plan(plan, dst)
     dst = check_output(dst, opts.overwrite, [src])

@@ -20,6 +20,7 @@ LAYERS = {
     "recipe": 2,
     "media": 3,
     "reference": 4,
+    "signals": 4,
     "opencl": 5,
     "outputs": 5,
     "marbler": 6,

@@ -212,7 +212,8 @@ def test_circle_radius_zero_is_allowed():
 
 def test_wrong_types():
     assert op_fault(OPS["tine"], angle="abc") == (
-        'swirl.json: ops[1].angle: expected a number or a keyframe track {"keys": [...]}, '
+        'swirl.json: ops[1].angle: expected a number or a keyframe track {"keys": [...]} '
+        'or a signal {"signal": NAME, "range": [lo, hi]}, '
         "got string 'abc'"
     )
     assert op_fault(OPS["tine"], point=[1, "2"]) == (
@@ -375,7 +376,8 @@ def test_start_and_end():
 
 def test_non_finite_and_huge_numbers_from_python():
     assert op_fault(OPS["drop"], radius=math.nan) == (
-        'swirl.json: ops[1].radius: expected a number or a keyframe track {"keys": [...]}, '
+        'swirl.json: ops[1].radius: expected a number or a keyframe track {"keys": [...]} '
+        'or a signal {"signal": NAME, "range": [lo, hi]}, '
         "got NaN (not a finite number)"
     )
     assert op_fault(OPS["drop"], center=[0, -math.inf]) == (

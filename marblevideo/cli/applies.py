@@ -72,8 +72,8 @@ def check_options(args: argparse.Namespace) -> tuple[str, str]:
             for name, flag in (("start", "--start"), ("end", "--end")):
                 if getattr(args, name) is not None:
                     raise UsageError(f"{flag}: {what} has no timeline; use --duration")
-            if args.audio is not None:
-                raise UsageError(f"--audio: {what} has no audio")
+            if args.audio is not None and getattr(args, "soundtrack", None) is None:
+                raise UsageError(f"--audio: {what} has no audio (give one with --soundtrack)")
         if args.duration is not None and args.end is not None:
             raise UsageError("--duration and --end: give one")
     if args.fit is not None:

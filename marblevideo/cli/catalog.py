@@ -16,6 +16,7 @@ from marblevideo.errors import MediaError, UsageError
 from marblevideo.ops import LAYOUTS, REGISTRY, Param, recipe_types, type_def
 from marblevideo.recipe import schema
 from marblevideo.recipe.faults import did_you_mean
+from marblevideo.recipe.schema import SIGNAL_KINDS
 
 #: How each parameter kind reads in a listing.
 KIND_LABELS = {
@@ -140,11 +141,19 @@ def _overview() -> str:
     return "\n\n".join(parts)
 
 
+def _animates(param) -> str:
+    """How a parameter may change in time, for its help line."""
+    if not param.tracked:
+        return ""
+    signal = " May follow a signal (audio.low, osc:/...)." if param.kind in SIGNAL_KINDS else ""
+    return " May be a keyframe track." + signal
+
+
 def _detail(type_: str) -> str:
     definition = type_def(type_)
     fields = schema()["$defs"][type_]["properties"]
     rows = [
-        (name, kind, default, help_ + (" May be a keyframe track." if p.tracked else ""))
+        (name, kind, default, help_ + _animates(p))
         for p, (name, kind, default, help_) in zip(
             definition.params, _param_rows(definition.params), strict=True
         )

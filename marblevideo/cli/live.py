@@ -27,6 +27,7 @@ from marblevideo.limits import DEFAULT_FPS, DEFAULT_PORT
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import open_source
 from marblevideo.live.vcam import VCAM_HELP, VirtualCamera
+from marblevideo.signals.live import live_audio
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -62,6 +63,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--fps", type=float, help=f"test pattern rate ({DEFAULT_FPS:g}), or asked of a camera"
     )
     p.add_argument("--loop", action="store_true", help="file sources: start again at the end")
+    p.add_argument(
+        "--soundtrack",
+        metavar="FILE",
+        help="a sound file that audio signals follow from the session's start (default: a "
+        "file source's own audio, at each frame's time)",
+    )
     p.add_argument("--duration", type=float, metavar="S", help="stop after S seconds")
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
     p.add_argument(
@@ -113,7 +120,7 @@ def run_live(argv: list[str]) -> int:
         raise UsageError("give the source once: SOURCE or --source")
     spec = args.source_opt or args.source or "0"
     args.ops = recipe_file(args.ops)  # a preset's file, when no file of that name exists
-    load_recipe(args.ops)  # a bad recipe is refused before anything opens (exit 2)
+    recipe = load_recipe(args.ops)  # a bad recipe is refused before anything opens (exit 2)
     size = parse_size(args.size) if args.size else None
     if args.fps is not None and args.fps <= 0:
         raise UsageError(f"--fps: must be > 0, got {args.fps}")
@@ -133,6 +140,11 @@ def run_live(argv: list[str]) -> int:
     recorder = recorder_for(args) if args.output else None  # settings checked up front
 
     source = open_source(spec, size, args.fps, args.loop)
+    try:
+        audio, by_frame = live_audio(recipe, source, args.soundtrack)
+    except BaseException:
+        source.stop()
+        raise
     session = server = None
     stop = threading.Event()
     ok = False
@@ -154,6 +166,8 @@ def run_live(argv: list[str]) -> int:
             preview_width=args.preview_width,
             jpeg_quality=args.jpeg_quality,
             quiet=args.quiet,
+            audio=audio,
+            audio_by_frame=by_frame,
         )
         width, height = source.size
         if args.vcam:

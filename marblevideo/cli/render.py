@@ -135,6 +135,12 @@ def _render_parser() -> argparse.ArgumentParser:
         choices=("copy", "aac", "none"),
         help="copy audio bit-exact (default), re-encode to AAC, or drop it",
     )
+    v.add_argument(
+        "--soundtrack",
+        metavar="FILE",
+        help="a sound file: the output's audio (its first sample at t = 0, in place of the "
+        "input's) and what audio signals (audio.level, audio.low, ...) follow",
+    )
     add_encoder_arguments(v, preset_default="medium")
     c = p.add_argument_group("scale-out (pip install 'marblevideo[ray]')")
     c.add_argument(
@@ -171,13 +177,19 @@ def _where(dst) -> str:
 
 def render_command(argv: list[str]) -> int:
     from marblevideo.api import as_recipe, render_still
+    from marblevideo.signals.follow import check as check_signals
+    from marblevideo.signals.follow import check_soundtrack, follow
 
     args = _render_parser().parse_args(argv)
     configure_logging(args.verbose)
     recipe = as_recipe(args.ops)  # validated before any input is opened
     size = parse_size(args.size) if args.size else None
     job, _ = check_options(args)
+    if args.soundtrack is not None:
+        check_soundtrack(args.soundtrack)
+    check_signals(recipe, args.input, args.soundtrack)  # refusals before any work
     if job in ("vectors", "uv") or args.tolerance is not None:
+        recipe = follow(recipe, args.input, args.soundtrack)
         return render_extra(args, recipe, size, Path(args.output).suffix.lower())
     for flag, value in (("--fps", args.fps), ("--duration", args.duration)):
         if value is not None and not value > 0:
@@ -197,6 +209,7 @@ def render_command(argv: list[str]) -> int:
             device=args.device,
             progress="off" if args.quiet else args.progress,
             notify=None if args.quiet else _say,
+            soundtrack=args.soundtrack,
         )
         if not args.quiet:
             print(f"wrote {_where(dst)}", file=sys.stderr)
@@ -235,6 +248,7 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         fit=args.fit,
         format=args.format,
         overwrite=args.overwrite,
+        soundtrack=args.soundtrack,
         quiet=args.quiet,
         progress=args.progress,
         verbose=args.verbose,

@@ -75,7 +75,7 @@ def sliders(recipe, canvas: tuple[float, float] | None) -> list[dict]:
                 continue
             name = param.name
             track = op.params[name]
-            if track.keyed:
+            if track.varies:
                 params.append({"name": name, "animated": True})
                 continue
             v = float(track.keys[0].v[0])
@@ -194,8 +194,8 @@ def _check_param(param, recipe) -> tuple[tuple[int, str], float]:
     kind = op_def(ops[i].type).kinds.get(name)
     if kind not in NUMERIC_KINDS:
         raise UsageError(f"control: ops[{i}] ({ops[i].type}) has no numeric {name!r}")
-    if ops[i].params[name].keyed:
-        raise UsageError(f"control: ops[{i}].{name} is keyframed (animated), not adjustable")
+    if ops[i].params[name].varies:
+        raise UsageError(f"control: ops[{i}].{name} is animated (keys or a signal), not adjustable")
     ok = isinstance(value, int | float) and not isinstance(value, bool)
     if not ok or not math.isfinite(value) or abs(value) > LIMIT:
         raise UsageError(f"control: ops[{i}].{name}: expected a finite number, got {value!r}")

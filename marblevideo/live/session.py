@@ -32,6 +32,7 @@ from marblevideo.live.controls import Controls, sliders, with_overrides
 from marblevideo.live.editing import live_api
 from marblevideo.live.recipefile import RecipeFile
 from marblevideo.live.sources import Latest, Source
+from marblevideo.signals.live import FrameTimed
 
 RELOAD_POLL = 0.5
 
@@ -82,6 +83,8 @@ class LiveSession:
         jpeg_quality: int = 80,
         quiet: bool = False,
         say=None,
+        audio=None,
+        audio_by_frame: bool = False,
     ):
         from marblevideo.marbler import Marbler
         from marblevideo.opencl.renderer import Renderer
@@ -98,6 +101,9 @@ class LiveSession:
         self._lock = threading.Lock()
         self._marbler = None
         self._marbled_for: tuple[int, int] | None = None  # (recipe, overrides) versions
+        # audio signals (marblevideo.signals.live): by the shown frame's time in its file
+        self.media_t = 0.0
+        self.signals = FrameTimed(audio, lambda: self.media_t) if audio_by_frame else audio
         # outputs
         self.shown = Latest()  # rendered frames for the JPEG encoder
         self.jpeg = jpeg
@@ -167,7 +173,7 @@ class LiveSession:
         with self._lock:
             if self._marbled_for != (recipe_version, version):
                 self._marbler = self._Marbler(
-                    with_overrides(recipe, overrides), renderer=self.renderer
+                    with_overrides(recipe, overrides).bind(self.signals), renderer=self.renderer
                 )
                 self._marbled_for = (recipe_version, version)
             return self._marbler, bypass, mirror
@@ -283,6 +289,8 @@ class LiveSession:
                 if self.source.ended:
                     break
                 continue
+            if cap.media_t is not None:
+                self.media_t = cap.media_t
             self.show(cap.rgba, cap.ts)
 
     def show(self, rgba: np.ndarray, ts: float) -> np.ndarray:

@@ -28,11 +28,13 @@ from marblevideo.limits import DEFAULT_FPS
 
 @dataclass
 class Captured:
-    """One captured frame: RGBA (H, W, 4) uint8, capture time (monotonic s), sequence number."""
+    """One captured frame: RGBA (H, W, 4) uint8, capture time (monotonic s), sequence
+    number, and for a file its time in the file (s; None for live devices)."""
 
     rgba: np.ndarray
     ts: float
     seq: int
+    media_t: float | None = None
 
 
 class Latest:
@@ -100,9 +102,12 @@ class Source:
             self.ended = True
             self.frames.close()
 
-    def publish(self, rgba: np.ndarray, ts: float | None = None) -> None:
+    def publish(
+        self, rgba: np.ndarray, ts: float | None = None, media_t: float | None = None
+    ) -> None:
         self._seq += 1
-        self.frames.put(Captured(rgba, time.monotonic() if ts is None else ts, self._seq))
+        now = time.monotonic() if ts is None else ts
+        self.frames.put(Captured(rgba, now, self._seq, media_t))
 
     def capture(self) -> None:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -266,7 +271,7 @@ class MediaSource(Source):
                     return
                 if self._stop.is_set():
                     return
-                self.publish(upright(frame))
+                self.publish(upright(frame), media_t=t)
             if not self.loop:
                 return
             self._container.close()

@@ -221,14 +221,17 @@ class Encoder:
     def open_audio(self, sources: dict[int, tuple[av.stream.Stream, str]]) -> None:
         for index, (template, how) in sources.items():
             if how == "copy":
-                self.audio_out[index] = self.out.add_stream_from_template(template)
+                stream = self.out.add_stream_from_template(template)
+                if stream.layout.name != _ordered(template.layout):
+                    stream.layout = _ordered(template.layout)  # MP4 refuses "2 channels"
+                self.audio_out[index] = stream
                 continue
             codec = av.Codec(how, "w")
             rate = template.rate
             if codec.audio_rates and rate not in codec.audio_rates:
                 rate = 48000 if 48000 in codec.audio_rates else codec.audio_rates[0]
             stream = self.out.add_stream(how, rate=rate)
-            stream.layout = template.layout.name
+            stream.layout = _ordered(template.layout)
             stream.format = codec.audio_formats[0].name
             self.audio_out[index] = stream
 
@@ -286,6 +289,18 @@ class Encoder:
                 packets = stream.encode(None)
                 self.out.mux(packets)
                 self.stats.audio_packets += len(packets)
+
+
+#: The usual channel layout for a count of channels.
+_LAYOUTS = {1: "mono", 2: "stereo", 3: "2.1", 4: "quad", 5: "5.0", 6: "5.1", 7: "6.1", 8: "7.1"}
+
+
+def _ordered(layout: av.AudioLayout) -> str:
+    """A layout an encoder opens with: an input's without a channel order ("2
+    channels", as WAV and PCM in Matroska give) as the usual one of that count."""
+    if layout.name.endswith("channels"):
+        return _LAYOUTS.get(layout.nb_channels, layout.name)
+    return layout.name
 
 
 def audio_plan(

@@ -85,6 +85,7 @@ from marblevideo.media.output import check_output
 from marblevideo.media.progress import Progress, progress_mode
 from marblevideo.media.retime import rate_fraction, retimed
 from marblevideo.media.sinks import SequenceWriter, video_writer
+from marblevideo.media.soundtrack import opened
 from marblevideo.media.video import (
     QUEUE_FRAMES,
     AudioItem,
@@ -328,10 +329,11 @@ def transcode(
         check_output(dst, options.overwrite, inputs)
     stats = Stats()
     sequence_in = is_sequence(src)
-    with open_input(src, options.fps, stream) as container:
+    with open_input(src, options.fps, stream) as container, opened(options.soundtrack) as sound:
         say = notifier(options, stats)
         name = "standard output" if plan.stream else f"{Path(dst).suffix} files"
-        audio = audio_plan(container, plan, options, name, say)
+        own = audio_plan(container, plan, options, name, say) if sound is None else {}
+        audio = own or (sound.plan(plan, options, say) if sound else {})
         encoders = set(audio.values()) - {"copy"}
         stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
         vin = container.streams.video[0]
@@ -344,7 +346,7 @@ def transcode(
             container,
             options.start,
             options.end,
-            audio,
+            own,
             planar is not None and out_matrix is not None,
             pts_origin,
         )
@@ -356,7 +358,8 @@ def transcode(
 
         def produce() -> Iterator[VideoItem | AudioItem]:
             items = reader.items()
-            return retimed(items, vin.time_base, options.fps) if convert else items
+            items = retimed(items, vin.time_base, options.fps) if convert else items
+            return items if sound is None else sound.mixed(items, time_base)
 
         start = None
         if planar is not None and isinstance(transform, PlanarStart):
@@ -386,7 +389,8 @@ def transcode(
         def setup(writer: Encoder | SequenceWriter, first: VideoItem) -> None:
             height, width = first.shape
             writer.open_video(width, height, time_base, rate, colors)
-            writer.open_audio({i: (container.streams[i], how) for i, how in audio.items()})
+            streams = container.streams if sound is None else {sound.stream.index: sound.stream}
+            writer.open_audio({i: (streams[i], how) for i, how in audio.items()})
 
         total = estimate_frames(reader, options.fps if convert else None)
         with (
@@ -434,13 +438,13 @@ def render_sheet(
     (a blank sheet's, or a still's: :class:`marblevideo.marbler.SheetFrames`),
     telling ``notes`` first.
 
-    Constant frame rate (time base 1/fps for integer rates), no audio, colours
-    untagged (BT.601, limited range). For a yuv420p output, ``render_at.i420(t,
-    matrix)``, where present, gives the frame as I420 in ``matrix`` (None where
-    it cannot, e.g. odd sizes) and swscale is skipped; ``render_at.i420_start(t,
-    matrix)``, where present, is used instead: it returns a function giving that
-    frame (or None where it cannot), called once the next frame is started.
-    ``plan`` as for :func:`transcode`.
+    Constant frame rate (time base 1/fps for integer rates), no audio but
+    ``options.soundtrack``, colours untagged (BT.601, limited range). For a
+    yuv420p output, ``render_at.i420(t, matrix)``, where present, gives the frame
+    as I420 in ``matrix`` (None where it cannot, e.g. odd sizes) and swscale is
+    skipped; ``render_at.i420_start(t, matrix)``, where present, is used instead:
+    it returns a function giving that frame (or None where it cannot), called once
+    the next frame is started. ``plan`` as for :func:`transcode`.
     """
     options = options or VideoOptions()
     if duration <= 0 or fps <= 0:
@@ -461,7 +465,8 @@ def render_sheet(
     matrix = YuvMatrix.of(None, None)
 
     def produce() -> Iterator[VideoItem]:
-        return (VideoItem(None, i, 1, i / fps) for i in range(count))
+        items = (VideoItem(None, i, 1, i / fps) for i in range(count))
+        return items if sound is None else sound.mixed(items, 1 / rate)
 
     def render(item: VideoItem) -> Callable[[], None] | None:
         if start is not None:
@@ -479,11 +484,16 @@ def render_sheet(
     def setup(writer: Encoder, first: VideoItem) -> None:
         height, width = first.shape
         writer.open_video(width, height, 1 / rate, rate, {})
+        if audio:
+            writer.open_audio({sound.stream.index: (sound.stream, audio[sound.stream.index])})
 
     with (
+        opened(options.soundtrack) as sound,
         video_writer(dst, plan, options, stats) as writer,
         library_logs(options.verbose),
     ):
+        audio = {} if sound is None else sound.plan(plan, options, notifier(options, stats))
+        stats.audio = next(iter(audio.values()), "none")
         _run(writer, plan, options, produce, render, setup, count)
     stats.seconds = time.monotonic() - began
     return stats

@@ -72,9 +72,17 @@ def schema_fault(error: ValidationError, doc: Any) -> Fault:
     kind, instance, bound = error.validator, error.instance, error.validator_value
     if kind == "anyOf" and isinstance(instance, str) and error.schema.get("title") == COLOR_TITLE:
         return make_fault(doc, path, color_message(instance))
+    if isinstance(instance, dict) and "signal" in instance and _refuses_signals(error):
+        return make_fault(doc, path, NO_SIGNAL)
     if kind == "anyOf":
         branches = _branches(error)
-        meant = [errors for errors in branches if not any(_mismatch(e) for e in errors)]
+        meant = [
+            errors
+            for _, errors in sorted(
+                enumerate(branches), key=lambda b: not _holds_key(error, b[0], instance)
+            )
+            if not any(_mismatch(e) for e in errors)
+        ]
         if meant:
             return min((schema_fault(e, doc) for e in meant[0]), key=lambda f: f.position)
         message = f"expected {' or '.join(_expected(error.schema))}, got {describe(instance)}"
@@ -92,6 +100,29 @@ def schema_fault(error: ValidationError, doc: Any) -> Fault:
         message = f"{field_!r} requires {needs[0]!r} (progress runs from start to end)"
         return make_fault(doc, path, message, list(instance).index(field_))
     return make_fault(doc, path, _message(kind, instance, bound, error.schema))
+
+
+#: A signal where the parameter takes none (points, colours, layout fields, constants).
+NO_SIGNAL = (
+    "takes no signal: only keyable numbers follow signals (points, colors, layout fields "
+    "and constants take none)"
+)
+
+
+def _refuses_signals(error: ValidationError) -> bool:
+    """Whether the schema that refused a signal object has no signal branch."""
+    if error.validator == "type":
+        return True
+    refs = [branch.get("$ref", "") for branch in error.schema.get("anyOf", ())]
+    return error.validator == "anyOf" and not any(r.endswith("Signal") for r in refs)
+
+
+def _holds_key(error: ValidationError, branch: int, instance: Any) -> bool:
+    """Whether ``instance`` has the field that marks anyOf ``branch`` as the one it
+    means: ``keys`` for a keyframe track, ``signal`` for a signal."""
+    ref = error.schema["anyOf"][branch].get("$ref", "")
+    field_ = "keys" if ref.endswith("Track") else "signal" if ref.endswith("Signal") else None
+    return isinstance(instance, dict) and field_ in instance
 
 
 def color_message(text: str) -> str:

@@ -123,8 +123,14 @@ class Track:
         """Times of the keys; empty for a constant."""
         return tuple(k.t for k in self.keys) if self.keyed else ()
 
-    def at(self, t: float) -> float | tuple[float, ...]:
-        """The value at time ``t`` (seconds)."""
+    @property
+    def varies(self) -> bool:
+        """Whether the value changes with time (a keyed track; a signal's varies too)."""
+        return self.keyed
+
+    def at(self, t: float, signals: object = None) -> float | tuple[float, ...]:
+        """The value at time ``t`` (seconds); ``signals`` is ignored (keys follow
+        no signal: see :class:`~marblevideo.recipe.signals.SignalTrack`)."""
         keys = self.keys
         i = bisect_right([k.t for k in keys], t) - 1
         if i < 0:

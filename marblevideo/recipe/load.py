@@ -22,6 +22,7 @@ giving the :class:`~marblevideo.recipe.frame.FrameSpec` the renderers read.
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 import numbers
@@ -46,6 +47,13 @@ from marblevideo.recipe.faults import (
 )
 from marblevideo.recipe.frame import FrameSpec, OpState
 from marblevideo.recipe.keyframes import Key, Track
+from marblevideo.recipe.signals import (
+    SignalTrack,
+    SignalValues,
+    check_at_ends,
+    signal_faults,
+    signal_track,
+)
 
 DEFAULT_BACKGROUND = "#ffffff"
 #: Parameter kinds whose value is one number (the others are tuples).
@@ -66,7 +74,7 @@ class Op:
     :attr:`Recipe.ops`, so ``index`` and ``entry`` may differ."""
 
     type: str
-    params: dict[str, Track] = field(hash=False)
+    params: dict[str, Track | SignalTrack] = field(hash=False)
     start: float | None
     end: float | None
     index: int
@@ -84,10 +92,11 @@ class Op:
             return 1.0
         return (t - self.start) / (self.end - self.start)
 
-    def at(self, t: float) -> OpState:
-        """The op at time ``t``: tracks resolved, its definition's progress laws
-        applied (e.g. ink radius * sqrt(p), alpha * p; see :mod:`marblevideo.ops`)."""
-        values = {name: track.at(t) for name, track in self.params.items()}
+    def at(self, t: float, signals: SignalValues | None = None) -> OpState:
+        """The op at time ``t``: tracks resolved (signals from ``signals``), its
+        definition's progress laws applied (e.g. ink radius * sqrt(p), alpha * p;
+        see :mod:`marblevideo.ops`)."""
+        values = {name: track.at(t, signals) for name, track in self.params.items()}
         return OpState(self.type, op_def(self.type).at_progress(values, self.progress(t)))
 
     @property
@@ -95,6 +104,11 @@ class Op:
         """Every key time of its tracks and its ``start``/``end``."""
         own = tuple(x for x in (self.start, self.end) if x is not None)
         return own + tuple(t for track in self.params.values() for t in track.key_times)
+
+    @property
+    def signal_params(self) -> dict[str, SignalTrack]:
+        """Its parameters that follow a signal, by name."""
+        return {n: track for n, track in self.params.items() if isinstance(track, SignalTrack)}
 
 
 @dataclass(frozen=True)
@@ -105,6 +119,8 @@ class Recipe:
     hidden ops left out; ``entries``: the length of the file's ``ops``.
     ``source`` is the name used in messages (the file as given, or ``<dict>``);
     ``description`` is the recipe's own (empty if it gives none; not rendered).
+    ``signals``: where parameters that follow a signal take their values
+    (:meth:`bind`); None gives each signal's resting value.
     """
 
     ops: tuple[Op, ...]
@@ -115,6 +131,7 @@ class Recipe:
     source: str = "<dict>"
     description: str = ""
     entries: int = 0
+    signals: SignalValues | None = field(default=None, compare=False, repr=False)
 
     @classmethod
     def from_dict(cls, data: object, source: str = "<dict>") -> Recipe:
@@ -123,8 +140,22 @@ class Recipe:
 
     @property
     def is_animated(self) -> bool:
-        """Whether any value depends on time."""
-        return bool(self.background.key_times) or any(op.times for op in self.ops)
+        """Whether any value depends on time (keys, start/end, signals)."""
+        keyed = bool(self.background.key_times) or any(op.times for op in self.ops)
+        return keyed or bool(self.signal_uses())
+
+    def signal_uses(self) -> list[tuple[str, SignalTrack]]:
+        """(JSON path of the parameter, its track) for every parameter rendered
+        that follows a signal, in document order."""
+        return [
+            (f"ops[{op.entry}].{name}", track)
+            for op in self.ops
+            for name, track in op.signal_params.items()
+        ]
+
+    def bind(self, signals: SignalValues | None) -> Recipe:
+        """This recipe with its signals taken from ``signals``."""
+        return dataclasses.replace(self, signals=signals)
 
     def end_time(self) -> float:
         """When the animation is finished: the largest key time and op start/end, else 0.
@@ -140,7 +171,7 @@ class Recipe:
             raise UsageError(f"{self.source}: the recipe has no canvas and there is no input size")
         r, g, b = self.background.at(t)
         return FrameSpec(
-            ops=tuple(op.at(t) for op in self.ops),
+            ops=tuple(op.at(t, self.signals) for op in self.ops),
             background=(r, g, b),
             antialias=self.antialias,
             edges=self.edges,
@@ -312,9 +343,12 @@ def _components(value: Any) -> tuple[float, ...]:
     return (float(value),)
 
 
-def _track(value: Any, kind: str) -> Track:
-    """A valid parameter value (constant or ``{"keys": [...]}``) as a Track."""
+def _track(value: Any, kind: str) -> Track | SignalTrack:
+    """A valid parameter value (constant, ``{"keys": [...]}`` or a signal) as a
+    Track or SignalTrack."""
     scalar = kind in SCALAR_KINDS
+    if isinstance(value, dict) and "signal" in value:
+        return signal_track(value)
     if not isinstance(value, dict):
         return Track((Key(0.0, _components(value)),), scalar=scalar, keyed=False)
     return Track(tuple(_key(key) for key in value["keys"]), scalar=scalar)
@@ -343,7 +377,9 @@ def _semantic_faults(doc: dict) -> list[Fault]:
             message = f"must be > start ({describe(op['start'])}), got {describe(op['end'])}"
             faults.append(make_fault(doc, ["ops", i, "end"], message))
     for path, track in tracks:
-        if not isinstance(track, dict):
+        if isinstance(track, dict) and "signal" in track:
+            faults += [make_fault(doc, [*path, *sub], m) for sub, m in signal_faults(track)]
+        if not isinstance(track, dict) or "signal" in track:
             continue
         keys = track["keys"]
         for k in range(1, len(keys)):
@@ -358,6 +394,6 @@ def _semantic_faults(doc: dict) -> list[Fault]:
     for i, op in enumerate(doc["ops"]):  # the ops' own rules, on well-formed tracks
         check = type_def(op["type"]).check
         tracks = {} if op["type"] in LAYOUTS else _params(op)
-        for path, message in check(op, tracks) if check is not None else ():
+        for path, message in check_at_ends(check, op, tracks) if check is not None else ():
             faults.append(make_fault(doc, ["ops", i, *path], message))
     return faults

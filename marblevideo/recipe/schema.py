@@ -3,14 +3,16 @@
 It is the one structural description of shared/recipe-format.md: the loader
 (:mod:`marblevideo.recipe`) validates every recipe against exactly this schema,
 so an editor that uses it agrees with the loader. What a schema cannot say
-(key times strictly increasing, ``end`` > ``start``) the loader checks after it.
+(key times strictly increasing, ``end`` > ``start``, signal names) the loader
+checks after it.
 
 Each op is dispatched on its ``type`` with ``if``/``then``, so editors complete
 the fields of the op being written and errors name that op's own fields. Every
-numeric parameter, point and color may be a keyframe track. The ops, their
-parameters' kinds (``$defs`` entries) and help texts come from the op registry
-(:mod:`marblevideo.ops`). A color's CSS names are an ``enum`` (editors complete
-it) and, for any case, a pattern (:mod:`marblevideo.recipe.colors`).
+numeric parameter, point and color may be a keyframe track (numbers also a
+signal). The ops, their parameters' kinds (``$defs`` entries) and help texts
+come from the op registry (:mod:`marblevideo.ops`). A color's CSS names are an
+``enum`` (editors complete it) and, for any case, a pattern
+(:mod:`marblevideo.recipe.colors`).
 """
 
 from __future__ import annotations
@@ -24,6 +26,7 @@ from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.colors import CSS_NAMES, HEX_PATTERN, NAME_PATTERN, SHAPES
 from marblevideo.recipe.frame import EDGE_MODES
 from marblevideo.recipe.keyframes import EASE_NAMES
+from marblevideo.recipe.signals import NAME_FORMS
 
 SCHEMA_ID = "urn:marblevideo:recipe:1"
 DRAFT = "https://json-schema.org/draft/2020-12/schema"
@@ -32,6 +35,8 @@ DRAFT = "https://json-schema.org/draft/2020-12/schema"
 LIMIT = NUMBER_LIMIT
 #: The title of a color in the schema (and so in messages).
 COLOR_TITLE = f"color ({SHAPES})"
+#: Kinds whose keyable parameters may follow a signal instead (numbers).
+SIGNAL_KINDS = ("number", "positive", "nonnegative")
 #: Longest ``description``, in characters.
 MAX_DESCRIPTION = 200
 
@@ -67,6 +72,53 @@ def _track(kind: str) -> dict:
         "type": "object",
         "properties": {"keys": {"type": "array", "minItems": 1, "items": key}},
         "required": ["keys"],
+        "additionalProperties": False,
+    }
+
+
+def _signal(kind: str) -> dict:
+    """A number that follows a signal (revision 3): lo + (hi - lo) * y, y in 0..1."""
+    seconds = {**_number(minimum=0), "default": 0}
+    return {
+        "title": 'signal {"signal": NAME, "range": [lo, hi]}',
+        "description": "Follows a signal y in 0..1 as lo + (hi - lo) * y: "
+        + ", ".join(NAME_FORMS)
+        + " (controllers only in a live session).",
+        "type": "object",
+        "properties": {
+            "signal": {
+                "type": "string",
+                "description": "The signal's name.",
+                "examples": list(NAME_FORMS),
+            },
+            "range": {
+                "title": "range [lo, hi]",
+                "type": "array",
+                "items": _ref(kind),
+                "minItems": 2,
+                "maxItems": 2,
+                "description": "The parameter's values at y = 0 and y = 1.",
+            },
+            "db": {
+                "title": "dB range [d0, d1]",
+                "type": "array",
+                "items": _number(),
+                "minItems": 2,
+                "maxItems": 2,
+                "default": [-60, 0],
+                "description": "Audio: the levels (dB full scale) mapped to 0 and 1, d0 < d1.",
+            },
+            "attack": {**seconds, "description": "Seconds: the envelope's rise time constant."},
+            "release": {**seconds, "description": "Seconds: the envelope's fall time constant."},
+            "initial": {
+                "type": "number",
+                "minimum": 0,
+                "maximum": 1,
+                "default": 0,
+                "description": "Controllers: the value 0..1 before the first message.",
+            },
+        },
+        "required": ["signal", "range"],
         "additionalProperties": False,
     }
 
@@ -172,7 +224,17 @@ def _build() -> dict:
         **kinds,
         **{kind: schema_ for kind, schema_ in constants.items() if kind in used},
         **{f"{kind}Track": _track(kind) for kind in kinds},
-        **{f"{kind}Param": {"anyOf": [_ref(kind), _ref(f"{kind}Track")]} for kind in kinds},
+        **{f"{kind}Signal": _signal(kind) for kind in SIGNAL_KINDS},
+        **{
+            f"{kind}Param": {
+                "anyOf": [
+                    _ref(kind),
+                    _ref(f"{kind}Track"),
+                    *([_ref(f"{kind}Signal")] if kind in SIGNAL_KINDS else []),
+                ]
+            }
+            for kind in kinds
+        },
         "time": _number(),
         "ease": {
             "description": "Shapes the segment leaving this key (default linear).",
