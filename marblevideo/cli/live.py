@@ -22,6 +22,13 @@ from marblevideo.cli.arguments import (
     parse_encoder_opts,
     parse_size,
 )
+from marblevideo.cli.controllers import (
+    add_controller_arguments,
+    check_controllers,
+    close_all,
+    start_controllers,
+    write_take,
+)
 from marblevideo.errors import MarbleError, UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_PORT
 from marblevideo.live.session import LiveSession
@@ -68,6 +75,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--preview-width", type=int, metavar="W", help="encode the preview at most W pixels wide"
     )
     p.add_argument("--jpeg-quality", type=int, default=80, help="preview JPEG quality (80)")
+    add_controller_arguments(p)
     add_log_arguments(p)
     v = p.add_argument_group("recording (as the file mode)")
     add_encoder_arguments(v, preset_default="here: veryfast, for real time")
@@ -113,7 +121,7 @@ def run_live(argv: list[str]) -> int:
         raise UsageError("give the source once: SOURCE or --source")
     spec = args.source_opt or args.source or "0"
     args.ops = recipe_file(args.ops)  # a preset's file, when no file of that name exists
-    load_recipe(args.ops)  # a bad recipe is refused before anything opens (exit 2)
+    recipe = load_recipe(args.ops)  # a bad recipe is refused before anything opens (exit 2)
     size = parse_size(args.size) if args.size else None
     if args.fps is not None and args.fps <= 0:
         raise UsageError(f"--fps: must be > 0, got {args.fps}")
@@ -130,10 +138,12 @@ def run_live(argv: list[str]) -> int:
             import pyvirtualcam  # noqa: F401 - checked before anything opens
         except ImportError:
             raise MarbleError(f"--vcam needs pyvirtualcam: {VCAM_HELP}") from None
+    check_controllers(args, recipe)
     recorder = recorder_for(args) if args.output else None  # settings checked up front
 
     source = open_source(spec, size, args.fps, args.loop)
     session = server = None
+    listeners: list = []
     stop = threading.Event()
     ok = False
     previous: dict[int, object] = {}
@@ -168,6 +178,7 @@ def run_live(argv: list[str]) -> int:
             server = PreviewServer(LiveDesign(session), args.port)  # the designer, live
             server.start()
             print(f"preview: {server.url}", flush=True)
+        listeners = start_controllers(args, session)
         for signum in (signal.SIGINT, signal.SIGTERM):
             previous[signum] = signal.signal(signum, on_signal)
         if not args.quiet:
@@ -178,7 +189,10 @@ def run_live(argv: list[str]) -> int:
             )
         session.run(args.duration)
         ok = True
+        if args.automation:
+            write_take(args, session)
     finally:
+        close_all(listeners)
         if server is not None:
             server.stop()
         if session is not None:
