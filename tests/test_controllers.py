@@ -218,3 +218,14 @@ def test_automation_of_an_envelope_keeps_at_most_100_keys_a_second():
     live = parse_recipe(doc).ops[0].params["alpha"]
     for t in np.linspace(0, 2, 201):
         assert replay.params["alpha"].at(t) == pytest.approx(live.at(t, signals), abs=1e-6)
+
+
+def test_learn_takes_the_next_name_received():
+    signals = ControllerSignals()
+    signals.receive("osc:/before", 0.1)
+    assert signals.learned is None
+    signals.learn()
+    assert signals.learning
+    signals.receive("midi:cc:2:74", 0.5)
+    signals.receive("osc:/after", 0.5)
+    assert signals.learned == "midi:cc:2:74" and not signals.learning

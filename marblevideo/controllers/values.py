@@ -78,7 +78,8 @@ class ControllerSignals:
         self._cache: dict[Signal, tuple[int, float]] = {}  # signal -> (i, e_i)
         self.known: frozenset[str] = frozenset()
         self.counts = {"messages": 0, "unknown": 0, "dropped": 0}
-        self.learn = None  # a callable taking the next name received (MIDI learn), or None
+        self.learning = False  # learn: the next name received becomes ``learned``
+        self.learned: str | None = None
 
     def start(self, origin: float | None = None) -> None:
         """The session starts at ``origin`` (``time.monotonic()``; default now):
@@ -100,9 +101,13 @@ class ControllerSignals:
             if name not in self.known:
                 self.counts["unknown"] += 1
             self._logs.setdefault(name, _Log()).add(k, clamp01(y))
-            learn, self.learn = self.learn, None
-        if learn is not None:
-            learn(name)
+            if self.learning:
+                self.learning, self.learned = False, name
+
+    def learn(self) -> None:
+        """Take the name of the next message received as :attr:`learned`."""
+        with self._lock:
+            self.learning, self.learned = True, None
 
     def drop(self) -> None:
         """Count a malformed message (or one with no number)."""
