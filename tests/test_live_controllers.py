@@ -129,3 +129,13 @@ def test_bad_controller_options_are_refused_before_starting(cli, tmp_path):
         r = cli("live", "test", "--ops", recipe, "--duration", "1", *args)
         assert r.returncode == 2, r.stderr
         assert expected in r.stderr and r.stderr.count("\n") == 1, r.stderr
+
+
+def test_midi_lists_input_ports_or_says_why_not_in_one_line(cli):
+    r = cli("midi")
+    if r.returncode == 0:  # a system with an ALSA sequencer (or CoreMIDI, WinMM)
+        assert r.stderr in ("", "marblevideo: no MIDI input ports\n")
+    else:  # no sequencer here (no /dev/snd/seq): a runtime failure, said once
+        assert r.returncode == 1, r.stderr
+        assert r.stderr.startswith("marblevideo: MIDI: cannot list input ports: ")
+        assert r.stderr.count("\n") == 1 and "ALSA lib" not in r.stderr

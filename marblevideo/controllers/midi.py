@@ -10,6 +10,10 @@ messages (clock, pitch bend, sysex...) are ignored.
 
 from __future__ import annotations
 
+import contextlib
+import os
+import sys
+
 from marblevideo.controllers.values import ControllerSignals
 from marblevideo.errors import MarbleError, UsageError
 
@@ -46,11 +50,27 @@ def mido_backend():
     return mido
 
 
+@contextlib.contextmanager
+def _alsa_quiet():
+    """File descriptor 2 to /dev/null for the while: ALSA's C library prints its
+    own lines there when it has no sequencer (the error is raised as well)."""
+    sys.stderr.flush()
+    saved = os.dup(2)
+    try:
+        with open(os.devnull, "w") as null:
+            os.dup2(null.fileno(), 2)
+            yield
+    finally:
+        os.dup2(saved, 2)
+        os.close(saved)
+
+
 def input_names() -> list[str]:
     """The MIDI input ports; MarbleError (exit 1) when the system has no MIDI."""
     mido = mido_backend()
     try:
-        return list(mido.get_input_names())
+        with _alsa_quiet():
+            return list(mido.get_input_names())
     except Exception as exc:  # noqa: BLE001 - rtmidi raises its own SystemError kinds
         raise MarbleError(f"MIDI: cannot list input ports: {_first_line(exc)}") from None
 
@@ -75,7 +95,8 @@ class MidiInput:
         self.name = port
         mido = mido_backend()
         try:
-            self.port = mido.open_input(port, callback=self.handle)
+            with _alsa_quiet():
+                self.port = mido.open_input(port, callback=self.handle)
         except Exception as exc:  # noqa: BLE001 - rtmidi's own error kinds
             raise MarbleError(f"--midi: cannot open {port!r}: {_first_line(exc)}") from None
 
