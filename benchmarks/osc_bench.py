@@ -8,7 +8,8 @@ published at 30 fps, so a frame changes only when the controller does) -> the
 an OSC listener (``--osc``) feeding the session's controllers. Each round sends
 0 or 1 to /swirl at a random phase of the frame clock and waits for the first
 JPEG that is nearer the picture of the new value than of the old one (the
-time is taken when the JPEG is handed over, before it is decoded to check).
+time is taken when the JPEG is handed over, before it is decoded, at a quarter
+of its size, to check; the check shares the CPU with the session).
 The session's own capture -> JPEG latency of the same run is printed beside it:
 the OSC latency is that plus the wait for the next frame (up to one frame
 period) and the UDP hop.
@@ -65,7 +66,8 @@ def _jpeg_after(session, seq: int) -> tuple[int, np.ndarray, float]:
     when = time.monotonic()
     if data is None:
         raise RuntimeError("no preview frame for 2 s")
-    return seq, cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR).astype(np.int16), when
+    small = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_REDUCED_COLOR_4)  # cheap
+    return seq, small.astype(np.int16), when
 
 
 def _settle(session, client, value: float) -> np.ndarray:
