@@ -16,11 +16,11 @@ from marblevideo.controllers.values import SessionSignals
 
 def signals_state(session) -> dict:
     controllers = session.controllers
-    now = controllers.now()
-    source = SessionSignals(controllers)
-    values = {path: source.at(track.signal, now) for path, track in session.recipe.signal_uses()}
+    source = SessionSignals(controllers, session.signals)  # audio: at the animation clock's t
+    t = session.clock.now()
+    values = {path: source.at(track.signal, t) for path, track in session.recipe.signal_uses()}
     return {
-        "t": round(now, 3),
+        "t": round(controllers.now(), 3),
         "values": values,
         "latest": controllers.latest(),
         "learning": controllers.learning,

@@ -97,6 +97,7 @@ class LiveSession:
         self.quiet = quiet
         self.controls = Controls()
         self.controllers = ControllerSignals()  # OSC and MIDI, fed by their listeners
+        self.signals = None  # other signals' source (audio), beside the controllers
         self._lock = threading.Lock()
         self._marbler = None
         self._marbled_for: tuple[int, int] | None = None  # (recipe, overrides) versions
@@ -179,7 +180,7 @@ class LiveSession:
         the controllers told which names it uses)."""
         uses = recipe.signal_uses()
         self.controllers.known = frozenset(t.signal.name for _, t in uses if t.signal.controller)
-        return recipe.bind(SessionSignals(self.controllers)) if uses else recipe
+        return recipe.bind(SessionSignals(self.controllers, self.signals)) if uses else recipe
 
     # -- controls (from the preview) ----------------------------------------
     def params(self) -> dict:
