@@ -6,6 +6,7 @@ FILE by the OpenCL renderer over the same source."""
 from __future__ import annotations
 
 import json
+import signal
 import subprocess
 import sys
 import time
@@ -139,3 +140,25 @@ def test_midi_lists_input_ports_or_says_why_not_in_one_line(cli):
         assert r.returncode == 1, r.stderr
         assert r.stderr.startswith("marblevideo: MIDI: cannot list input ports: ")
         assert r.stderr.count("\n") == 1 and "ALSA lib" not in r.stderr
+
+
+def test_sigterm_ends_the_session_and_writes_the_take(tmp_path):
+    recipe, auto = tmp_path / "r.json", tmp_path / "take.json"
+    recipe.write_text(json.dumps(RECIPE))
+    live = LiveProcess(
+        "test", "--size", "160x90", "--ops", recipe, "--osc", "0", "--automation", auto,
+        cwd=tmp_path, preview=False,
+    )  # fmt: skip
+    try:
+        line = live.proc.stdout.readline()
+        client = SimpleUDPClient("127.0.0.1", int(line.rsplit(":", 1)[1]))
+        time.sleep(1.0)
+        client.send_message("/swirl", 0.5)
+        time.sleep(0.5)
+    finally:
+        rc = live.stop(signal.SIGTERM)
+    assert rc == 0, live.stderr()
+    keys = json.loads(auto.read_text())["ops"][0]["alpha"]["keys"]
+    assert [k["v"] for k in keys] == [40.0, 200.0]
+    assert 0.5 < keys[1]["t"] < 5
+    assert not list(tmp_path.glob(".take.*"))  # no temporary left
