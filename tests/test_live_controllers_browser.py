@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import json
 
+import cv2
+import numpy as np
 from pythonosc.udp_client import SimpleUDPClient
 
 from tests.live_helpers import ROOT, LiveProcess, watched_page
@@ -82,3 +84,35 @@ def test_a_slider_bound_to_an_osc_address_moves_with_it(browser, tmp_path):
         assert errors == []
     finally:
         live.stop()
+
+
+def test_the_designer_over_a_live_source_takes_osc(browser, tmp_path):
+    recipe = tmp_path / "design.json"
+    recipe.write_text(json.dumps({
+        "marblevideo": 1, "canvas": [320, 240], "antialias": "none",
+        "ops": [{"type": "drop", "center": [160, 120], "color": "#ff00ff",
+                 "radius": {"signal": "osc:/size", "range": [1, 100]}}],
+    }))  # fmt: skip
+    design = LiveProcess(
+        "test", "--size", "320x240", "--ops", recipe, "--osc", "0", "--no-browser",
+        "--port", "0", "--duration", "120", cwd=tmp_path, command="design",
+    )  # fmt: skip
+    try:
+        client = SimpleUDPClient("127.0.0.1", int(design.proc.stdout.readline().rsplit(":", 1)[1]))
+        ring = lambda: _shot_png(design.get("/api/frame.png?t=1"))[120, 160 + 50]  # noqa: E731
+        assert tuple(ring()) != (255, 0, 255)  # radius 1: the pattern shows there
+        page, errors = watched_page(browser, design.url, "body[data-ready='1']")
+        page.click("#op-0 .name")
+        page.wait_for_selector("#m-radius")
+        client.send_message("/size", 1.0)
+        _meter(page, "radius", 1.0)
+        assert tuple(ring()) == (255, 0, 255)  # radius 100: the drop covers it
+        assert errors == []
+    finally:
+        design.stop()
+
+
+def _shot_png(data: bytes) -> np.ndarray:
+    """A PNG as an RGB array."""
+    bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+    return cv2.cvtColor(bgr, cv2.COLOR_BGR2RGB)

@@ -10,7 +10,7 @@ import time
 from marblevideo.cli.arguments import Parser
 
 
-def add_controller_arguments(p: argparse.ArgumentParser) -> None:
+def add_controller_arguments(p: argparse.ArgumentParser, automation: bool = True) -> None:
     g = p.add_argument_group("controllers (signals osc:/ADDRESS, midi:cc:CH:N, midi:note:CH:N)")
     g.add_argument(
         "--osc", metavar="[HOST:]PORT", help="listen for OSC over UDP (host 127.0.0.1 by default)"
@@ -23,6 +23,8 @@ def add_controller_arguments(p: argparse.ArgumentParser) -> None:
         help="take MIDI from input PORT (default: the first; see `marblevideo midi`); "
         "needs the extra marblevideo[midi]",
     )
+    if not automation:
+        return
     g.add_argument(
         "--automation",
         metavar="FILE",
@@ -43,7 +45,7 @@ def check_controllers(args, recipe) -> None:
     sources = {t.signal.source for _, t in recipe.signal_uses() if t.signal.controller}
     if args.midi is not None or "midi" in sources:
         mido_backend()  # names the extra when it is missing
-    if args.automation is not None:
+    if getattr(args, "automation", None) is not None:
         check_output(args.automation, args.overwrite)
     for source, option in (("osc", args.osc), ("midi", args.midi)):
         if source in sources and option is None and not args.quiet:

@@ -1,4 +1,5 @@
-"""The live page's view of signals (``marblevideo live --preview``):
+"""The page's view of signals (``marblevideo live --preview``, and ``marblevideo
+design`` over a live source):
 
 - ``GET /api/signals``: ``{"t": session seconds, "values": {JSON path: y},
   "latest": {name: y}, "learning": bool, "learned": name or null, "counts":
@@ -11,14 +12,13 @@
 
 from __future__ import annotations
 
-from marblevideo.controllers.values import SessionSignals
+from marblevideo.controllers.values import ControllerSignals, SessionSignals
 
 
-def signals_state(session) -> dict:
-    controllers = session.controllers
-    source = SessionSignals(controllers, session.signals)  # audio: at the animation clock's t
-    t = session.clock.now()
-    values = {path: source.at(track.signal, t) for path, track in session.recipe.signal_uses()}
+def signals_state(controllers: ControllerSignals, recipe, others=None, t: float = 0.0) -> dict:
+    """``GET /api/signals`` for ``recipe``; ``others`` (audio) read at animation time ``t``."""
+    source = SessionSignals(controllers, others)
+    values = {path: source.at(track.signal, t) for path, track in recipe.signal_uses()}
     return {
         "t": round(controllers.now(), 3),
         "values": values,
@@ -29,11 +29,18 @@ def signals_state(session) -> dict:
     }
 
 
+def learn(controllers: ControllerSignals) -> dict:
+    """``POST /api/learn``."""
+    controllers.learn()
+    return {"learning": True}
+
+
 def controllers_api(session, method: str, path: str):
-    """(status, JSON object) for the routes above, or None for another route."""
+    """(status, JSON object) of a live session for the routes above, or None for
+    another route."""
     if (method, path) == ("GET", "/api/signals"):
-        return 200, signals_state(session)
+        t = session.clock.now()
+        return 200, signals_state(session.controllers, session.recipe, session.signals, t)
     if (method, path) == ("POST", "/api/learn"):
-        session.controllers.learn()
-        return 200, {"learning": True}
+        return 200, learn(session.controllers)
     return None
