@@ -229,3 +229,24 @@ def test_learn_takes_the_next_name_received():
     signals.receive("midi:cc:2:74", 0.5)
     signals.receive("osc:/after", 0.5)
     assert signals.learned == "midi:cc:2:74" and not signals.learning
+
+
+def test_reads_interleaved_with_messages_equal_the_contract_on_the_whole_log():
+    """A frame may read a step before a message of that same step arrives; later
+    reads (and the take) then follow the contract on the whole log."""
+    signals = ControllerSignals()
+    signal = Signal("osc:/e", attack=0.03, release=0.2, initial=0.1)
+    rng = np.random.default_rng(7)
+    sent = []
+    t = 0.0
+    for _ in range(400):
+        t += float(rng.uniform(0, 0.03))
+        if rng.random() < 0.3:
+            y = float(rng.uniform(-0.2, 1.2))
+            signals.receive("osc:/e", y, t=t)
+            sent.append((t, y))
+        back = t - float(rng.uniform(0, 2.5)) if rng.random() < 0.1 else t  # a meter's late read
+        expected = contract(sent, math.floor(100 * max(back, 0) + 1e-9) + 1, 0.1, 0.03, 0.2)
+        assert signals.at(signal, back) == pytest.approx(expected[-1], abs=1e-12)
+    end = math.floor(100 * t + 1e-9) + 1
+    assert np.allclose(signals.envelope(signal, end), contract(sent, end, 0.1, 0.03, 0.2))

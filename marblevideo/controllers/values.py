@@ -75,7 +75,8 @@ class ControllerSignals:
         self._clock = clock or (lambda: time.monotonic() - self._origin)
         self._lock = threading.Lock()
         self._logs: dict[str, _Log] = {}
-        self._cache: dict[Signal, tuple[int, float]] = {}  # signal -> (i, e_i)
+        # signal -> [(i, e_i)], i increasing: one a second and the last one asked
+        self._states: dict[Signal, list[tuple[int, float]]] = {}
         self.known: frozenset[str] = frozenset()
         self.counts = {"messages": 0, "unknown": 0, "dropped": 0}
         self.learning = False  # learn: the next name received becomes ``learned``
@@ -87,7 +88,7 @@ class ControllerSignals:
         with self._lock:
             self._origin = time.monotonic() if origin is None else origin
             self._logs.clear()
-            self._cache.clear()
+            self._states.clear()
 
     def now(self) -> float:
         return self._clock()
@@ -101,6 +102,9 @@ class ControllerSignals:
             if name not in self.known:
                 self.counts["unknown"] += 1
             self._logs.setdefault(name, _Log()).add(k, clamp01(y))
+            for signal, states in self._states.items():  # e_i from step k on changed
+                if signal.name == name:
+                    del states[bisect_right(states, (k - 1, math.inf)) :]
             if self.learning:
                 self.learning, self.learned = False, name
 
@@ -126,11 +130,15 @@ class ControllerSignals:
             return signal.initial
         with self._lock:
             log = self._logs.get(signal.name, _Log())
-            j, e = self._cache.get(signal, (-1, signal.initial))
-            if j > i:
-                j, e = -1, signal.initial
+            states = self._states.setdefault(signal, [])
+            n = bisect_right(states, (i, math.inf))  # the last state at or before i
+            j, e = states[n - 1] if n else (-1, signal.initial)
             e = _advance(log, signal, j, e, i)
-            self._cache[signal] = (i, e)
+            if n == len(states) and i > j:
+                if len(states) >= 2 and states[-1][0] - states[-2][0] < RATE:
+                    states[-1] = (i, e)
+                else:
+                    states.append((i, e))
             return e
 
     def envelope(self, signal: Signal, end: int) -> np.ndarray:
