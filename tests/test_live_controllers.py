@@ -77,6 +77,8 @@ def test_a_take_driven_by_osc_renders_again_from_its_automation(tmp_path):
         rc = live.stop(timeout=60)
     assert rc == 0, live.stderr()
     assert f"wrote {auto}" in live.stderr()
+    said = "controllers: 3 messages (1 to names the recipe does not use), 0 dropped"
+    assert said in live.stderr()
     doc = json.loads(auto.read_text())
     keys = doc["ops"][0]["alpha"]["keys"]
     assert [k["v"] for k in keys] == pytest.approx([40.0, 360.0, 0.0])  # OSC floats: float32

@@ -36,7 +36,7 @@ def add_controller_arguments(p: argparse.ArgumentParser, automation: bool = True
 def check_controllers(args, recipe) -> None:
     """Refuse bad controller options before anything opens (UsageError, exit 2);
     a note when the recipe uses controllers no option feeds."""
-    from marblevideo.controllers.midi import mido_backend
+    from marblevideo.controllers.midi import mido_backend, pick_port
     from marblevideo.controllers.osc import parse_endpoint
     from marblevideo.media.output import check_output
 
@@ -45,6 +45,8 @@ def check_controllers(args, recipe) -> None:
     sources = {t.signal.source for _, t in recipe.signal_uses() if t.signal.controller}
     if args.midi is not None or "midi" in sources:
         mido_backend()  # names the extra when it is missing
+    if args.midi is not None:
+        pick_port(args.midi or None)  # the port exists (it opens once the session is built)
     if getattr(args, "automation", None) is not None:
         check_output(args.automation, args.overwrite)
     for source, option in (("osc", args.osc), ("midi", args.midi)):
@@ -84,6 +86,19 @@ def start_controllers(args, session) -> list:
 def close_all(listeners: list) -> None:
     for listener in listeners:
         listener.close()
+
+
+def report_controllers(args, session) -> None:
+    """One line of what the listeners received (with --osc or --midi, unless -q)."""
+    if args.quiet or (args.osc is None and args.midi is None):
+        return
+    c = session.controllers.counts
+    print(
+        f"marblevideo: controllers: {c['messages']} messages ({c['unknown']} to names the "
+        f"recipe does not use), {c['dropped']} dropped",
+        file=sys.stderr,
+        flush=True,
+    )
 
 
 def write_take(args, session) -> None:

@@ -26,6 +26,7 @@ from marblevideo.cli.controllers import (
     add_controller_arguments,
     check_controllers,
     close_all,
+    report_controllers,
     start_controllers,
     write_take,
 )
@@ -207,6 +208,7 @@ def run_live(argv: list[str]) -> int:
             signal.signal(signum, handler)
     if not args.quiet:
         print(f"marblevideo: {session.summary()}", file=sys.stderr, flush=True)
+        report_controllers(args, session)
         if recorder is not None:
             print(f"marblevideo: wrote {args.output}", file=sys.stderr, flush=True)
     return 0

@@ -79,20 +79,26 @@ def _first_line(exc: BaseException) -> str:
     return (str(exc).strip().splitlines() or [type(exc).__name__])[0]
 
 
+def pick_port(port: str | None) -> str:
+    """The input port ``--midi`` names (None: the first); UsageError naming the
+    ports when there is no such one, MarbleError when there is none at all."""
+    names = input_names()
+    if not names:
+        raise MarbleError("--midi: no MIDI input port (see `marblevideo midi`)")
+    if port is None:
+        return names[0]
+    if port not in names:
+        raise UsageError(f"--midi: no input port {port!r}; ports: {', '.join(names)}")
+    return port
+
+
 class MidiInput:
     """An open MIDI input port whose messages set controller signals (mido calls
     :meth:`handle` from its own thread)."""
 
     def __init__(self, signals: ControllerSignals, port: str | None = None):
         self.signals = signals
-        names = input_names()
-        if not names:
-            raise MarbleError("--midi: no MIDI input port (see `marblevideo midi`)")
-        if port is None:
-            port = names[0]
-        elif port not in names:
-            raise UsageError(f"--midi: no input port {port!r}; ports: {', '.join(names)}")
-        self.name = port
+        self.name = port = pick_port(port)
         mido = mido_backend()
         try:
             with _alsa_quiet():
