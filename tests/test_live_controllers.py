@@ -128,6 +128,7 @@ def test_bad_controller_options_are_refused_before_starting(cli, tmp_path):
         (["--osc", "host:port"], "--osc: expected [HOST:]PORT"),
         (["--osc", "99999"], "--osc: port must be 0..65535"),
         (["--automation", "old.json"], "old.json: already exists"),
+        (["--automation", "r.json", "-y"], "--automation: r.json is also --ops"),
     ):
         r = cli("live", "test", "--ops", recipe, "--duration", "1", *args)
         assert r.returncode == 2, r.stderr

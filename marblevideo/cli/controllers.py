@@ -6,8 +6,10 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+from pathlib import Path
 
 from marblevideo.cli.arguments import Parser
+from marblevideo.errors import UsageError
 
 
 def add_controller_arguments(p: argparse.ArgumentParser, automation: bool = True) -> None:
@@ -48,6 +50,9 @@ def check_controllers(args, recipe) -> None:
     if args.midi is not None:
         pick_port(args.midi or None)  # the port exists (it opens once the session is built)
     if getattr(args, "automation", None) is not None:
+        for option, other in (("--ops", args.ops), ("-o", args.output)):
+            if other is not None and Path(other).resolve() == Path(args.automation).resolve():
+                raise UsageError(f"--automation: {args.automation} is also {option}; name another")
         check_output(args.automation, args.overwrite)
     for source, option in (("osc", args.osc), ("midi", args.midi)):
         if source in sources and option is None and not args.quiet:
