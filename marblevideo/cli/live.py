@@ -45,7 +45,8 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n"
         "  marblevideo live test --ops samples/swirl.json --preview\n"
         "  marblevideo live 0 --ops samples/swirl.json --vcam\n"
-        "  marblevideo live clip.mp4 --loop --ops swirl.json --preview -o take1.mp4\n\n"
+        "  marblevideo live clip.mp4 --loop --ops swirl.json --preview -o take1.mp4\n"
+        "  marblevideo live 0 --ops mine.json --preview --osc 9000 --automation take.json\n\n"
         "Ctrl-C (SIGINT) or SIGTERM ends a session normally: the recording is kept, exit 0.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
