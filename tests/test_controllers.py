@@ -144,6 +144,7 @@ def test_message_values_and_endpoints():
     assert message_value([False]) is None and message_value(["1"]) is None
     assert parse_endpoint("9000") == ("127.0.0.1", 9000)
     assert parse_endpoint("0.0.0.0:9000") == ("0.0.0.0", 9000)
+    assert parse_endpoint("[::1]:9000") == ("::1", 9000)
     for bad in ("x", "host:", "70000"):
         with pytest.raises(UsageError, match="--osc"):
             parse_endpoint(bad)
