@@ -40,6 +40,13 @@ SKIPPED = {
     "marblevideo live 0 --ops samples/swirl.json --preview --vcam": (
         "needs camera 0 and a v4l2loopback virtual camera"
     ),
+    "marblevideo midi": "needs a MIDI system (ALSA's sequencer, /dev/snd/seq)",
+    "marblevideo live 0 --ops my.json --preview --midi nanoKONTROL2": (
+        "needs camera 0 and a MIDI controller (tests/test_controllers.py maps MIDI messages)"
+    ),
+    "marblevideo samples/coffee.mp4 --ops take.json -o replay.mp4": (
+        "renders the take the command before writes (tests/test_live_controllers.py does both)"
+    ),
 }
 VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm", ".gif", ".apng", ".nut")
 #: Commands that print (to stdout) instead of writing an output file.

@@ -1,6 +1,7 @@
 """The command line: ``marblevideo [INPUT] --ops RECIPE -o OUTPUT`` (:mod:`.render`),
 ``devices`` and ``schema`` (:mod:`.info`), ``presets`` and ``ops`` (:mod:`.catalog`),
-``live`` (:mod:`.live`), ``batch`` (:mod:`.batch`), ``design`` (:mod:`.design`).
+``live`` (:mod:`.live`), ``batch`` (:mod:`.batch`), ``design`` (:mod:`.design`),
+``midi`` (:mod:`.controllers`).
 
 Exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143
 interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
@@ -56,6 +57,12 @@ def _live(argv: list[str]) -> int:
     return run_live(argv)
 
 
+def _midi(argv: list[str]) -> int:
+    from marblevideo.cli.controllers import midi_command
+
+    return midi_command(argv)
+
+
 COMMANDS = {
     "devices": _devices,
     "schema": _schema,
@@ -64,6 +71,7 @@ COMMANDS = {
     "live": _live,
     "batch": _batch,
     "design": _design,
+    "midi": _midi,
 }
 
 

@@ -14,6 +14,12 @@ import webbrowser
 from pathlib import Path
 
 from marblevideo.cli.arguments import Parser, add_log_arguments, configure_logging, parse_size
+from marblevideo.cli.controllers import (
+    add_controller_arguments,
+    check_controllers,
+    close_all,
+    start_controllers,
+)
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_PORT
 
@@ -51,6 +57,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--duration", type=float, metavar="S", help="stop after S seconds")
     p.add_argument("--size", metavar="WxH", help="size of the 'test' source, or asked of a camera")
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
+    add_controller_arguments(p, automation=False)
     add_log_arguments(p)
     return p
 
@@ -79,8 +86,12 @@ def _checked(args) -> tuple[tuple[int, int] | None, tuple[int, int] | None]:
             f"--canvas: {path} exists and keeps its own canvas (edit it there, or name a new file)"
         )
     size = parse_size(args.size) if args.size else None
-    if size is not None and not (args.input and LIVE.match(args.input)):
+    live = bool(args.input and LIVE.match(args.input))
+    if size is not None and not live:
         raise UsageError("--size: applies to a live source only (test, a camera)")
+    for option, value in (("--osc", args.osc), ("--midi", args.midi)):
+        if value is not None and not live:
+            raise UsageError(f"{option}: controllers drive a live source only (test, a camera)")
     return canvas, size
 
 
@@ -100,6 +111,7 @@ def design_command(argv: list[str]) -> int:
     document = RecipeFile(
         args.ops, canvas, notify=lambda m: print(f"marblevideo: {m}", file=sys.stderr, flush=True)
     )
+    check_controllers(args, document.recipe)
     if args.input is None and document.recipe.canvas is None:
         raise UsageError(
             f"{args.ops}: canvas: a blank-sheet design needs canvas [W, H] (or give an INPUT)"
@@ -117,6 +129,7 @@ def design_command(argv: list[str]) -> int:
         session.start()
         server.start()
         print(f"design: {server.url}", flush=True)
+        stack.callback(close_all, start_controllers(args, session))
         if not args.quiet:
             over = f" over {backdrop.name}" if backdrop.name else ""
             print(

@@ -22,6 +22,14 @@ from marblevideo.cli.arguments import (
     parse_encoder_opts,
     parse_size,
 )
+from marblevideo.cli.controllers import (
+    add_controller_arguments,
+    check_controllers,
+    close_all,
+    report_controllers,
+    start_controllers,
+    write_take,
+)
 from marblevideo.errors import MarbleError, UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_PORT
 from marblevideo.live.session import LiveSession
@@ -38,7 +46,8 @@ def build_parser() -> argparse.ArgumentParser:
         epilog="examples:\n"
         "  marblevideo live test --ops samples/swirl.json --preview\n"
         "  marblevideo live 0 --ops samples/swirl.json --vcam\n"
-        "  marblevideo live clip.mp4 --loop --ops swirl.json --preview -o take1.mp4\n\n"
+        "  marblevideo live clip.mp4 --loop --ops swirl.json --preview -o take1.mp4\n"
+        "  marblevideo live 0 --ops mine.json --preview --osc 9000 --automation take.json\n\n"
         "Ctrl-C (SIGINT) or SIGTERM ends a session normally: the recording is kept, exit 0.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -75,6 +84,7 @@ def build_parser() -> argparse.ArgumentParser:
         "--preview-width", type=int, metavar="W", help="encode the preview at most W pixels wide"
     )
     p.add_argument("--jpeg-quality", type=int, default=80, help="preview JPEG quality (80)")
+    add_controller_arguments(p)
     add_log_arguments(p)
     v = p.add_argument_group("recording (as the file mode)")
     add_encoder_arguments(v, preset_default="here: veryfast, for real time")
@@ -137,6 +147,7 @@ def run_live(argv: list[str]) -> int:
             import pyvirtualcam  # noqa: F401 - checked before anything opens
         except ImportError:
             raise MarbleError(f"--vcam needs pyvirtualcam: {VCAM_HELP}") from None
+    check_controllers(args, recipe)
     recorder = recorder_for(args) if args.output else None  # settings checked up front
 
     source = open_source(spec, size, args.fps, args.loop)
@@ -146,6 +157,7 @@ def run_live(argv: list[str]) -> int:
         source.stop()
         raise
     session = server = None
+    listeners: list = []
     stop = threading.Event()
     ok = False
     previous: dict[int, object] = {}
@@ -182,6 +194,7 @@ def run_live(argv: list[str]) -> int:
             server = PreviewServer(LiveDesign(session), args.port)  # the designer, live
             server.start()
             print(f"preview: {server.url}", flush=True)
+        listeners = start_controllers(args, session)
         for signum in (signal.SIGINT, signal.SIGTERM):
             previous[signum] = signal.signal(signum, on_signal)
         if not args.quiet:
@@ -192,7 +205,10 @@ def run_live(argv: list[str]) -> int:
             )
         session.run(args.duration)
         ok = True
+        if args.automation:
+            write_take(args, session)
     finally:
+        close_all(listeners)
         if server is not None:
             server.stop()
         if session is not None:
@@ -207,6 +223,7 @@ def run_live(argv: list[str]) -> int:
             signal.signal(signum, handler)
     if not args.quiet:
         print(f"marblevideo: {session.summary()}", file=sys.stderr, flush=True)
+        report_controllers(args, session)
         if recorder is not None:
             print(f"marblevideo: wrote {args.output}", file=sys.stderr, flush=True)
     return 0

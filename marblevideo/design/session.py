@@ -18,6 +18,8 @@ import time
 from importlib import resources
 from urllib.parse import parse_qs
 
+from marblevideo.controllers.api import learn, signals_state
+from marblevideo.controllers.values import ControllerSignals, SessionSignals
 from marblevideo.errors import MarbleError, RecipeError, UsageError
 from marblevideo.marbler import Marbler, blank_size
 from marblevideo.ops import LAYOUTS, REGISTRY, is_ink
@@ -125,6 +127,7 @@ class DesignSession:
         self.stop_event = threading.Event()
         self._watcher: threading.Thread | None = None
         self.last_render_ms: float | None = None
+        self.controllers = ControllerSignals()  # OSC and MIDI over a live source (--osc, --midi)
 
     # -- what is shown ----------------------------------------------------------
     def out_size(self, recipe: Recipe) -> tuple[int, int]:
@@ -189,6 +192,7 @@ class DesignSession:
         with self._rendering():
             start = time.perf_counter()
             image = self.backdrop.frame(t)
+            recipe = recipe.bind(SessionSignals(self.controllers))
             out = Marbler(recipe, renderer=self.renderer).render(image, t, (w, h))
             self.last_render_ms = (time.perf_counter() - start) * 1000
         return out
@@ -252,6 +256,8 @@ class DesignSession:
             ("GET", "/api/frame.rgba"): lambda: (self.frame_rgba(q), RAW),
             ("POST", "/api/frame.rgba"): lambda: (self.frame_rgba(q, body or b"null"), RAW),
             ("GET", "/api/design.svg"): lambda: (self.svg(q), "image/svg+xml"),
+            ("GET", "/api/signals"): lambda: (self.signals(), None),
+            ("POST", "/api/learn"): lambda: (learn(self.controllers), None),
         }
         route = routes.get((method, path))
         if route is None:
@@ -262,6 +268,10 @@ class DesignSession:
             return 200, data, ctype
         return 200, json.dumps(data, indent=1 if ctype else None).encode(), "application/json"
 
+    def signals(self) -> dict:
+        """``GET /api/signals`` (:mod:`marblevideo.controllers.api`)."""
+        return signals_state(self.controllers, self.document.snapshot()[1])
+
     def put(self, body: bytes | None) -> int:
         """Validate, save and show a new recipe: its version (400 when invalid). The
         page asks for the frame of the same bytes next: they are known valid."""
@@ -271,7 +281,8 @@ class DesignSession:
 
     # -- hot reload -----------------------------------------------------------------
     def start(self) -> None:
-        """Watch FILE for changes made by other programs."""
+        """Watch FILE for changes made by other programs (controllers' time starts)."""
+        self.controllers.start()
         self._watcher = threading.Thread(target=self._watch, name="marblevideo-watch", daemon=True)
         self._watcher.start()
 

@@ -42,6 +42,11 @@ def with_sliders(doc: dict, recipe, overrides: dict) -> tuple[dict, list[str]]:
 
 def live_api(session, method: str, path: str, body: bytes | None):
     """Answer an API request of the live page: (status, body, content type)."""
+    from marblevideo.controllers.api import controllers_api
+
+    answer = controllers_api(session, method, path)  # meters and learn
+    if answer is not None:
+        return json_answer(answer[1], answer[0])
     try:
         if (method, path) == ("GET", "/api/recipe"):
             return json_answer(session.file.snapshot()[0])

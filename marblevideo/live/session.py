@@ -28,6 +28,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 
+from marblevideo.controllers.values import ControllerSignals, SessionSignals
 from marblevideo.live.controls import Controls, sliders, with_overrides
 from marblevideo.live.editing import live_api
 from marblevideo.live.recipefile import RecipeFile
@@ -98,6 +99,8 @@ class LiveSession:
         self._Marbler = Marbler
         self.quiet = quiet
         self.controls = Controls()
+        self.controllers = ControllerSignals()  # OSC and MIDI, fed by their listeners
+        self.signals = None  # other signals' source (audio), beside the controllers
         self._lock = threading.Lock()
         self._marbler = None
         self._marbled_for: tuple[int, int] | None = None  # (recipe, overrides) versions
@@ -173,10 +176,17 @@ class LiveSession:
         with self._lock:
             if self._marbled_for != (recipe_version, version):
                 self._marbler = self._Marbler(
-                    with_overrides(recipe, overrides).bind(self.signals), renderer=self.renderer
+                    self._bound(with_overrides(recipe, overrides)), renderer=self.renderer
                 )
                 self._marbled_for = (recipe_version, version)
             return self._marbler, bypass, mirror
+
+    def _bound(self, recipe):
+        """``recipe`` with its signals taken from the session's controllers (and
+        the controllers told which names it uses)."""
+        uses = recipe.signal_uses()
+        self.controllers.known = frozenset(t.signal.name for _, t in uses if t.signal.controller)
+        return recipe.bind(SessionSignals(self.controllers, self.signals)) if uses else recipe
 
     # -- controls (from the preview) ----------------------------------------
     def params(self) -> dict:
@@ -224,6 +234,7 @@ class LiveSession:
             "recipe_version": version,
             "recipe_error": error,
             "uptime": round(now - self.started, 2),
+            "controllers": dict(self.controllers.counts),
             **self.state(),
         }
 
@@ -277,6 +288,7 @@ class LiveSession:
         self.source.start()
         self.started = time.monotonic()
         self.clock.restart()
+        self.controllers.start(self.started)
         deadline = None if duration is None else self.started + duration
         while not self.stop_event.is_set():
             if deadline is not None and time.monotonic() >= deadline:
