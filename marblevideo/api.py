@@ -284,7 +284,9 @@ def render_video(
         check_output(dst, opts.overwrite, inputs)
     if is_local(src) and not is_sequence(src):
         check_input(src, "an image" if still else "a video")
-    marbler = Marbler(recipe, renderer, device=device, fit=opts.fit or "stretch")
+    marbler = Marbler(
+        recipe, renderer, device=device, fit=opts.fit or "stretch", lattice=not opts.exact_walk
+    )
     # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))
     if src is not None and not still:

@@ -88,7 +88,9 @@ def render_segment(
     options.audio, options.quiet, options.progress, options.overwrite = "none", True, "off", True
     options.notify = lambda message: None  # noted in the stats, told by the driver
     plan = segment_plan(plan_output(dst, options), dst)
-    marbler = Marbler(job.recipe, renderer, fit=options.fit or "stretch")
+    marbler = Marbler(
+        job.recipe, renderer, fit=options.fit or "stretch", lattice=not options.exact_walk
+    )
     transform = Primed(marbler.transform(options.size), segment.before)
     stats = transcode(job.src, dst, transform, options, plan=plan, pts_origin=segment.origin)
     return stats.frames, stats.notes

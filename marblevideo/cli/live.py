@@ -68,6 +68,12 @@ def build_parser() -> argparse.ArgumentParser:
         "--preview-width", type=int, metavar="W", help="encode the preview at most W pixels wide"
     )
     p.add_argument("--jpeg-quality", type=int, default=80, help="preview JPEG quality (80)")
+    p.add_argument(
+        "--exact-walk",
+        action="store_true",
+        help="walk every subsample of animated frames (default: interpolate the map from a "
+        "walked lattice where it is smooth)",
+    )
     add_log_arguments(p)
     v = p.add_argument_group("recording (as the file mode)")
     add_encoder_arguments(v, preset_default="here: veryfast, for real time")
@@ -154,6 +160,7 @@ def run_live(argv: list[str]) -> int:
             preview_width=args.preview_width,
             jpeg_quality=args.jpeg_quality,
             quiet=args.quiet,
+            lattice=not args.exact_walk,
         )
         width, height = source.size
         if args.vcam:

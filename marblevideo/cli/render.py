@@ -135,6 +135,12 @@ def _render_parser() -> argparse.ArgumentParser:
         choices=("copy", "aac", "none"),
         help="copy audio bit-exact (default), re-encode to AAC, or drop it",
     )
+    v.add_argument(
+        "--exact-walk",
+        action="store_true",
+        help="animated frames over an input: walk every subsample (default: interpolate the "
+        'map from a walked lattice where it is smooth; the recipe\'s "lattice": false too)',
+    )
     add_encoder_arguments(v, preset_default="medium")
     c = p.add_argument_group("scale-out (pip install 'marblevideo[ray]')")
     c.add_argument(
@@ -238,4 +244,5 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         quiet=args.quiet,
         progress=args.progress,
         verbose=args.verbose,
+        exact_walk=args.exact_walk,
     )

@@ -82,6 +82,7 @@ class LiveSession:
         jpeg_quality: int = 80,
         quiet: bool = False,
         say=None,
+        lattice: bool = True,
     ):
         from marblevideo.marbler import Marbler
         from marblevideo.opencl.renderer import Renderer
@@ -93,6 +94,8 @@ class LiveSession:
         self.source = source
         self.renderer = renderer or Renderer(device, loop_walk=True)  # an edit never stalls a build
         self._Marbler = Marbler
+        #: animated frames interpolate the map from a lattice (False: --exact-walk)
+        self.lattice = lattice
         self.quiet = quiet
         self.controls = Controls()
         self._lock = threading.Lock()
@@ -167,7 +170,7 @@ class LiveSession:
         with self._lock:
             if self._marbled_for != (recipe_version, version):
                 self._marbler = self._Marbler(
-                    with_overrides(recipe, overrides), renderer=self.renderer
+                    with_overrides(recipe, overrides), renderer=self.renderer, lattice=self.lattice
                 )
                 self._marbled_for = (recipe_version, version)
             return self._marbler, bypass, mirror
@@ -291,7 +294,7 @@ class LiveSession:
         if mirror:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
         start = time.monotonic()
-        out = rgba if bypass else marbler.render(rgba, self.clock.now())
+        out = rgba if bypass else marbler.render(rgba, self.clock.now(), animated=True)
         now = time.monotonic()
         self._render_ms.add(now, now - start)
         self._rendered.add(now)

@@ -40,6 +40,7 @@ class VideoOptions:
     format: str | None = None  # --format: the output format by name (needed for -o -)
     fps: float | None = None  # --fps: convert a video's rate; an image sequence's input rate
     fit: str | None = None  # --fit stretch|crop|pad: an input of another aspect than --size
+    exact_walk: bool = False  # --exact-walk: animated frames walk every subsample (no lattice)
 
 
 @dataclass

@@ -115,6 +115,9 @@ class Recipe:
     source: str = "<dict>"
     description: str = ""
     entries: int = 0
+    #: marblevideo extension: animated frames over an input may interpolate the map
+    #: from a walked lattice (False: every subsample walked; see Marbler)
+    lattice: bool = True
 
     @classmethod
     def from_dict(cls, data: object, source: str = "<dict>") -> Recipe:
@@ -300,6 +303,7 @@ def _build(doc: dict, source: str) -> Recipe:
         source=source,
         description=doc.get("description", ""),
         entries=len(doc["ops"]),
+        lattice=doc.get("lattice", True),
     )
 
 
