@@ -8,13 +8,16 @@
  *    pixels; cell (i, j) has the fine points (2i .. 2i + 2, 2j .. 2j + 2)) a
  *    state: an ink index k where all nine points end on ink k; SMOOTH_CELL
  *    where none ends on ink, the bilinear interpolation of the four corners
- *    meets the five other walks within `tol` input pixels and no step between
+ *    meets the five other walks within `tol` input pixels (so that the map's
+ *    second differences at spacing H are at most 2 tol, and bilinear
+ *    interpolation between neighbouring fine points, which the shading does,
+ *    is off by about a quarter of that on a smooth map) and no step between
  *    neighbouring points is longer than `reach` canvas units (the walk squeezes
  *    the canvas there more than the lattice can follow); WALK_CELL otherwise.
  * 3. marble_lattice (RGBA) and marble_lattice_plane (a plane of I420) shade
- *    LANES pixels of ROWS rows: every subsample's end point bilinear in the
- *    cell of its pixel's centre (luma and chroma from the same lattice, found
- *    through `lat`: canvas -> coarse lattice units), or, where a lane's cell
+ *    LANES pixels of ROWS rows: every subsample's end point bilinear between
+ *    the four fine points round its pixel's centre (luma and chroma from the
+ *    same lattice, found through `lat`: canvas -> fine lattice units), or, where a lane's cell
  *    says WALK_CELL, the exact walk for the whole work-item (shade_block,
  *    plane_block).
  */
@@ -74,26 +77,29 @@ __kernel void marble_lattice_cells(__global int *state, __global const int *inkm
 #define LATTICE_ARGS __global const int *state, __global const uint *lx, __global const uint *ly, \
                      int lstride, int ncx, int ncy, float4 lat
 
-/* The cell of each lane's centre (ox, oy) of a plane whose output -> canvas map
- * is gc: its state, the coarse lattice coordinates (u, v) of the centre within
- * it (0..1 inside; beyond at the frame's right and bottom edges) and the index
- * of its top-left fine point. */
+/* The quarter cell (H x H, between four fine points) of each lane's centre
+ * (ox, oy) of a plane whose output -> canvas map is gc: the state of its cell,
+ * the fine lattice coordinates (u, v) of the centre within it (0..1 inside;
+ * beyond at the frame's right and bottom edges) and the index of its top-left
+ * fine point. */
 inline vi lattice_cell(vf ox, vf oy, float4 gc, float4 lat, int ncx, int ncy, int lstride,
                        __global const int *state, vf *u, vf *v, vi *corner) {
     vf fu = (ox * gc.s0 + gc.s2 - lat.s2) * lat.s0, fv = (oy * gc.s1 + gc.s3 - lat.s3) * lat.s1;
-    vf cu = clamp(floor(fu), 0.0f, (float)(ncx - 1)), cv = clamp(floor(fv), 0.0f, (float)(ncy - 1));
+    vf cu = clamp(floor(fu), 0.0f, (float)(2 * ncx - 1));
+    vf cv = clamp(floor(fv), 0.0f, (float)(2 * ncy - 1));
     *u = fu - cu;
     *v = fv - cv;
     vi icu = CVT_I(cu), icv = CVT_I(cv);
-    *corner = 2 * icv * lstride + 2 * icu;
-    return AS_VI(GATHER_LANES((__global const uint *)state, icv * ncx + icu));
+    *corner = icv * lstride + icu;
+    return AS_VI(GATHER_LANES((__global const uint *)state, (icv >> 1) * ncx + (icu >> 1)));
 }
 
-/* Bilinear coefficients of one coordinate over the cell at `corner`: f = a + b u + c v + d u v. */
+/* Bilinear coefficients of one coordinate over the quarter cell at `corner`:
+ * f = a + b u + c v + d u v. */
 inline void lattice_coeffs(__global const uint *m, vi corner, int lstride, vf k[4]) {
-    vf p00 = AS_VF(GATHER_LANES(m, corner)), p10 = AS_VF(GATHER_LANES(m + 2, corner));
-    vf p01 = AS_VF(GATHER_LANES(m + 2 * lstride, corner));
-    vf p11 = AS_VF(GATHER_LANES(m + 2 * lstride + 2, corner));
+    vf p00 = AS_VF(GATHER_LANES(m, corner)), p10 = AS_VF(GATHER_LANES(m + 1, corner));
+    vf p01 = AS_VF(GATHER_LANES(m + lstride, corner));
+    vf p11 = AS_VF(GATHER_LANES(m + lstride + 1, corner));
     k[0] = p00;
     k[1] = p10 - p00;
     k[2] = p01 - p00;

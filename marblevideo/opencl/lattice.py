@@ -3,9 +3,9 @@
 An animated frame over an input walks its exact map only on a lattice: a fine
 lattice every H = S / 2 luma output pixels (S: :attr:`LatticeWalk.spacing`),
 whose points' walks decide for each S x S cell whether it is all one ink, smooth
-enough that every subsample's end point is interpolated bilinearly from the
-cell's four corners (luma and chroma from the same lattice), or walked exactly
-(see :data:`RULES`). Conventions: output pixel (i, j) of the luma plane covers
+enough that every subsample's end point is interpolated bilinearly between the
+four fine points round its pixel (luma and chroma from the same lattice), or
+walked exactly (see :data:`RULES`). Conventions: output pixel (i, j) of the luma plane covers
 [i, i + 1] x [j, j + 1]; fine point (i, j) lies at (i H, j H); tolerances are in
 input (luma) pixels.
 """
@@ -44,7 +44,7 @@ WALK_CELL = -2
 class Lattice:
     """A frame's walked lattice: the trailing kernel arguments that the shading
     kernels take (cell states, fine points' end points in canvas units, the
-    fine lattice's row stride, the coarse lattice's size, canvas -> coarse
+    fine lattice's row stride, the coarse lattice's size, canvas -> fine
     lattice units), and the number of cells."""
 
     args: tuple
@@ -102,7 +102,7 @@ class LatticeWalk:
             np.int32(self.rules),
         )
         queue.launch(cells, ncx * ncy)
-        lat = float4([1.0 / (s * kx), 1.0 / (s * ky), tx, ty])
+        lat = float4([1.0 / (half * kx), 1.0 / (half * ky), tx, ty])
         args = (state, lx, ly, np.int32(gstride), np.int32(ncx), np.int32(ncy), lat)
         self._last = Lattice(args, ncx * ncy)
         return self._last
