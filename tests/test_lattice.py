@@ -201,3 +201,18 @@ def test_exact_walk_applies_to_video_outputs(cli, tmp_path):
     proc = cli("--ops", str(recipe), "-o", str(tmp_path / "o.png"), "--exact-walk")
     assert proc.returncode == 2
     assert "--exact-walk" in one_line(proc)
+
+
+@pytest.mark.parametrize("exact_walk", [False, True])
+def test_a_video_job_takes_the_lattice_unless_exact_walk(tmp_path, exact_walk):
+    from clips import write_clip
+
+    from marblevideo.api import render_video
+
+    clip = write_clip(tmp_path / "in.mp4", size=(W, H), frames=6, audio=False)
+    renderer = Renderer()
+    out = tmp_path / "out.mp4"
+    render_video(clip, animated(), out, renderer=renderer, exact_walk=exact_walk, quiet=True)
+    assert out.stat().st_size > 0
+    walked = renderer.lattice_walk.refined_share()
+    assert (walked is None) == exact_walk
