@@ -8,7 +8,9 @@
   40-pixel checker that moves per frame) of the animated 12-op recipe at
   several times, and of the busy samples (nonpareil, bouquet, chevron) over
   the same picture at 960x640 halfway and at their end, each rendered
-  exactly and from the lattice by one renderer (RGBA and I420 planes): the
+  exactly and from the lattice by one renderer (RGBA and I420 planes), and
+  more samples over it halfway (figure6, swirl, comb-wave, spanish-wave,
+  stone-sprays): the
   share of pixels (plane samples) within 1 and 2 levels of the exact walk, the
   largest difference, the share of cells walked exactly, and ms per frame
   of each (median of 5, interleaved).
@@ -36,6 +38,8 @@ from marblevideo.reference.yuv import rgba_to_i420
 
 ROOT = Path(__file__).resolve().parent.parent
 BUSY = ("nonpareil", "bouquet", "chevron")
+#: more samples over the clip, halfway through: where the lattice pays and where not
+OTHERS = ("figure6", "swirl", "comb-wave", "spanish-wave", "stone-sprays")
 
 
 def clip_frame(i: int, w: int, h: int) -> np.ndarray:
@@ -97,11 +101,12 @@ def lattice_part(device: str | None, animated12) -> None:
         for planar in (False, True):
             q = compare(renderer, recipe.at(t, recipe.canvas), geom, image, planar)
             print(row("clip, 12-op animated", f"{t:g} s", "I420" if planar else "RGBA", q))
-    for name in BUSY:
+    for name in BUSY + OTHERS:
         data = json.loads((ROOT / "samples" / f"{name}.json").read_text())
         recipe = parse_recipe({**data, "antialias": "rgss"}, name)
         geom = geometry(recipe.canvas, (960, 640), (960, 640))
-        for t in (recipe.end_time() / 2, recipe.end_time()):
+        end = recipe.end_time()
+        for t in (end / 2, end) if name in BUSY else (end / 2,):
             q = compare(renderer, recipe.at(t), geom, clip_frame(int(t * 30), 960, 640), False)
             print(row(f"{name} over the clip", f"{t:g} s", "RGBA", q))
     print(

@@ -256,7 +256,8 @@ def render_video(
     second) at ``fps`` (default 30). ``options`` are the fields of
     :class:`marblevideo.media.video.VideoOptions` (codec, crf, preset, pix_fmt,
     encoder_opts, audio, start, end, size, fit, format, overwrite, quiet,
-    progress, verbose, notify). ``renderer`` as for :func:`render_still`.
+    progress, verbose, notify, exact_walk: animated frames walk every subsample
+    instead of interpolating from a lattice). ``renderer`` as for :func:`render_still`.
     Returns the job's :class:`marblevideo.media.video.Stats`."""
     from marblevideo.media.encode import plan_output
     from marblevideo.media.pipeline import render_sheet, transcode
