@@ -74,6 +74,26 @@ __kernel void marble_lattice_cells(__global int *state, __global const int *inkm
     state[gid] = walk ? WALK_CELL : SMOOTH_CELL;
 }
 
+/* m[i] in every lane, for indices i that rise along the lanes (a row of
+ * pixels meets a few lattice points, in order): a scalar load and a select per
+ * distinct index, cheaper on PoCL than a gather; a gather where they span
+ * more than 2 LANES. */
+inline vu rising_gather(__global const uint *m, vi i) {
+#if LANES == 1
+    return m[i];
+#else
+    int at[LANES];
+    VSTORE(i, at);
+    const int lo = at[0], hi = at[LANES - 1];
+    if (hi - lo > 2 * LANES || hi < lo)
+        return GATHER_LANES(m, i);
+    vu out = (vu)m[lo];
+    for (int k = lo + 1; k <= hi; k++)
+        out = select(out, (vu)m[k], i >= k);
+    return out;
+#endif
+}
+
 #define LATTICE_ARGS __global const int *state, __global const uint *lx, __global const uint *ly, \
                      int lstride, int ncx, int ncy, float4 lat
 
@@ -91,27 +111,30 @@ inline vi lattice_cell(vf ox, vf oy, float4 gc, float4 lat, int ncx, int ncy, in
     *v = fv - cv;
     vi icu = CVT_I(cu), icv = CVT_I(cv);
     *corner = icv * lstride + icu;
-    return AS_VI(GATHER_LANES((__global const uint *)state, (icv >> 1) * ncx + (icu >> 1)));
+    return AS_VI(rising_gather((__global const uint *)state, (icv >> 1) * ncx + (icu >> 1)));
 }
 
-/* Bilinear coefficients of one coordinate over the quarter cell at `corner`:
- * f = a + b u + c v + d u v. */
-inline void lattice_coeffs(__global const uint *m, vi corner, int lstride, vf k[4]) {
-    vf p00 = AS_VF(GATHER_LANES(m, corner)), p10 = AS_VF(GATHER_LANES(m + 1, corner));
-    vf p01 = AS_VF(GATHER_LANES(m + lstride, corner));
-    vf p11 = AS_VF(GATHER_LANES(m + lstride + 1, corner));
-    k[0] = p00;
-    k[1] = p10 - p00;
-    k[2] = p01 - p00;
-    k[3] = (p11 - p10) - (p01 - p00);
+/* One coordinate of the end point of subsample (dx, dy) (output pixels) of the
+ * pixels at (u, v) in their quarter cells at `corner`, bilinear there, in input
+ * pixels (scale g, offset o): t[0] + dx t[1] + dy (t[2] + dx t[3]); du, dv: fine
+ * lattice units per output pixel. */
+inline void lattice_taylor(__global const uint *m, vi corner, int lstride, vf u, vf v, float du,
+                           float dv, float g, float o, vf t[4]) {
+    vf p00 = AS_VF(rising_gather(m, corner)), p10 = AS_VF(rising_gather(m + 1, corner));
+    vf p01 = AS_VF(rising_gather(m + lstride, corner));
+    vf p11 = AS_VF(rising_gather(m + lstride + 1, corner));
+    vf b = p10 - p00, c = p01 - p00, d = (p11 - p10) - c;
+    t[0] = (p00 + u * (b + v * d) + v * c) * g + o;
+    t[1] = (b + v * d) * (du * g);
+    t[2] = (c + u * d) * (dv * g);
+    t[3] = d * (du * dv * g);
 }
 
-/* The interpolated end point (input pixels) of subsample (dx, dy) (output pixels)
- * of the pixel at cell coordinates (u, v); du, dv: cell units per output pixel. */
-#define LATTICE_AT(s, u, v, du, dv, kx, ky, ix, iy)                                      \
-    vf su_ = (u) + samples[3 * (s)] * (du), sv_ = (v) + samples[3 * (s) + 1] * (dv);      \
-    vf ix = (kx[0] + su_ * (kx[1] + sv_ * kx[3]) + sv_ * kx[2]) * gi.s0 + gi.s2;           \
-    vf iy = (ky[0] + su_ * (ky[1] + sv_ * ky[3]) + sv_ * ky[2]) * gi.s1 + gi.s3;
+/* The interpolated end point (ix, iy) of subsample s from lattice_taylor's tx, ty. */
+#define LATTICE_AT(s, tx, ty, ix, iy)                                                    \
+    const float dx_ = samples[3 * (s)], dy_ = samples[3 * (s) + 1];                      \
+    vf ix = tx[0] + dx_ * tx[1] + dy_ * (tx[2] + dx_ * tx[3]);                            \
+    vf iy = ty[0] + dx_ * ty[1] + dy_ * (ty[2] + dx_ * ty[3]);
 
 /* The state of every lane of the work-item's rows; whether any says WALK_CELL. */
 #define LATTICE_STATES                                                                    \
@@ -143,11 +166,11 @@ __kernel void marble_lattice(__global uint *dst, int w, int h, LATTICE_ARGS, KPA
             acc[r][3] = (vf)255.0f;
             if (!ANY(hit == 0))
                 continue;
-            lattice_coeffs(lx, corner[r], lstride, kx);
-            lattice_coeffs(ly, corner[r], lstride, ky);
+            lattice_taylor(lx, corner[r], lstride, u[r], v[r], du, dv, gi.s0, gi.s2, kx);
+            lattice_taylor(ly, corner[r], lstride, u[r], v[r], du, dv, gi.s1, gi.s3, ky);
             vf sr = 0.0f, sg = 0.0f, sb = 0.0f, sa = 0.0f;
             for (int s = 0; s < NSAMPLES; s++) {
-                LATTICE_AT(s, u[r], v[r], du, dv, kx, ky, ix, iy)
+                LATTICE_AT(s, kx, ky, ix, iy)
                 vf pr, pg, pb, pa;
                 bilinear(src, sw, sh, ix, iy, &pr, &pg, &pb, &pa);
                 const float wgt = samples[3 * s + 2];
@@ -185,11 +208,11 @@ __kernel void marble_lattice_plane(__global uchar *dst, int off0, int off1, int 
             acc[r][1] = cb;
             if (!ANY(hit == 0))
                 continue;
-            lattice_coeffs(lx, corner[r], lstride, kx);
-            lattice_coeffs(ly, corner[r], lstride, ky);
+            lattice_taylor(lx, corner[r], lstride, u[r], v[r], du, dv, gi.s0, gi.s2, kx);
+            lattice_taylor(ly, corner[r], lstride, u[r], v[r], du, dv, gi.s1, gi.s3, ky);
             vf s0 = 0.0f, s1 = 0.0f;
             for (int s = 0; s < NSAMPLES; s++) {
-                LATTICE_AT(s, u[r], v[r], du, dv, kx, ky, ix, iy)
+                LATTICE_AT(s, kx, ky, ix, iy)
                 vi i;
                 vf wx, wy;
                 footprint(ix, iy, sw, sh, &i, &wx, &wy);
