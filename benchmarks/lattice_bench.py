@@ -59,8 +59,10 @@ def compare(renderer: Renderer, spec, geom, image: np.ndarray, planar: bool) -> 
             return renderer.render_i420(spec, geom, planes, matrix, matrix, lattice=lattice)
         return renderer.render(spec, geom, image, lattice=lattice)
 
+    before = renderer.lattice_walk.frames
     exact, fast = draw(False), draw(True)
-    refined = renderer.lattice_walk.refined_share()
+    used = renderer.lattice_walk.frames > before  # else too few ops (MIN_WALKED_OPS)
+    refined = renderer.lattice_walk.refined_share() if used else None
     d = np.abs(exact.astype(np.int16) - fast.astype(np.int16))
     d = d.max(axis=2) if d.ndim == 3 else d
     times: dict[bool, list[float]] = {False: [], True: []}
@@ -81,9 +83,10 @@ def compare(renderer: Renderer, spec, geom, image: np.ndarray, planar: bool) -> 
 
 
 def row(name: str, when: str, path: str, q: dict) -> str:
+    walked = "walked (few ops)" if q["refined"] is None else f"{q['refined']:.2f}"
     return (
         f"| {name} | {when} | {path} | {q['within1'] * 100:.3f}% | {q['within2'] * 100:.3f}% | "
-        f"{q['largest']} | {q['refined']:.2f} | {q['exact_ms']:.1f} | {q['lattice_ms']:.1f} |"
+        f"{q['largest']} | {walked} | {q['exact_ms']:.1f} | {q['lattice_ms']:.1f} |"
     )
 
 

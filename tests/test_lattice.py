@@ -72,9 +72,17 @@ def diff(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return d.max(axis=2) if d.ndim == 3 else d
 
 
+def lattice_renderer(**options) -> Renderer:
+    """A renderer whose lattice takes frames of any number of ops (the scenes
+    have one or two; by default such frames are walked: MIN_WALKED_OPS)."""
+    renderer = Renderer(**options)
+    renderer.lattice_walk.min_ops = 1
+    return renderer
+
+
 @pytest.fixture(scope="module")
 def walker():
-    return Renderer(reuse_maps=False)
+    return lattice_renderer(reuse_maps=False)
 
 
 def frames(renderer: Renderer, ops: list, rules: int = RULES, image=None):
@@ -126,7 +134,7 @@ def test_a_linear_map_is_interpolated_within_a_level(walker):
 
 @pytest.mark.parametrize("lanes", [1, 8])
 def test_every_lane_width_interpolates_alike(lanes):
-    renderer = Renderer(lanes=lanes, chains=1 if lanes == 1 else 2, reuse_maps=False)
+    renderer = lattice_renderer(lanes=lanes, chains=1 if lanes == 1 else 2, reuse_maps=False)
     exact, lattice = frames(renderer, SCENES["thin filament"][0])
     d = diff(exact, lattice)
     assert (d <= 2).mean() >= WITHIN2 and d.max() <= LARGEST
@@ -144,8 +152,16 @@ def test_planes_interpolate_from_one_lattice(walker):
     assert 0.0 < walker.lattice_walk.refined_share() < 1.0
 
 
+def test_frames_of_few_ops_are_walked_exactly():
+    renderer = Renderer(reuse_maps=False)
+    frames(renderer, SCENES["thin filament"][0])  # two ops
+    assert renderer.lattice_walk.frames == 0
+    frames(renderer, [*SCENES["thin filament"][0], SCENES["sharp vortex core"][0][0]])
+    assert renderer.lattice_walk.frames == 1
+
+
 def test_repeated_values_keep_their_stored_maps():
-    renderer = Renderer()
+    renderer = lattice_renderer()
     recipe = parse_recipe(recipe_of(SCENES["drop edge"][0]), "scene.json")
     spec, geom = recipe.at(0.0), geometry(recipe.canvas, (W, H), (W, H))
     renderer.render(spec, geom, clip_picture(), lattice=True)
@@ -174,7 +190,7 @@ def test_video_frames_use_the_lattice_unless_turned_off(walker):
 
 
 def test_stills_walk_every_subsample():
-    renderer = Renderer(reuse_maps=False)
+    renderer = lattice_renderer(reuse_maps=False)
     marbler = Marbler(animated(), renderer)
     marbler.render(clip_picture(), 1.0)
     assert renderer.lattice_walk.refined_share() is None
@@ -213,7 +229,7 @@ def test_a_video_job_takes_the_lattice_unless_exact_walk(tmp_path, exact_walk):
     from marblevideo.api import render_video
 
     clip = write_clip(tmp_path / "in.mp4", size=(W, H), frames=6, audio=False)
-    renderer = Renderer()
+    renderer = lattice_renderer()
     out = tmp_path / "out.mp4"
     render_video(clip, animated(), out, renderer=renderer, exact_walk=exact_walk, quiet=True)
     assert out.stat().st_size > 0

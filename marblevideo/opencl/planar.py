@@ -96,7 +96,8 @@ class PlanarFrames:
             chroma_job = (chroma, chroma_maps, chroma_offsets, (cw, ch), *quads[1:], 1)
             chroma_job += (("ctaps", "cwts"),)
             walk = reuse and not self.tables.holds(key)
-            walked = self.lattice.walk(built, luma, pbuf, lbuf) if lattice and not reuse else None
+            lattice = lattice and not reuse and self.lattice.worth(packed)
+            walked = self.lattice.walk(built, luma, pbuf, lbuf) if lattice else None
             for g, maps, offsets, in_size, q0, q1, is_chroma, names in (luma_job, chroma_job):
                 pw, ph = g.out_w, g.out_h
                 head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q0, q1)

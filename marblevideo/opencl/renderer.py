@@ -320,7 +320,7 @@ class Renderer:
             common += (lbuf,)
             if reuse:
                 self.tables.render(built, dst, w, h, common, key)
-            elif lattice and has_input:
+            elif lattice and has_input and self.lattice_walk.worth(packed):
                 walked = self.lattice_walk.walk(built, geom, pbuf, lbuf)
                 self.lattice_walk.render(built, dst, w, h, walked, common)
             elif len(pattern(spec.antialias)) > 1 and self._adaptive(has_input, w, h, structure):
