@@ -816,10 +816,11 @@ def main() -> None:
 
             cluster_part(args.device, make_clip, animated12)
         elif part in ("lattice", "live1080"):
-            from lattice_bench import lattice_part, live1080_part
+            from lattice_bench import cost_part, lattice_part, live1080_part
 
             if part == "lattice":
                 lattice_part(args.device, animated12)
+                cost_part(args.device, animated12, turn12)
             else:
                 live1080_part(args.device)
         elif part == "memory":

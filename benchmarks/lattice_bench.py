@@ -10,10 +10,12 @@
   the same picture at 960x640 halfway and at their end, each rendered
   exactly and from the lattice by one renderer (RGBA and I420 planes), and
   more samples over it halfway (figure6, swirl, comb-wave, spanish-wave,
-  stone-sprays): the
-  share of pixels (plane samples) within 1 and 2 levels of the exact walk, the
-  largest difference, the share of cells walked exactly, and ms per frame
-  of each (median of 5, interleaved).
+  stone-sprays): the share of pixels (plane samples) within 1 and 2 levels of
+  the exact walk, the largest difference, the share of cells walked exactly,
+  and ms per frame of each (median of 5, interleaved); then what a 720p I420
+  frame costs walked and interpolated by how much there is to walk (one keyed
+  turn, three smooth ops, the 12-op recipe, nonpareil; best of 31, which
+  MIN_WALKED_OPS rests on).
 - live1080: benchmarks/live_bench.py at 1920x1080 with the animated 12-op
   recipe, with the lattice (the default) and with --exact-walk, alternating,
   two rounds each (fps, latency median and p95, render median).
@@ -135,3 +137,53 @@ def live1080_part(device: str | None) -> None:
                 f"{r['render_median_ms']} |"
             )
     print("target: 30 fps, latency < 100 ms")
+
+
+def smooth3() -> dict:
+    """Three smooth ops (a wave, a wide vortex, a turn), keyed: no ink, a map the
+    lattice interpolates nearly everywhere."""
+    ops = [
+        {"type": "wave", "amplitude": 10, "wavelength": 400, "phase": 30, "angle": 90},
+        {"type": "vortex", "center": [640, 360], "alpha": 300, "lambda": 200},
+        {
+            "type": "turn",
+            "center": [640, 360],
+            "angle": {"keys": [{"t": 0, "v": 0}, {"t": 10, "v": 20}]},
+        },
+    ]
+    return {"marblevideo": 1, "canvas": [1280, 720], "antialias": "rgss", "ops": ops}
+
+
+def cost_part(device: str | None, animated12, turn12) -> None:
+    """What a frame costs walked and interpolated, by how much there is to walk:
+    720p I420 (the video path), best and median of 31 interleaved, lattice taken
+    whatever the number of ops (min_ops 1)."""
+    matrix = YuvMatrix.of(1, 1)
+    renderer = Renderer(device, reuse_maps=False)
+    renderer.lattice_walk.min_ops = 1
+    planes = rgba_to_i420(clip_frame(150, 1280, 720), matrix)
+    nonpareil = json.loads((ROOT / "samples" / "nonpareil.json").read_text())
+    cases = (
+        ("one keyed turn", turn12(10, "rgss"), 5.0),
+        ("three smooth ops", smooth3(), 5.0),
+        ("12-op animated", animated12(10), 5.0),
+        ("nonpareil", {**nonpareil, "antialias": "rgss"}, 3.0),
+    )
+    print("\n## What the lattice saves, by the walk: 1280x720 I420 RGSS, ms, best / median of 31")
+    print("| recipe | cells walked | exact | lattice |")
+    print("|---|---|---|---|")
+    for name, data, t in cases:
+        recipe = parse_recipe(data, name)
+        geom = geometry(recipe.canvas, (1280, 720), (1280, 720))
+        spec = recipe.at(t, recipe.canvas)
+        times: dict[bool, list[float]] = {False: [], True: []}
+        for _ in range(31):
+            for lattice in (False, True):
+                began = time.perf_counter()
+                renderer.render_i420(spec, geom, planes, matrix, matrix, lattice=lattice)
+                times[lattice].append(time.perf_counter() - began)
+        e, f = (
+            f"{min(times[k]) * 1e3:.1f} / {statistics.median(times[k]) * 1e3:.1f}"
+            for k in (False, True)
+        )
+        print(f"| {name} | {renderer.lattice_walk.refined_share():.2f} | {e} | {f} |")

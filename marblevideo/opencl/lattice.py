@@ -5,9 +5,9 @@ lattice every H = S / 2 luma output pixels (S: :attr:`LatticeWalk.spacing`),
 whose points' walks decide for each S x S cell whether it is all one ink, smooth
 enough that every subsample's end point is interpolated bilinearly between the
 four fine points round its pixel (luma and chroma from the same lattice), or
-walked exactly (see :data:`RULES`). Conventions: output pixel (i, j) of the luma plane covers
-[i, i + 1] x [j, j + 1]; fine point (i, j) lies at (i H, j H); tolerances are in
-input (luma) pixels.
+walked exactly (see :data:`RULES`). Conventions: output pixel (i, j) of the
+luma plane covers [i, i + 1] x [j, j + 1]; fine point (i, j) lies at (i H, j H);
+tolerances are in input (luma) pixels.
 """
 
 from __future__ import annotations
@@ -41,8 +41,8 @@ RULES = RULE_INK | RULE_CENTRE | RULE_REACH
 WALK_CELL = -2
 #: Fewer ops walked this frame (not still) than this, and the frame is walked
 #: exactly: interpolating a subsample costs about what walking one cheap op
-#: does (720p I420, one keyed turn: 8.5 ms walked, 12 interpolated; three ops:
-#: 16.0 walked, 13.8 interpolated; best of 31 on two shared cores).
+#: does (720p I420, best of 31: one keyed turn 8.2 ms walked, 11.3
+#: interpolated; three smooth ops 13.4 and 11.9; BENCHMARKS.md, session 13).
 MIN_WALKED_OPS = 3
 
 
@@ -141,6 +141,5 @@ class LatticeWalk:
         queue; for benchmarks and tests), or None before any."""
         if self._last is None:
             return None
-        states = np.empty(self._last.cells, np.int32)
-        self.queue._cl.enqueue_copy(self.queue.queue, states, self._last.args[0], is_blocking=True)
+        states = self.queue.read(np.empty(self._last.cells, np.int32), self._last.args[0])
         return float(np.mean(states == WALK_CELL))
