@@ -10,7 +10,8 @@
 - e2e: marbling a 1280x720 clip (that recipe, RGSS) with libx264 veryfast crf 23,
   against a plain PyAV decode + encode of the same clip with the same settings
   (plain_transcode.py, as a script of its own and in-process); clips of 4 and 20
-  seconds (--seconds), since the CLI's fixed start weighs less on a longer one.
+  seconds (--seconds), since the CLI's fixed start weighs less on a longer one;
+  the animated recipe with the lattice (the default) and with --exact-walk.
 - numpy: our renderer against the same recipe computed per frame with NumPy
   float32 inverse maps and cv2.remap (one remap per RGSS subsample).
 - memory: peak RSS of the CLI marbling a 1080p clip of 10 s and of 10 minutes (--long).
