@@ -49,7 +49,7 @@ class SegmentJob:
 
     src: str
     recipe: Recipe
-    options: dict  # VideoOptions fields of the encoder and size
+    options: dict  # VideoOptions fields of the encoder, size and walk
 
 
 class Primed:
@@ -145,7 +145,8 @@ def render_split(
     if segments and len(parts) < segments:
         say(f"{src}: {segments} segments asked; its keyframes allow {len(parts)}")
     # the output's encoder and pixel format (from its extension), whatever the segments' is
-    shared = {k: getattr(opts, k) for k in ("crf", "preset", "size", "fit", "verbose")}
+    keys = ("crf", "preset", "size", "fit", "verbose", "exact_walk")
+    shared = {k: getattr(opts, k) for k in keys}
     shared.update(codec=plan.codec, pix_fmt=plan.pix_fmt, encoder_opts=dict(opts.encoder_opts))
     job = SegmentJob(str(Path(src).resolve()), recipe, shared)
     try:

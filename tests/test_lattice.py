@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from clips import probe
 from recipes import random_registry_op
 
 from marblevideo.errors import RecipeError
@@ -253,3 +254,26 @@ def test_every_op_type_goes_through_the_lattice(walker, definition):
         exact, lattice = frames(walker, [SCENES["drop edge"][0][0], op])
         d = diff(exact, lattice)
         assert (d <= 2).mean() >= WITHIN2, op
+
+
+def test_segments_keep_exact_walk(tmp_path):
+    """--cluster: every segment walks as the job asks (at crf 0 a lattice frame
+    would differ from the single exact render in some pixels)."""
+    from clips import write_clip
+
+    from marblevideo.api import render_video
+    from marblevideo.segmented import render_split
+
+    clip = write_clip(tmp_path / "in.mp4", size=(W, H), frames=12, audio=False)
+    ops = [*SCENES["thin filament"][0], *animated()["ops"]]
+    recipe = recipe_of(ops)
+    single = tmp_path / "single.mp4"
+    render_video(clip, recipe, single, crf=0, exact_walk=True, quiet=True)
+    split = tmp_path / "split.mp4"
+    render_split(clip, recipe, split, cluster="serial", segments=2, crf=0, exact_walk=True,
+                 quiet=True)  # fmt: skip
+    lattice = tmp_path / "lattice.mp4"
+    render_video(clip, recipe, lattice, crf=0, quiet=True)
+    a, b, c = (probe(p).frames for p in (single, split, lattice))
+    assert all(np.array_equal(x, y) for x, y in zip(a, b, strict=True))
+    assert not all(np.array_equal(x, y) for x, y in zip(a, c, strict=True))
