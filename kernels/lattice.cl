@@ -17,13 +17,15 @@
  * 3. marble_lattice (RGBA) and marble_lattice_plane (a plane of I420) shade
  *    LANES pixels of ROWS rows: every subsample's end point bilinear between
  *    the four fine points round its pixel's centre (luma and chroma from the
- *    same lattice, found through `lat`: canvas -> fine lattice units), or, where a lane's cell
- *    says WALK_CELL, the exact walk for the whole work-item (shade_block,
- *    plane_block).
+ *    same lattice, found through `lat`: canvas -> fine lattice units), or,
+ *    where a lane's cell says WALK_CELL, the exact walk for the whole
+ *    work-item (shade_block, plane_block). Any op goes through the walk: the
+ *    lattice knows no op.
  */
 #define SMOOTH_CELL -1
 #define WALK_CELL -2
-/* rules: which tests can put a cell on the exact walk (tests switch them off) */
+/* rules: the checks that may put a cell on the exact walk (bits; the tests
+ * switch them off one by one) */
 #define RULE_INK 1
 #define RULE_CENTRE 2
 #define RULE_REACH 4
