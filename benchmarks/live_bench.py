@@ -67,7 +67,9 @@ def _reader(url: str, stop: threading.Event, counter: list[int]) -> None:
             counter[0] += chunk.count(b"--marblevideoframe")
 
 
-def bench(size, seconds, warmup, preview_width, record, device, fps, recipe_dict=RECIPE):
+def bench(
+    size, seconds, warmup, preview_width, record, device, fps, recipe_dict=RECIPE, lattice=True
+):
     from marblevideo.cli.arguments import parse_size
     from marblevideo.live.preview import PreviewServer
     from marblevideo.live.session import LiveSession
@@ -79,7 +81,13 @@ def bench(size, seconds, warmup, preview_width, record, device, fps, recipe_dict
         recipe.write_text(json.dumps(recipe_dict))
         source = TestPattern((w, h), fps)
         session = LiveSession(
-            recipe, source, device=device, jpeg=True, preview_width=preview_width, quiet=True
+            recipe,
+            source,
+            device=device,
+            jpeg=True,
+            preview_width=preview_width,
+            quiet=True,
+            lattice=lattice,
         )
         recorder = None
         if record:
@@ -149,6 +157,9 @@ def main() -> None:
         action="store_true",
         help="the end-to-end runs' animated 12-op recipe (bench.py animated12) instead",
     )
+    p.add_argument(
+        "--exact-walk", action="store_true", help="walk every subsample (no lattice; issue 35)"
+    )
     args = p.parse_args()
     recipe = RECIPE
     if args.twelve:
@@ -164,8 +175,10 @@ def main() -> None:
         args.device,
         args.fps,
         recipe,
+        lattice=not args.exact_walk,
     )
     result["recipe"] = "12-op animated" if args.twelve else "6-op animated"
+    result["walk"] = "exact" if args.exact_walk else "lattice"
     result["machine"] = f"{platform.machine()} {platform.processor() or ''}".strip()
     print(json.dumps(result))
 

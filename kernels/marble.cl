@@ -730,11 +730,11 @@ inline void store_codes(__global uchar *out, vf v, int n) {
  * dst + off0) or both chroma planes at the same points (chroma 1: q0 and q1,
  * to dst + off0 and dst + off1). sw, sh: the input plane's size. Work-item:
  * LANES samples of ROWS rows; every subsample of the pattern. */
-__kernel void marble_plane(__global uchar *dst, int off0, int off1, int w, int h,
-                           __global const uint *q0, __global const uint *q1, int chroma,
-                           KPARAMS) {
-    WALKED_BLOCK
-    vf acc[ROWS][2];
+/* Every subsample of ROWS x LANES samples of a plane centred at (ox[r], oy[r]),
+ * walked in CHAINS chains: weighted sums of plane 0 (q0) and, with chroma, of
+ * plane 1 (q1) in acc. */
+inline void plane_block(vf ox[ROWS], vf oy[ROWS], vf acc[ROWS][2], __global const uint *q0,
+                        __global const uint *q1, int chroma, KPARAMS) {
     for (int r = 0; r < ROWS; r++)
         acc[r][0] = acc[r][1] = (vf)0.0f;
     for (int g = 0; g < ROWS * NSAMPLES; g += CHAINS) {
@@ -762,6 +762,14 @@ __kernel void marble_plane(__global uchar *dst, int off0, int off1, int w, int h
             acc[row][1] += wgt * v1;
         }
     }
+}
+
+__kernel void marble_plane(__global uchar *dst, int off0, int off1, int w, int h,
+                           __global const uint *q0, __global const uint *q1, int chroma,
+                           KPARAMS) {
+    WALKED_BLOCK
+    vf acc[ROWS][2];
+    plane_block(ox, oy, acc, q0, q1, chroma, KARGS);
     for (int r = 0; r < ROWS && y0 + r < h; r++) {
         const size_t at = (size_t)(y0 + r) * w + x0;
         store_codes(dst + off0 + at, acc[r][0], w - x0);

@@ -267,7 +267,9 @@ def render_video(
     encoder_opts, audio, start, end, size, fit, format, overwrite, quiet,
     progress, verbose, notify, soundtrack: a sound file that replaces the
     input's audio, its first sample at t = 0, and that parameters following
-    audio signals hear). ``renderer`` as for :func:`render_still`.
+    audio signals hear; exact_walk: animated frames walk every subsample
+    instead of interpolating from a lattice). ``renderer`` as for
+    :func:`render_still`.
     Returns the job's :class:`marblevideo.media.video.Stats`."""
     from marblevideo.media.encode import plan_output
     from marblevideo.media.pipeline import render_sheet, transcode
@@ -298,7 +300,7 @@ def render_video(
     if opts.soundtrack is not None:
         check_soundtrack(opts.soundtrack)
     recipe = follow(recipe, src, opts.soundtrack)
-    marbler = Marbler(recipe, renderer, device=device, fit=opts.fit)
+    marbler = Marbler(recipe, renderer, device=device, fit=opts.fit, lattice=not opts.exact_walk)
     # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, src is not None))
     if src is not None and not still:

@@ -72,6 +72,11 @@ class Marbler:
     aspect than the output fills it (default: stretched), or a blank sheet's
     canvas (default: the contract's uniform scale, centred); with "pad" what
     lies outside the input is the recipe's background, whatever its ``edges``.
+    ``lattice``: animated frames over an input (video, live) interpolate the map
+    from a walked lattice where it can be trusted
+    (:mod:`marblevideo.opencl.lattice`), unless the recipe says
+    ``"lattice": false``; False walks every subsample. Stills always walk every
+    subsample.
     """
 
     def __init__(
@@ -81,12 +86,15 @@ class Marbler:
         device: str | None = None,
         adaptive: bool | None = None,
         fit: str | None = None,
+        lattice: bool = True,
     ):
         if fit is not None and fit not in FIT_MODES:
             raise UsageError(f"--fit: expected one of {', '.join(FIT_MODES)}, got {fit!r}")
         self.recipe = as_recipe(recipe)
         self.renderer = renderer or Renderer(device, adaptive=adaptive)
         self.fit = fit
+        #: whether animated frames may interpolate from a lattice (option and recipe)
+        self.lattice = lattice and self.recipe.lattice
         self._geometry: dict[tuple, Geometry] = {}
 
     def geometry(
@@ -115,11 +123,15 @@ class Marbler:
         view: tuple[float, float, float, float] | None = None,
         *,
         static: bool = False,
+        animated: bool = False,
     ) -> np.ndarray:
         """One marbled frame of ``image`` (or of the blank sheet) at ``time``;
-        ``static``: later frames repeat these values (see :class:`Renderer`)."""
+        ``static``: later frames repeat these values (see :class:`Renderer`);
+        ``animated``: a frame of a video or live session, which interpolates
+        from a lattice when :attr:`lattice` allows and the recipe moves."""
         spec, geom = self.frame(image, time, size, view)
-        return self.renderer.render(spec, geom, image, static=static)
+        lattice = animated and self.lattice and self.recipe.is_animated
+        return self.renderer.render(spec, geom, image, static=static, lattice=lattice)
 
     def frame(self, image, time, size, view) -> tuple[FrameSpec, Geometry]:
         """The recipe's values at ``time`` (default: its end) and the geometry of a
@@ -172,6 +184,8 @@ class VideoTransform:
         #: a static recipe lands every frame where the first did: its maps are kept
         #: from the first frame on (see :class:`~marblevideo.opencl.renderer.Renderer`)
         self.static = not marbler.recipe.is_animated
+        #: animated frames interpolate from a lattice (see :class:`Marbler`)
+        self.lattice = marbler.lattice and not self.static
 
     def __call__(self, frame: np.ndarray, t: float) -> np.ndarray:
         return self.rgba_start(frame, t)()
@@ -180,7 +194,9 @@ class VideoTransform:
         """The call queued on the device: returns a function that waits for the
         frame and returns it (see :meth:`i420_start`)."""
         spec, geom = self.marbler.frame(frame, t, self.size, None)
-        return self.marbler.renderer.render(spec, geom, frame, static=self.static, wait=False)
+        return self.marbler.renderer.render(
+            spec, geom, frame, static=self.static, wait=False, lattice=self.lattice
+        )
 
     def i420(self, planes, t: float, src: YuvMatrix, dst: YuvMatrix) -> np.ndarray:
         """The marbled frame of I420 ``planes``, packed or as planes (colours in
@@ -197,7 +213,7 @@ class VideoTransform:
         input_size = planes[0].shape[::-1]
         spec, geom = self.marbler.frame_for(input_size, t, self.size, None)
         return self.marbler.renderer.render_i420(
-            spec, geom, planes, src, dst, static=self.static, wait=False
+            spec, geom, planes, src, dst, static=self.static, wait=False, lattice=self.lattice
         )
 
 
@@ -215,7 +231,7 @@ class SheetFrames:
     def __call__(self, t: float) -> np.ndarray:
         if self.still is not None:
             return self.still
-        frame = self.marbler.render(self.image, t, self.size)
+        frame = self.marbler.render(self.image, t, self.size, animated=True)
         if not self.marbler.recipe.is_animated:
             self.still = frame
         return frame

@@ -51,7 +51,7 @@ class SegmentJob:
 
     src: str
     recipe: Recipe
-    options: dict  # VideoOptions fields of the encoder and size
+    options: dict  # VideoOptions fields of the encoder, size and walk
 
 
 class Primed:
@@ -91,7 +91,9 @@ def render_segment(
     options.notify = lambda message: None  # noted in the stats, told by the driver
     plan = segment_plan(plan_output(dst, options), dst)
     recipe = follow(job.recipe, job.src)  # the whole file's audio: every segment hears the same
-    marbler = Marbler(recipe, renderer, fit=options.fit or "stretch")
+    marbler = Marbler(
+        recipe, renderer, fit=options.fit or "stretch", lattice=not options.exact_walk
+    )
     transform = Primed(marbler.transform(options.size), segment.before)
     stats = transcode(job.src, dst, transform, options, plan=plan, pts_origin=segment.origin)
     return stats.frames, stats.notes
@@ -153,7 +155,8 @@ def render_split(
     if segments and len(parts) < segments:
         say(f"{src}: {segments} segments asked; its keyframes allow {len(parts)}")
     # the output's encoder and pixel format (from its extension), whatever the segments' is
-    shared = {k: getattr(opts, k) for k in ("crf", "preset", "size", "fit", "verbose")}
+    keys = ("crf", "preset", "size", "fit", "verbose", "exact_walk")
+    shared = {k: getattr(opts, k) for k in keys}
     shared.update(codec=plan.codec, pix_fmt=plan.pix_fmt, encoder_opts=dict(opts.encoder_opts))
     job = SegmentJob(str(Path(src).resolve()), recipe, shared)
     try:

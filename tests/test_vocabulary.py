@@ -321,3 +321,19 @@ def test_shift_and_turn_animate_linearly():
     assert half[0]["offset"] == (5.0, -2.0) and half[1]["angle"] == 45.0
     fx, fy = REGISTRY["turn"].forward(half[1].values, np.array([1.0]), np.array([0.0]))
     assert (fx[0], fy[0]) == pytest.approx((math.sqrt(0.5), math.sqrt(0.5)))  # clockwise: +y
+
+
+def test_a_jiggle_too_strong_before_its_first_key_names_its_path():
+    """t = 0 before the wavelength's first key: the fault names the op's major,
+    not a key of the wavelength that is not there (was a ValueError traceback)."""
+    wavelength = {"keys": [{"t": 0.5, "v": 10}, {"t": 1, "v": 40}]}
+    op = {
+        "type": "jiggle",
+        "angle": 0,
+        "wavelength": wavelength,
+        "phase": 0,
+        "major": 5,
+        "minor": 1,
+    }
+    with pytest.raises(RecipeError, match=r"ops\[0\]\.major"):
+        parse_recipe({"canvas": [80, 60], "ops": [op]}, "r.json")

@@ -60,6 +60,8 @@ def check_options(args: argparse.Namespace) -> tuple[str, str]:
                 raise UsageError(f"{flag}: applies to video outputs; for {out} use --time")
         if args.duration is not None:
             raise UsageError(f"--duration: applies to video outputs; {out} is not one")
+        if args.exact_walk:
+            raise UsageError(f"--exact-walk: applies to video outputs; {out} is not one")
         if args.fps is not None and not (job == "still" and is_sequence(args.input)):
             raise UsageError(
                 f"--fps: applies to video outputs (and image-sequence inputs); {out} is not one"

@@ -85,6 +85,12 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--jpeg-quality", type=int, default=80, help="preview JPEG quality (80)")
     add_controller_arguments(p)
+    p.add_argument(
+        "--exact-walk",
+        action="store_true",
+        help="walk every subsample of animated frames (default: interpolate the map from a "
+        "walked lattice where it is smooth)",
+    )
     add_log_arguments(p)
     v = p.add_argument_group("recording (as the file mode)")
     add_encoder_arguments(v, preset_default="here: veryfast, for real time")
@@ -180,6 +186,7 @@ def run_live(argv: list[str]) -> int:
             quiet=args.quiet,
             audio=audio,
             audio_by_frame=by_frame,
+            lattice=not args.exact_walk,
         )
         width, height = source.size
         if args.vcam:

@@ -141,6 +141,12 @@ def _render_parser() -> argparse.ArgumentParser:
         help="a sound file: the output's audio (its first sample at t = 0, in place of the "
         "input's) and what audio signals (audio.level, audio.low, ...) follow",
     )
+    v.add_argument(
+        "--exact-walk",
+        action="store_true",
+        help="animated frames over an input: walk every subsample (default: interpolate the "
+        'map from a walked lattice where it is smooth; the recipe\'s "lattice": false too)',
+    )
     add_encoder_arguments(v, preset_default="medium")
     c = p.add_argument_group("scale-out (pip install 'marblevideo[ray]')")
     c.add_argument(
@@ -252,4 +258,5 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         quiet=args.quiet,
         progress=args.progress,
         verbose=args.verbose,
+        exact_walk=args.exact_walk,
     )

@@ -86,6 +86,7 @@ class LiveSession:
         say=None,
         audio=None,
         audio_by_frame: bool = False,
+        lattice: bool = True,
     ):
         from marblevideo.marbler import Marbler
         from marblevideo.opencl.renderer import Renderer
@@ -97,6 +98,8 @@ class LiveSession:
         self.source = source
         self.renderer = renderer or Renderer(device, loop_walk=True)  # an edit never stalls a build
         self._Marbler = Marbler
+        #: animated frames interpolate the map from a lattice (False: --exact-walk)
+        self.lattice = lattice
         self.quiet = quiet
         self.controls = Controls()
         self.controllers = ControllerSignals()  # OSC and MIDI, fed by their listeners
@@ -176,7 +179,9 @@ class LiveSession:
         with self._lock:
             if self._marbled_for != (recipe_version, version):
                 self._marbler = self._Marbler(
-                    self._bound(with_overrides(recipe, overrides)), renderer=self.renderer
+                    self._bound(with_overrides(recipe, overrides)),
+                    renderer=self.renderer,
+                    lattice=self.lattice,
                 )
                 self._marbled_for = (recipe_version, version)
             return self._marbler, bypass, mirror
@@ -311,7 +316,7 @@ class LiveSession:
         if mirror:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
         start = time.monotonic()
-        out = rgba if bypass else marbler.render(rgba, self.clock.now())
+        out = rgba if bypass else marbler.render(rgba, self.clock.now(), animated=True)
         now = time.monotonic()
         self._render_ms.add(now, now - start)
         self._rendered.add(now)

@@ -41,6 +41,7 @@ class VideoOptions:
     fps: float | None = None  # --fps: convert a video's rate; an image sequence's input rate
     fit: str | None = None  # --fit stretch|crop|pad: an input of another aspect than --size
     soundtrack: str | None = None  # --soundtrack FILE: the output's audio (first sample at t = 0)
+    exact_walk: bool = False  # --exact-walk: animated frames walk every subsample (no lattice)
 
 
 @dataclass

@@ -11,6 +11,7 @@ from collections.abc import Callable
 import numpy as np
 
 from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec
+from marblevideo.opencl.lattice import LatticeWalk
 from marblevideo.opencl.program import Programs, Structure, pack_params
 from marblevideo.opencl.queue import DeviceQueue, float4, geometry_args
 from marblevideo.opencl.tables import ReusedMaps
@@ -19,13 +20,19 @@ from marblevideo.recipe.frame import FrameSpec, Geometry
 
 class PlanarFrames:
     """Renders I420 frames plane by plane on ``queue`` with ``programs``, reusing
-    maps through ``tables`` when ``reuse_maps``."""
+    maps through ``tables`` when ``reuse_maps``; animated frames that ask for it
+    interpolate from ``lattice`` (one lattice for the three planes)."""
 
     def __init__(
-        self, queue: DeviceQueue, programs: Programs, tables: ReusedMaps, reuse_maps: bool
+        self,
+        queue: DeviceQueue,
+        programs: Programs,
+        tables: ReusedMaps,
+        reuse_maps: bool,
+        lattice: LatticeWalk,
     ):
         self.queue, self.programs, self.tables = queue, programs, tables
-        self.reuse_maps = reuse_maps
+        self.reuse_maps, self.lattice = reuse_maps, lattice
 
     def render(
         self,
@@ -37,9 +44,11 @@ class PlanarFrames:
         static: bool,
         wait: bool,
         errors: Callable,
+        lattice: bool = False,
     ):
         """(frame or finishing function, reused): see Renderer.render_i420;
-        ``errors`` turns OpenCL errors into DeviceError."""
+        ``errors`` turns OpenCL errors into DeviceError; ``lattice``: interpolate
+        from a walked lattice unless the maps are reused."""
         queue, lanes = self.queue, self.programs.lanes
         w, h = geom.out_w, geom.out_h
         sh, sw = planes[0].shape
@@ -87,11 +96,16 @@ class PlanarFrames:
             chroma_job = (chroma, chroma_maps, chroma_offsets, (cw, ch), *quads[1:], 1)
             chroma_job += (("ctaps", "cwts"),)
             walk = reuse and not self.tables.holds(key)
+            lattice = lattice and not reuse and self.lattice.worth(packed)
+            walked = self.lattice.walk(built, luma, pbuf, lbuf) if lattice else None
             for g, maps, offsets, in_size, q0, q1, is_chroma, names in (luma_job, chroma_job):
                 pw, ph = g.out_w, g.out_h
                 head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q0, q1)
                 head += (np.int32(is_chroma),)
                 common = (q0, *map(np.int32, in_size), pbuf, samples, *maps, bgc, lbuf)
+                if walked is not None:
+                    self.lattice.render_plane(built, head, walked, common)
+                    continue
                 if not reuse:
                     k = built.kernels["marble_plane"]
                     k.set_args(*head, *common)

@@ -67,6 +67,9 @@ KERNEL_NAMES = (
     "marble_quads",
     "marble_plane",
     "marble_apply_plane",
+    "marble_lattice_cells",
+    "marble_lattice",
+    "marble_lattice_plane",
 )
 
 log = logging.getLogger("marblevideo.opencl")
@@ -109,9 +112,10 @@ def kernel_source(name: str = "marble.cl") -> str:
 
 def program_source() -> str:
     """The program's source without its generated header: the prelude, each op
-    family's sections (kernels/ops/<family>.cl, in registry order) and marble.cl."""
+    family's sections (kernels/ops/<family>.cl, in registry order), marble.cl and
+    lattice.cl."""
     families = dict.fromkeys(d.family for d in REGISTRY.values())
-    parts = ["prelude.cl", *(f"ops/{family}.cl" for family in families), "marble.cl"]
+    parts = ["prelude.cl", *(f"ops/{family}.cl" for family in families), "marble.cl", "lattice.cl"]
     return "\n".join(kernel_source(name) for name in parts)
 
 

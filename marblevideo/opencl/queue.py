@@ -172,6 +172,11 @@ class DeviceQueue:
 
         return finish
 
+    def read(self, array: np.ndarray, buffer) -> np.ndarray:
+        """Copy the start of ``buffer`` into ``array`` and return it (waits for the queue)."""
+        self._cl.enqueue_copy(self.queue, array, buffer, is_blocking=True)
+        return array
+
     def count(self, counter) -> int:
         """Read the int32 in ``counter`` (waits for the queue up to it)."""
         count = np.empty(1, np.int32)

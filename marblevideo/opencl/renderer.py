@@ -9,8 +9,11 @@ the kernel fills for the edges mode.
 
 A frame is drawn by one of the strategies: every subsample walked
 (:class:`~marblevideo.opencl.walks.FreshWalk`), the full pattern only where a
-pixel needs it (:class:`~marblevideo.opencl.walks.AdaptiveWalk`), or fetched
-from the tables of reused maps (:class:`~marblevideo.opencl.tables.ReusedMaps`).
+pixel needs it (:class:`~marblevideo.opencl.walks.AdaptiveWalk`), fetched
+from the tables of reused maps (:class:`~marblevideo.opencl.tables.ReusedMaps`),
+or, for an animated frame over an input that asks for it (``lattice=True``),
+interpolated from a walked lattice where that can be trusted
+(:class:`~marblevideo.opencl.lattice.LatticeWalk`).
 Programs come from :class:`~marblevideo.opencl.program.Programs`, buffers and
 copies from :class:`~marblevideo.opencl.queue.DeviceQueue`.
 """
@@ -25,6 +28,7 @@ from marblevideo.errors import DeviceError, UsageError
 from marblevideo.limits import MAX_SIDE
 from marblevideo.media.yuv import YuvMatrix, split_i420
 from marblevideo.opencl.device import DeviceInfo, choose_device
+from marblevideo.opencl.lattice import LatticeWalk
 from marblevideo.opencl.planar import PlanarFrames
 from marblevideo.opencl.program import Built, Programs, Structure, pack_params
 from marblevideo.opencl.queue import DeviceQueue, float4, geometry_args
@@ -119,7 +123,10 @@ class Renderer:
         self.tables = ReusedMaps(self.device_queue, self.lanes)
         self.fresh = FreshWalk(self.device_queue, self.lanes)
         self.adaptive_walk = AdaptiveWalk(self.device_queue, self.lanes)
-        self.planar = PlanarFrames(self.device_queue, self.programs, self.tables, reuse_maps)
+        self.lattice_walk = LatticeWalk(self.device_queue, self.lanes)
+        self.planar = PlanarFrames(
+            self.device_queue, self.programs, self.tables, reuse_maps, self.lattice_walk
+        )
         #: whether the last render came from the table of reused maps
         self.last_reused = False
 
@@ -162,6 +169,7 @@ class Renderer:
         *,
         static: bool = False,
         wait: bool = True,
+        lattice: bool = False,
     ):
         """Render one frame: (geom.out_h, geom.out_w, 4) uint8 RGBA.
 
@@ -170,6 +178,9 @@ class Renderer:
         ``static``: later frames repeat these values (see the class).
         ``wait=False`` returns once the frame is queued, with a function that
         waits for it and returns it (see :meth:`render_i420`).
+        ``lattice``: over an input, unless the maps are reused, interpolate the
+        map from a walked lattice where it can be trusted (animated frames; see
+        :mod:`~marblevideo.opencl.lattice`); False walks every subsample.
         """
         rgba = None if image is None else to_rgba(image)
         size = None if rgba is None else (rgba.shape[1], rgba.shape[0])
@@ -182,7 +193,7 @@ class Renderer:
             result = np.empty((h, w, 4), np.uint8) if out is None else out
             return queue.download(result, dst, wait, uploads, self.errors)
 
-        return self._render(spec, geom, size, put, fetch, static)
+        return self._render(spec, geom, size, put, fetch, static, lattice)
 
     def render_i420(
         self,
@@ -195,6 +206,7 @@ class Renderer:
         *,
         static: bool = False,
         wait: bool = True,
+        lattice: bool = False,
     ):
         """:meth:`render` for 8-bit 4:2:0 video frames, converted on the device.
 
@@ -230,7 +242,7 @@ class Renderer:
             if src_matrix == dst_matrix:
                 check_size(geom.out_w, geom.out_h)
                 frame, self.last_reused = self.planar.render(
-                    spec, geom, planes, dst_matrix, out, static, wait, self.errors
+                    spec, geom, planes, dst_matrix, out, static, wait, self.errors, lattice
                 )
                 return frame
             size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
@@ -254,9 +266,18 @@ class Renderer:
             queue.launch(k, -(-w // yl) * (h // 2))
             return queue.download(result, staged, wait, uploads, self.errors)
 
-        return self._render(spec, geom, size, put, fetch, static)
+        return self._render(spec, geom, size, put, fetch, static, lattice and planes is not None)
 
-    def _render(self, spec: FrameSpec, geom: Geometry, size, put, fetch, static: bool = False):
+    def _render(
+        self,
+        spec: FrameSpec,
+        geom: Geometry,
+        size,
+        put,
+        fetch,
+        static: bool = False,
+        lattice: bool = False,
+    ):
         """One RGBA frame over an input of ``size`` (w, h), or a blank sheet (None).
 
         ``put(built, padded, uploads)`` writes the input's RGBA pixels inside
@@ -299,6 +320,9 @@ class Renderer:
             common += (lbuf,)
             if reuse:
                 self.tables.render(built, dst, w, h, common, key)
+            elif lattice and has_input and self.lattice_walk.worth(packed):
+                walked = self.lattice_walk.walk(built, geom, pbuf, lbuf)
+                self.lattice_walk.render(built, dst, w, h, walked, common)
             elif len(pattern(spec.antialias)) > 1 and self._adaptive(has_input, w, h, structure):
                 self.adaptive_walk.render(built, dst, w, h, common, pbuf, maps, has_input)
             else:

@@ -79,10 +79,13 @@ def check(op, tracks) -> list:
     for t in times:
         ka = 2 * math.pi * abs(major.at(t)) / wavelength.at(t)
         if ka >= 1:
-            name = "major" if t in major.key_times or not wavelength.key_times else "wavelength"
+            # the key at t, if either track has one (t = 0 may be before both's first)
+            name = (
+                "wavelength" if t in wavelength.key_times and t not in major.key_times else "major"
+            )
             track = major if name == "major" else wavelength
             path = [name]
-            if track.keyed:
+            if track.keyed and t in track.key_times:
                 path += ["keys", track.key_times.index(t), "v"]
             return [
                 (

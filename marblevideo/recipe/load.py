@@ -132,6 +132,9 @@ class Recipe:
     description: str = ""
     entries: int = 0
     signals: SignalValues | None = field(default=None, compare=False, repr=False)
+    #: marblevideo extension: animated frames over an input may interpolate the map
+    #: from a walked lattice (False: every subsample walked; see Marbler)
+    lattice: bool = True
 
     @classmethod
     def from_dict(cls, data: object, source: str = "<dict>") -> Recipe:
@@ -331,6 +334,7 @@ def _build(doc: dict, source: str) -> Recipe:
         source=source,
         description=doc.get("description", ""),
         entries=len(doc["ops"]),
+        lattice=doc.get("lattice", True),
     )
 
 

@@ -314,6 +314,12 @@ def _build() -> dict:
                 "default": "clamp",
                 "description": "What the input shows outside itself.",
             },
+            "lattice": {
+                "type": "boolean",
+                "default": True,
+                "description": "marblevideo: animated frames over an input interpolate the "
+                "map from a walked lattice where it is smooth; false walks every subsample.",
+            },
             "ops": {
                 "type": "array",
                 "items": _ref("op"),
