@@ -1,0 +1,34 @@
+/* ops/stroke.cl: stroke (marblevideo/ops/stroke.py), a stylus drawn along a path
+ * as a train of vortex-pair steps, walked back last step first: each step turns
+ * P' about B = C - h by +t g(|P' - B|), then about A = C + h by -t g(|P1 - A|),
+ * g(r) = (1 - r^2 / w^2)^2 inside w. A step moves nothing farther than 3w/2
+ * from its centre C (one squared distance skips it), and a stroke nothing
+ * outside its steps' bounding box.
+ * p: where the steps start in `lists`, how many, 1/w^2, (3w/2)^2, the box
+ * xmin, ymin, xmax, ymax. A step: cx, cy, hx, hy, t (turns) */
+
+/* Turn the lanes' points about (cx, cy) by t g(r): g is 0 from r = w on, where
+ * the turn is exactly the identity. */
+inline void stroke_turn(vf *x, vf *y, float cx, float cy, float t, float inv_w2) {
+    vf qx = *x - cx, qy = *y - cy;
+    vf g = fmax(1.0f - (qx * qx + qy * qy) * inv_w2, 0.0f);
+    vf sn, cs;
+    sincos_turns(t * g * g, &sn, &cs);
+    *x = cx + qx * cs - qy * sn;
+    *y = cy + qx * sn + qy * cs;
+}
+
+inline void op_stroke(OP_ARGS) {
+    if (!ANY((*x >= p[4]) & (*x <= p[6]) & (*y >= p[5]) & (*y <= p[7])))
+        return;
+    __global const float *s = lists + (int)p[0];
+    const float inv_w2 = p[2], reach2 = p[3];
+    for (int k = (int)p[1] - 1; k >= 0; k--) {
+        __global const float *q = s + 5 * k;
+        vf dx = *x - q[0], dy = *y - q[1];
+        if (!ANY(dx * dx + dy * dy < reach2))
+            continue;
+        stroke_turn(x, y, q[0] - q[2], q[1] - q[3], q[4], inv_w2);
+        stroke_turn(x, y, q[0] + q[2], q[1] + q[3], -q[4], inv_w2);
+    }
+}
