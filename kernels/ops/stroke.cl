@@ -7,15 +7,16 @@
  * p: where the steps start in `lists`, how many, 1/w^2, (3w/2)^2, the box
  * xmin, ymin, xmax, ymax. A step: cx, cy, hx, hy, t (turns) */
 
-/* Turn the lanes' points about (cx, cy) by t g(r): g is 0 from r = w on, where
- * the turn is exactly the identity. */
+/* Turn the lanes' points about (cx, cy) by t g(r); from r = w on (g = 0) the
+ * points are kept exactly (cx + (x - cx) could round). */
 inline void stroke_turn(vf *x, vf *y, float cx, float cy, float t, float inv_w2) {
     vf qx = *x - cx, qy = *y - cy;
     vf g = fmax(1.0f - (qx * qx + qy * qy) * inv_w2, 0.0f);
     vf sn, cs;
     sincos_turns(t * g * g, &sn, &cs);
-    *x = cx + qx * cs - qy * sn;
-    *y = cy + qx * sn + qy * cs;
+    vi inside = g > 0.0f;
+    *x = select(*x, cx + qx * cs - qy * sn, inside);
+    *y = select(*y, cy + qx * sn + qy * cs, inside);
 }
 
 inline void op_stroke(OP_ARGS) {

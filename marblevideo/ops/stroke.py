@@ -106,11 +106,13 @@ def angles(v: Values, lay: Layout) -> np.ndarray:
 
 
 def _turn(x, y, cx, cy, angle, inv_w2):
-    """(x, y) turned about (cx, cy) by angle g(r), g = (1 - r^2/w^2)^2 inside w."""
+    """(x, y) turned about (cx, cy) by angle g(r), g = (1 - r^2/w^2)^2 inside w;
+    points from w on are kept exactly (not re-rounded through cx + (x - cx))."""
     qx, qy = x - cx, y - cy
     g = np.maximum(1.0 - (qx * qx + qy * qy) * inv_w2, 0.0) ** 2
     c, s = np.cos(angle * g), np.sin(angle * g)
-    return cx + qx * c - qy * s, cy + qx * s + qy * c
+    inside = g > 0
+    return np.where(inside, cx + qx * c - qy * s, x), np.where(inside, cy + qx * s + qy * c, y)
 
 
 def _walk(sign: float):
