@@ -12,7 +12,7 @@ import numpy as np
 import pytest
 from conftest import files, one_line
 from op_probe import run_op
-from tolerances import KERNEL_SHARE
+from tolerances import KERNEL_SHARE, SVG_SHARE
 
 from marblevideo.opencl.program import STILL_CODE, pack_params
 from marblevideo.opencl.renderer import Renderer
@@ -220,3 +220,29 @@ def test_refusals_exit_2_in_one_line_with_their_path(cli, tmp_path):
         assert line.startswith(f"marblevideo: r.json: {path}: "), (name, line)
         assert expected in line, (name, line)
         assert files(tmp_path) == ["r.json"], name
+
+
+# ---------------------------------------------------------------------------- surfaces
+
+
+def test_ops_command_describes_the_stroke(cli):
+    proc = cli("ops", "stroke")
+    assert proc.returncode == 0, proc.stderr
+    text = " ".join(proc.stdout.split())
+    assert "points [[x, y], ...] required" in text and "width number > 0 = 24" in text
+    assert "the stylus travels the path" in text and "drag" in text
+
+
+def test_svg_and_pdf_of_a_stroke_design(cli, tmp_path, renderer):
+    from svg_raster import agreement as svg_agreement
+    from svg_raster import rasterize
+
+    (tmp_path / "t.json").write_text(json.dumps(_tulip()))
+    for out in ("t.svg", "t.pdf"):
+        proc = cli("--ops", "t.json", "-o", out, "--size", "160x200")
+        assert proc.returncode == 0, proc.stderr
+    assert (tmp_path / "t.pdf").read_bytes().startswith(b"%PDF")
+    recipe = parse_recipe(_tulip(), "t.json")
+    raster = renderer.render(recipe.at(0), geometry(recipe.canvas, (160, 200)))
+    svg = (tmp_path / "t.svg").read_text()
+    assert svg_agreement(rasterize(svg, (160, 200)), raster) >= SVG_SHARE

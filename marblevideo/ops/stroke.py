@@ -36,7 +36,7 @@ MAX_POINTS, MAX_TINES, MAX_STEPS = 4096, 64, 200_000
 #: ``drag`` must lie in -DRAG_LIMIT..DRAG_LIMIT.
 DRAG_LIMIT = 4.0
 #: Defaults of the optional parameters.
-DEFAULT_WIDTH, DEFAULT_DRAG = 24.0, 1.0
+DEFAULT_WIDTH, DEFAULT_DRAG = 24, 1
 #: Floats per step in the kernel's data: cx, cy, hx, hy, the angle in turns.
 STEP_FLOATS = 5
 #: Steps per width: n = ceil(STEPS_PER_WIDTH l / w).
