@@ -246,3 +246,39 @@ def test_svg_and_pdf_of_a_stroke_design(cli, tmp_path, renderer):
     raster = renderer.render(recipe.at(0), geometry(recipe.canvas, (160, 200)))
     svg = (tmp_path / "t.svg").read_text()
     assert svg_agreement(rasterize(svg, (160, 200)), raster) >= SVG_SHARE
+
+
+# ---------------------------------------------------------------------------- presets
+
+STROKE_PRESETS = ("tulip", "heart", "french-curl", "bird")
+
+
+@pytest.mark.parametrize("name", STROKE_PRESETS)
+def test_a_stroke_preset_renders_on_the_device_as_the_reference_does(renderer, name):
+    from marblevideo import load_recipe
+
+    recipe = load_recipe(name)
+    assert any(op.type == "stroke" for op in recipe.ops) and recipe.canvas is not None
+    for t in (recipe.end_time() * 0.8, recipe.end_time()):
+        spec = recipe.at(t)
+        geom = geometry(recipe.canvas, (120, 100))
+        share = agreement(renderer.render(spec, geom), reference_render(spec, geom))
+        assert share >= KERNEL_SHARE, (name, t, share)
+
+
+def test_the_stroke_presets_are_what_their_script_writes(cli, tmp_path):
+    import importlib.util
+
+    from conftest import ROOT
+
+    path = ROOT / "samples" / "make_stroke_presets.py"
+    spec = importlib.util.spec_from_file_location("make_stroke_presets", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    module.HERE = tmp_path
+    module.main()
+    for name in STROKE_PRESETS:
+        written = (tmp_path / f"{name}.json").read_text()
+        assert written == (ROOT / "samples" / f"{name}.json").read_text(), name
+        proc = cli("presets", name)
+        assert proc.returncode == 0 and json.loads(proc.stdout) == json.loads(written)
