@@ -37,7 +37,7 @@ MAX_POINTS, MAX_TINES, MAX_STEPS = 4096, 64, 200_000
 DRAG_LIMIT = 4.0
 #: Defaults of the optional parameters.
 DEFAULT_WIDTH, DEFAULT_DRAG = 24, 1
-#: Floats per step in the kernel's data: cx, cy, hx, hy, the angle in turns.
+#: Floats per step in the kernel's data: cx, cy, hx, hy, the angle in radians.
 STEP_FLOATS = 5
 #: Steps per width: n = ceil(STEPS_PER_WIDTH l / w).
 STEPS_PER_WIDTH = 4.0
@@ -154,7 +154,7 @@ def _rows(flat, width: float, tines, drag: float, travel: float) -> tuple[tuple,
     if drag == 0 or count == 0:
         return (), (1e30, 1e30, -1e30, -1e30)
     c, h = lay.centres[:count], lay.halves[:count]
-    rows = np.column_stack([c, h, turns[:count] / (2 * math.pi)])
+    rows = np.column_stack([c, h, turns[:count]])
     ends = np.concatenate([c + h, c - h])
     lo, hi = ends.min(axis=0) - width, ends.max(axis=0) + width
     return tuple(rows.ravel().tolist()), (*lo.tolist(), *hi.tolist())
@@ -163,7 +163,8 @@ def _rows(flat, width: float, tines, drag: float, travel: float) -> tuple[tuple,
 def pack(v: Values, lists: list) -> tuple[float, ...]:
     """Where the steps start in ``lists``, how many, 1/w^2, (3w/2)^2 (a step's
     reach from its centre), and the bounding box xmin, ymin, xmax, ymax of every
-    acting step's reach. Each step: cx, cy, hx, hy, theta e_k / (2 pi) (turns)."""
+    acting step's reach. Each step: cx, cy, hx, hy, theta e_k (radians, at most
+    16/9: the kernel's polynomials need no range reduction)."""
     w = float(v["width"])
     rows, box = _rows(
         tuple(v["points"]), w, tuple(v["tines"]), float(v["drag"]), float(v.get("travel", 1.0))
