@@ -282,3 +282,14 @@ def test_the_stroke_presets_are_what_their_script_writes(cli, tmp_path):
         assert written == (ROOT / "samples" / f"{name}.json").read_text(), name
         proc = cli("presets", name)
         assert proc.returncode == 0 and json.loads(proc.stdout) == json.loads(written)
+
+
+def test_the_readme_states_the_stroke_limits():
+    from conftest import ROOT
+
+    from marblevideo.ops.stroke import MAX_POINTS, MAX_STEPS, MAX_TINES
+
+    readme = (ROOT / "README.md").read_text()
+    row = next(line for line in readme.splitlines() if line.startswith("| a `stroke` |"))
+    for value in (f"{MAX_POINTS:,}", f"1..{MAX_TINES} tines", f"{MAX_STEPS:,} steps"):
+        assert value in row, value
