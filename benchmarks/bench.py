@@ -42,6 +42,9 @@
   PoCL generates for this CPU and for an AVX2 CPU (POCL_KERNELLIB_NAME=avx2),
   each in a process of its own: a blank-sheet frame, a 720p frame over an input
   walked afresh and from reused maps, and a planar 720p frame.
+- strokes: the stroke presets at 1024x768 (tulip under 1 s), one stroke of n
+  steps against n circle ops, and the packing of a 200000-step stroke
+  (stroke_bench.py).
 
 Timings are medians; the machine is shared, so treat differences under 1.3x as noise.
 """
@@ -824,6 +827,10 @@ def main() -> None:
                 cost_part(args.device, animated12, turn12)
             else:
                 live1080_part(args.device)
+        elif part == "strokes":
+            from stroke_bench import strokes_part
+
+            strokes_part(args.device)
         elif part == "memory":
             memory(args.device, args.long)
         elif part in ("e2e", "bounds"):

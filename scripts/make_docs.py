@@ -37,6 +37,8 @@ JPEG_QUALITY = 85
 #: the classic-pattern samples the README shows, and the size of their pictures
 CLASSICS = ("nonpareil", "bouquet", "chevron", "spanish-wave", "stone-sprays")
 CLASSIC_SIZE = "360x240"
+#: the free-hand stroke presets the README shows (issue 32), and their pictures' sizes
+STROKES = {"tulip": "240x300", "heart": "240x300", "french-curl": "360x240", "bird": "360x240"}
 #: what :func:`make` writes into docs/
 PICTURES = (
     "figure6.png",
@@ -49,6 +51,7 @@ PICTURES = (
     "coffee-swirl.jpg",
     *(f"{name}.jpg" for name in CLASSICS),
     "bouquet-steps.jpg",
+    *(f"{name}.jpg" for name in STROKES),
 )
 
 
@@ -163,6 +166,8 @@ def make(out: Path, tmp: Path) -> dict[str, str]:
     run(with_option(readme_command("bouquet-steps.png"), "--size", "120"), tmp / "steps.png")
     write(out / "bouquet-steps.jpg", read_rgb(tmp / "steps.png"))
 
+    make_strokes(out, tmp)
+
     # photos: the README's still command, and frames of the video through the API
     run(readme_command("out.png"), tmp / "comb-wave.png")
     write(out / "coffee-comb-wave.jpg", read_rgb(tmp / "comb-wave.png"))
@@ -174,6 +179,14 @@ def make(out: Path, tmp: Path) -> dict[str, str]:
     at = " and ".join(f"{t:g} s" for t in SWIRL_TIMES)
     numbers["swirl"] = f"`{src}` through `{recipe}`, at {at}"
     return numbers
+
+
+def make_strokes(out: Path, tmp: Path) -> None:
+    """The stroke presets' pictures (``python -c "...make_strokes(DOCS, tmp)"`` makes
+    only these)."""
+    for name, size in STROKES.items():
+        run(with_option(readme_command(f"{name}.png"), "--size", size), tmp / f"{name}.png")
+        write(out / f"{name}.jpg", read_rgb(tmp / f"{name}.png"))
 
 
 def with_numbers(text: str, numbers: dict[str, str]) -> str:

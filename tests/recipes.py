@@ -137,6 +137,9 @@ def random_value(rng, param, w: float, h: float):
         return int(rng.integers(1, 9))
     if kind == "numberList":
         return [float(v) for v in rng.uniform(-0.4, 0.4, int(rng.integers(1, 9))) * size]
+    if kind == "pointList":  # a stroke's path: 2..6 points over the canvas
+        n = int(rng.integers(2, 7))
+        return [[float(rng.uniform(0, w)), float(rng.uniform(0, h))] for _ in range(n)]
     if kind == "nonzeroList":
         radii = rng.uniform(0.05, 0.45, int(rng.integers(1, 7))) * size
         return [float(r if rng.random() < 0.6 else -r) for r in radii]
@@ -148,6 +151,7 @@ def random_value(rng, param, w: float, h: float):
         "length": (0.05 * size, 0.4 * size),
         "area": (-0.3 * size * size, 0.3 * size * size),
         "time": (0.0, 3.0),
+        "share": (-4.0, 4.0),
     }
     lo, hi = ranges[law]
     if kind != "number":  # positive or nonnegative
@@ -174,6 +178,15 @@ def random_registry_op(rng, definition, w: float, h: float) -> dict:
                 for key in value["keys"]:  # positive kinds stay positive at every key
                     key["v"] = abs(key["v"]) or 1e-3
         op[param.name] = value
+    if definition.type == "stroke":
+        # a comb of 1..3 tines 1.5 widths apart and |drag| <= 2, as strokes are drawn:
+        # random close tines and strong drags crossing their own path fold the sheet
+        # into filaments far thinner than the tests' pixels
+        m, w_ = len(op.get("tines", [0])[:3]), op.get("width", 24)
+        if "tines" in op:
+            op["tines"] = [(k - (m - 1) / 2) * 1.5 * w_ for k in range(m)]
+        if isinstance(op.get("drag"), float):
+            op["drag"] /= 2
     r = rng.random()
     if r < 0.3:
         op["start"] = float(rng.uniform(0, 1))

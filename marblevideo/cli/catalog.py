@@ -33,6 +33,7 @@ KIND_LABELS = {
     "colorList": "[colors]",
     "seed": "integer >= 0",
     "distribution": "uniform|normal",
+    "pointList": "[[x, y], ...]",
 }
 PROGRESS = {"linear": "{} * p", "sqrt": "{} * sqrt(p)"}
 
@@ -170,6 +171,8 @@ def _detail(type_: str) -> str:
         ]
     else:
         laws = ", ".join(PROGRESS[law].format(name) for name, law in definition.progress)
+        if definition.travels:
+            laws = "the stylus travels the path (step k of n acts by clamp(p n - k, 0, 1))"
         notes = [f"Progress p (0 -> 1 from start to end): {laws or 'none'}."]
         if definition.ink:
             notes.append("Ink: a point inside it takes its color (the walk ends there).")

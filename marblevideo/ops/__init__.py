@@ -8,7 +8,7 @@ from __future__ import annotations
 
 from dataclasses import replace
 
-from marblevideo.ops import ink, jiggle, rotation, shear
+from marblevideo.ops import ink, jiggle, rotation, shear, stroke
 from marblevideo.ops.base import (
     COLOR_SLOTS,
     EXAMPLE_CANVAS,
@@ -22,7 +22,7 @@ from marblevideo.ops.base import (
 )
 from marblevideo.ops.layouts import LAYOUTS, LayoutDef, expand
 
-FAMILIES = (ink, shear, rotation, jiggle)
+FAMILIES = (ink, shear, rotation, jiggle, stroke)
 
 
 def _register(families) -> dict[str, OpDef]:

@@ -45,6 +45,7 @@ KINDS = (
     "colorList",
     "seed",
     "distribution",
+    "pointList",
 )
 #: Kinds whose values may be keyframe tracks.
 KEYABLE_KINDS = ("number", "positive", "nonnegative", "point", "color")
@@ -62,7 +63,7 @@ PROGRESS_LAWS = {
 #: The canvas every op definition's ``example`` is drawn for.
 EXAMPLE_CANVAS = (80.0, 60.0)
 #: Slider laws of the live page: (min, max, step) for a value v on a canvas of side size.
-SLIDER_LAWS = ("angle", "phase", "shift", "amplitude", "length", "area", "time")
+SLIDER_LAWS = ("angle", "phase", "shift", "amplitude", "length", "area", "time", "share")
 
 
 @dataclass(frozen=True)
@@ -125,6 +126,8 @@ class OpDef:
       below the op, message); None when the schema says it all.
     - ``settle(values)``: the values at one instant made renderable where the
       recipe leaves them out of range between keys (in place); None: as they are.
+    - ``travels``: progress is a stylus' travel along the op's path, not a
+      scaled parameter: :meth:`at_progress` puts p in ``values["travel"]``.
     - ``example``: a valid op of this type as JSON, drawn for :data:`EXAMPLE_CANVAS`
       (for tests, the device check and docs).
     - ``family``: the module that defines it, and so the kernel file
@@ -142,6 +145,7 @@ class OpDef:
     contains: Callable[[Values, np.ndarray, np.ndarray], np.ndarray] | None = None
     check: Callable[[Mapping, Mapping], list] | None = None
     settle: Callable[[dict], dict] | None = None
+    travels: bool = False
     family: str = ""
     code: int = field(default=-1, compare=False)
 
@@ -170,6 +174,8 @@ class OpDef:
         progress 0, before its ``start``, or given as 0). The kernel skips it."""
         if self.ink:
             return self.absent(values)
+        if self.travels:
+            return values.get("travel", 1.0) <= 0 or values.get("drag") == 0
         return bool(self.progress) and all(
             all(c == 0 for c in v) if isinstance(v := values[name], tuple) else v == 0
             for name, _ in self.progress
@@ -184,6 +190,8 @@ class OpDef:
     def at_progress(self, values: dict[str, Value], p: float) -> dict[str, Value]:
         """``values`` with the progress laws applied at progress ``p``, then settled
         (in place)."""
+        if self.travels:
+            values["travel"] = p
         for name, law in self.progress:
             scale = PROGRESS_LAWS[law]
             value = values[name]
@@ -213,6 +221,8 @@ def slider_range(param: Param, v: float, size: float) -> tuple[float, float, flo
         if param.kind == "number":
             return -m, m, m / 500
         return (0.0 if param.kind == "nonnegative" else m / 1000), m, m / 1000
+    if law == "share":  # a stroke's drag: -4..4
+        return -4.0, 4.0, 0.01
     if law == "time":  # seconds
         hi = max(v * 4, 10.0)
         return 0.0, hi, hi / 1000

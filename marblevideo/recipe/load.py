@@ -339,11 +339,11 @@ def _build(doc: dict, source: str) -> Recipe:
 
 
 def _components(value: Any) -> tuple[float, ...]:
-    """A valid number, point or color as a tuple of floats (colors 0..255)."""
+    """A valid number, point, color or list as a tuple of floats (colors 0..255)."""
     if isinstance(value, str):
         return color_components(value)
-    if isinstance(value, list):
-        return tuple(float(c) for c in value)
+    if isinstance(value, list):  # a point list is flattened: (x0, y0, x1, y1, ...)
+        return tuple(float(c) for v in value for c in (v if isinstance(v, list) else [v]))
     return (float(value),)
 
 

@@ -22,6 +22,7 @@ from functools import lru_cache
 
 from marblevideo.limits import MAX_COUNT, MAX_LIST, NUMBER_LIMIT
 from marblevideo.ops import recipe_types, type_def
+from marblevideo.ops.stroke import MAX_POINTS
 from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.colors import CSS_NAMES, HEX_PATTERN, NAME_PATTERN, SHAPES
 from marblevideo.recipe.frame import EDGE_MODES
@@ -217,6 +218,13 @@ def _build() -> dict:
             "maximum": 2**63 - 1,
         },
         "distribution": {"title": "distribution", "type": "string", "enum": ["uniform", "normal"]},
+        "pointList": {
+            "title": f"list of 2..{MAX_POINTS} points [x, y]",
+            "type": "array",
+            "items": _ref("point"),
+            "minItems": 2,
+            "maxItems": MAX_POINTS,
+        },
     }
     used = {p.kind for t in recipe_types() for p in type_def(t).params}
     unit = {"type": "number", "minimum": 0, "maximum": 1}
