@@ -1,7 +1,7 @@
 /* prelude.cl: what every part of the program shares: build-time defines,
  * the vector types and the math helpers of the op sections.
  *
- * Conventions (shared/recipe-format.md): canvas units, origin top-left,
+ * Conventions (docs/recipe-format.md): canvas units, origin top-left,
  * x right, y down; output pixel (i, j) has its centre at (i + 0.5, j + 0.5);
  * input pixels likewise; images are packed RGBA8 (R in the low byte).
  *

@@ -1,7 +1,7 @@
 """marblevideo: closed-form marbling for video, live sources and stills.
 
 Implements the transforms of Lu, Jaffer, Jin, Zhao and Mao, "Mathematical
-Marbling" (IEEE TVCG 2012) following shared/recipe-format.md. Data flows one
+Marbling" (IEEE TVCG 2012) following docs/recipe-format.md. Data flows one
 way: recipe (:mod:`marblevideo.recipe`, its ops defined in :mod:`marblevideo.ops`)
 -> per-frame parameters (:mod:`marblevideo.recipe.frame`) -> renderer
 (:mod:`marblevideo.opencl`, with :mod:`marblevideo.reference` as the NumPy

@@ -1,4 +1,4 @@
-"""Controller signals (shared/recipe-format.md, "Signals"): the 100 Hz envelope
+"""Controller signals (docs/recipe-format.md, "Signals"): the 100 Hz envelope
 against a step-by-step transcription of the contract, OSC over real UDP on
 loopback, the MIDI mapping (mido Messages through the port callback's code; no
 ALSA sequencer here for a virtual port), and the automation tracks."""

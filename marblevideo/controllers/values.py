@@ -1,4 +1,4 @@
-"""Controller signal values (shared/recipe-format.md, "Signals": controller
+"""Controller signal values (docs/recipe-format.md, "Signals": controller
 signals): what OSC and MIDI messages set, as a
 :class:`~marblevideo.recipe.signals.SignalValues` source.
 

@@ -11,7 +11,7 @@ The source is kernels/prelude.cl, each op family's sections
 the op registry (:func:`walk_source`). On CPU devices the kernels run vector
 code as wide as the device's native float vectors (:func:`cpu_lanes`: 16 lanes
 on AVX-512, 8 on AVX2, 4 on SSE) with several independent chains per
-work-item (:func:`cpu_chains`; see shared/PERF-NOTES.md); on GPUs one pixel per
+work-item (:func:`cpu_chains`; see BENCHMARKS.md); on GPUs one pixel per
 work-item.
 
 Programs build silently: the OpenCL compiler's warnings are switched off

@@ -8,7 +8,7 @@ one definition in a family module (:mod:`marblevideo.ops.ink`, ...), one
 ``op_<type>`` section in ``kernels/ops/<family>.cl`` and one paragraph in
 docs/recipe-format.md.
 
-Conventions (shared/recipe-format.md): canvas units, origin top-left, x right,
+Conventions (docs/recipe-format.md): canvas units, origin top-left, x right,
 y down; angles in degrees (0 is +x, 90 is +y, so positive turns are clockwise
 on screen); colours are (r, g, b) floats 0..255. The maps take ``v``, the op's
 values at one instant (a mapping of parameter name to float or tuple of

@@ -6,7 +6,7 @@ op's ``start``/``end`` progress already applied (drop and spray radius scaled
 by sqrt(p), tine/comb/circle/vortex alpha by p, wave amplitude by p). Both
 renderers, the NumPy reference and the OpenCL kernel, read only this.
 
-Conventions (see shared/recipe-format.md): canvas units, origin top-left,
+Conventions (see docs/recipe-format.md): canvas units, origin top-left,
 x right, y down; angles in degrees; colors are (r, g, b) floats in 0..255.
 
 :class:`Geometry` holds the two per-axis affine maps of a render:

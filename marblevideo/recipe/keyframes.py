@@ -1,6 +1,6 @@
 """Keyframe tracks: a parameter value that is constant or keyed in time.
 
-Conventions (shared/recipe-format.md, "Keyframe tracks"): times in seconds,
+Conventions (docs/recipe-format.md, "Keyframe tracks"): times in seconds,
 strictly increasing; the ``ease`` of key i shapes the segment that *leaves*
 it, v = v_i + (v_{i+1} - v_i) * ease_i(u) with u = (t - t_i) / (t_{i+1} - t_i),
 component by component. Before the first key a track holds the first value,

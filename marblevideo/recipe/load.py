@@ -1,4 +1,4 @@
-"""The recipe model and its validation (shared/recipe-format.md).
+"""The recipe model and its validation (docs/recipe-format.md).
 
 :func:`load_recipe` and :func:`parse_recipe` turn a JSON file or a Python dict
 into a :class:`Recipe`, validating it fully first: structure against the

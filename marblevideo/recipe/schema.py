@@ -1,6 +1,6 @@
 """The recipe's JSON Schema (Draft 2020-12), as printed by ``marblevideo schema``.
 
-It is the one structural description of shared/recipe-format.md: the loader
+It is the one structural description of docs/recipe-format.md: the loader
 (:mod:`marblevideo.recipe`) validates every recipe against exactly this schema,
 so an editor that uses it agrees with the loader. What a schema cannot say
 (key times strictly increasing, ``end`` > ``start``, signal names) the loader

@@ -1,4 +1,4 @@
-"""Signals (shared/recipe-format.md, "Signals", revision 3): a number parameter
+"""Signals (docs/recipe-format.md, "Signals", revision 3): a number parameter
 that follows the sound or a controller instead of keyframes.
 
 A parameter given as ``{"signal": NAME, "range": [lo, hi], ...}`` is a

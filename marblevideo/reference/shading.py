@@ -1,6 +1,6 @@
 """NumPy float64 reference renderer: the oracle the OpenCL kernel is tested against.
 
-It follows shared/recipe-format.md literally and favours clarity over speed.
+It follows docs/recipe-format.md literally and favours clarity over speed.
 Conventions, shared with the contract and :mod:`marblevideo.recipe.frame`:
 
 - Canvas units, origin top-left, **x right, y down**. Angles in **degrees**;

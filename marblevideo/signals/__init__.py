@@ -1,4 +1,4 @@
-"""Signals' sources (shared/recipe-format.md, "Signals"): the audio analysis
+"""Signals' sources (docs/recipe-format.md, "Signals"): the audio analysis
 (:mod:`~marblevideo.signals.audio`: bands, 100 Hz levels, envelopes) and the
 values a render reads (:mod:`~marblevideo.signals.values`). The recipe side,
 names and :class:`~marblevideo.recipe.signals.SignalTrack`, is in
