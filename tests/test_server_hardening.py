@@ -127,6 +127,10 @@ def test_deep_json_is_a_bad_request_to_the_live_server(live):
         levels = 60000 if route == "/control" else 100000  # /control takes 64 KiB at most
         status, body = client.send(method, route, b"[" * levels)
         assert "nested too deeply" in refused_in_one_line(status, body, 400)
+    # a Content-Length that is no byte count is the client's fault too
+    for length in ("-5", "abc", "1e3", "\u00b2"):
+        status, body = client.send("PUT", "/api/recipe", None, **{"Content-Length": length})
+        assert "Content-Length" in refused_in_one_line(status, body, 400)
     assert path.read_bytes() == before and session.recipe_version == 1
     assert client.json("GET", "/stats")[0] == 200
 

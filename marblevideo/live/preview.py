@@ -125,7 +125,12 @@ class _Handler(BaseHTTPRequestHandler):
             self._json({"error": f"{what}: Content-Type must be application/json"}, 415)
             self.close_connection = True  # its body is left unread
             return None
-        length = int(self.headers.get("Content-Length") or 0)
+        length = self.headers.get("Content-Length") or "0"
+        if not (length.isascii() and length.isdigit()):
+            self._json({"error": f"{what}: Content-Length must be a byte count"}, 400)
+            self.close_connection = True
+            return None
+        length = int(length)
         if length > limit:
             self._json({"error": f"{what}: request too large"}, 413)
             self.close_connection = True
