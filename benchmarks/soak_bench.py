@@ -18,7 +18,11 @@ the session and the page took against the edits made, and the recording's
 duration and frame count (PyAV) against the session's.
 
     python benchmarks/soak_bench.py [--minutes 10] [--size 1280x720]
-        [--edit-every 15] [--out soak.json]
+        [--edit-every 15] [--out soak.json] [--trace]
+
+``--trace`` runs the same session in this process with a client thread in
+place of the browser and compares tracemalloc snapshots taken after the
+warm-up and at the end: whether the Python heap grows, against the RSS.
 
 Not a test: numbers depend on the machine and its load (see BENCHMARKS.md).
 """
@@ -240,13 +244,90 @@ def run(args) -> dict:
     return result
 
 
+def _fetcher(url: str, stop) -> None:
+    """A client as the page is: each new /frame.jpg, then /stats."""
+    import urllib.request
+
+    seq = 0
+    while not stop.is_set():
+        try:
+            with urllib.request.urlopen(f"{url}frame.jpg?after={seq}", timeout=5) as r:
+                r.read()
+                seq = int(r.headers["X-Frame-Seq"])
+            get_json(url + "stats")
+        except OSError:
+            time.sleep(0.1)
+
+
+def trace(args) -> dict:
+    """``--trace``: the same session in this process, a client thread in place of
+    the browser, and tracemalloc snapshots after the warm-up and at the end: how
+    much the Python heap grew (and where) against the process's RSS."""
+    import threading
+    import tracemalloc
+
+    from marblevideo.cli.live import build_parser, recorder_for
+    from marblevideo.design.live import LiveDesign
+    from marblevideo.live.preview import PreviewServer
+    from marblevideo.live.session import LiveSession
+    from marblevideo.live.sources import TestPattern
+
+    tracemalloc.start(10)
+    w, h = map(int, args.size.split("x"))
+    with tempfile.TemporaryDirectory() as tmp:
+        recipe = Path(tmp) / "soak-recipe.json"
+        save(recipe, RECIPE)
+        session = LiveSession(recipe, TestPattern((w, h), 30), jpeg=True, quiet=True)
+        opts = build_parser().parse_args(["--ops", str(recipe), "-o", f"{tmp}/soak.mp4", "-y"])
+        session.recorder = recorder_for(opts)
+        session.recorder.start(w, h, 30)
+        server = PreviewServer(LiveDesign(session), 0)
+        server.start()
+        stop, marks = threading.Event(), []
+
+        def drive() -> None:
+            start, n = time.monotonic(), 0
+            while time.monotonic() - start < args.minutes * 60:
+                time.sleep(args.edit_every)
+                n += 1
+                save(recipe, edited(n))
+                if not marks and time.monotonic() - start >= WARMUP:
+                    marks.append((tracemalloc.take_snapshot(), rss_mb(os.getpid())))
+            marks.append((tracemalloc.take_snapshot(), rss_mb(os.getpid())))
+            session.stop_event.set()
+
+        threading.Thread(target=_fetcher, args=(server.url, stop), daemon=True).start()
+        threading.Thread(target=drive, daemon=True).start()
+        try:
+            session.run()
+        finally:
+            stop.set()
+            server.stop()
+            session.close()
+            session.recorder.close()
+    (a, rss_a), (b, rss_b) = marks[0], marks[-1]
+    heap = [sum(x.size for x in snap.statistics("filename")) / 2**20 for snap in (a, b)]
+    return {
+        "rss_mb": [round(rss_a, 1), round(rss_b, 1)],
+        "python_heap_mb": [round(x, 2) for x in heap],
+        "frames": session.frames,
+        "top_growth": [str(x) for x in b.compare_to(a, "lineno")[:5]],
+    }
+
+
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     p.add_argument("--minutes", type=float, default=10.0)
     p.add_argument("--size", default="1280x720")
     p.add_argument("--edit-every", type=float, default=15.0, help="seconds between edits")
     p.add_argument("--out", help="write every sample and the summary to this JSON file")
+    p.add_argument(
+        "--trace", action="store_true", help="in this process, no browser: Python heap vs RSS"
+    )
     args = p.parse_args()
+    if args.trace:
+        print(json.dumps(trace(args), indent=1))
+        return
     result = run(args)
     result["machine"] = f"{platform.machine()} {platform.processor() or ''}".strip()
     if args.out:
