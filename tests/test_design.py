@@ -159,7 +159,9 @@ def test_hot_reload_follows_the_file(tmp_path):
         (tmp_path / "r.json").write_text('{"ops": [}')
         info = wait_info(app, lambda i: i["error"] is not None)
         assert info["error"].startswith("r.json: invalid JSON at line 1")
-        assert info["version"] == version + 1 and app.get("/api/recipe") == changed
+        assert info["version"] == version + 1
+        code, answer = failing(app, "/api/recipe", None, "GET")  # 409: FILE is broken
+        assert code == 409 and answer == {**answer, "error": info["error"], "last_good": changed}
         # the page's next good save clears it
         app.post("/api/recipe", DROPS, "PUT")
         assert app.get("/api/info")["error"] is None

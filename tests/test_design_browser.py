@@ -55,14 +55,17 @@ def settled(page, frames: int, shown: str = "all", ops: list | None = None) -> N
     )
 
 
-def drag(page, client, a, b) -> None:
-    """Drag the mouse from frame pixel ``a`` to ``b`` in eight moves."""
+def drag(page, client, a, b) -> str:
+    """Drag the mouse from frame pixel ``a`` to ``b`` in eight moves; the number the
+    page showed beside the hand just before it let go."""
     page.mouse.move(*client(*a))
     page.mouse.down()
     for k in range(1, 9):
         page.mouse.move(*client(a[0] + (b[0] - a[0]) * k / 8, a[1] + (b[1] - a[1]) * k / 8))
         time.sleep(0.03)
+    label = page.get_attribute("#overlay", "data-label")
     page.mouse.up()
+    return label
 
 
 def frames(page) -> int:
@@ -99,17 +102,22 @@ def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
         assert pixel(page, 180, 160) == INK  # the exact render shows it there
         assert pixel(page, 560, 30) != INK
 
-        # a drag with the comb tool: a comb along the drag's direction
+        # a drag with the comb tool: a comb along the drag's direction, of a modest
+        # strength (it moves the whole sheet by alpha at its tines, so not the drag's
+        # length: a tenth of it, at most the spacing), shown while dragging
         page.click("#tool-comb")
         n = frames(page)
         a, b = (120, 200), (360, 320)
-        drag(page, client, a, b)
+        label = drag(page, client, a, b)
         ops = wait_for(lambda: len(saved()) == 2 and saved(), "the comb is saved")
         comb = ops[1]
         assert comb["type"] == "comb"
         assert abs(comb["angle"] - math.degrees(math.atan2(b[1] - a[1], b[0] - a[0]))) < 0.3
         assert abs(comb["point"][0] - (a[0] - dx) / s) < 0.2
-        assert abs(comb["alpha"] - math.dist(a, b) / s) < 0.5
+        assert comb["spacing"] == round(300 / 16, 1)
+        assert comb["alpha"] == min(round(math.dist(a, b) / s / 10, 1), comb["spacing"]) > 0
+        assert label == f"alpha {comb['alpha']:g}"
+        assert page.get_attribute("#overlay", "data-label") == ""  # let go: gone
         settled(page, n)
         assert page.text_content("#oplist") == "0 drop" + "hidesolo↑↓✕" + "1 comb" + "hidesolo↑↓✕"
 
@@ -269,3 +277,37 @@ def test_the_pages_keyed_values_are_the_renderers(browser, tmp_path):
         expected = [alpha.at(tt) for tt in times]
         assert np.allclose(row, expected, rtol=0, atol=1e-9), (track["keys"][0]["ease"], row)
     assert errors == []
+
+
+def test_a_click_as_the_page_appears_reaches_the_file(browser, tmp_path):
+    """Pointer input before the page has the recipe (here held back by keeping its
+    /api/info request waiting) is replayed once it has: the drop lands where the
+    sheet was clicked, as a fraction of the sheet (its centre: the canvas's)."""
+    recipe = tmp_path / "early.json"
+    app = LiveProcess(
+        "--ops", recipe, "--canvas", "400x300", "--no-browser", "--port", "0",
+        "--duration", "60", cwd=tmp_path, command="design",
+    )  # fmt: skip
+    try:
+        page = browser.new_page(viewport={"width": 1300, "height": 900})
+        held = []
+        # the first /api/info (the page's start) is held; later ones (its polls) go on
+        page.route("**/api/info", lambda route: route.continue_() if held else held.append(route))
+        page.goto(app.url, wait_until="commit")
+        page.wait_for_selector("canvas#sheet")
+        while not held:  # the page's script runs: it asked for /api/info
+            page.wait_for_timeout(20)
+        assert page.get_attribute("body", "data-ready") is None
+        assert page.eval_on_selector("#overlay", "el => getComputedStyle(el).cursor") == "progress"
+        box = page.locator("#overlay").bounding_box()
+        page.mouse.click(box["x"] + box["width"] / 2, box["y"] + box["height"] / 2)
+        assert json.loads(recipe.read_text())["ops"] == []
+        held[0].continue_()
+        page.wait_for_selector("body[data-ready='1']")
+        ops = wait_for(lambda: json.loads(recipe.read_text())["ops"], "the early click's drop")
+        assert [op["type"] for op in ops] == ["drop"]
+        assert max(abs(ops[0]["center"][0] - 200), abs(ops[0]["center"][1] - 150)) <= 0.5
+        assert page.eval_on_selector("#overlay", "el => getComputedStyle(el).cursor") == "crosshair"
+        page.close()
+    finally:
+        assert app.stop() == 0

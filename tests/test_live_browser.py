@@ -19,6 +19,8 @@ from marblevideo.ops import op_def, slider_range
 from tests.live_helpers import RECIPE, ROOT, LiveProcess, watched_page
 from tests.test_design_browser import REFUSED, drag, wait_for
 
+BROKEN = "Failed to load resource: the server responded with a status of 409 (Conflict)"
+
 
 def _shot(page) -> np.ndarray:
     png = page.locator("#sheet").screenshot()
@@ -193,4 +195,6 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
     assert rc == 0, live.stderr()
     line = [x for x in live.stderr().splitlines() if "ops[1].lambda" in x]
     assert len(line) == 1 and "keeping the previous recipe" in line[0], live.stderr()
-    assert [e for e in errors if e != REFUSED] == [], errors
+    # Chromium logs the refused PUT, and a read of the recipe while the file was
+    # broken (409: the page reloads after the good save, and may read after the bad one)
+    assert [e for e in errors if e not in (REFUSED, BROKEN)] == [], errors

@@ -5,7 +5,10 @@ The page (``page.html``) is served by the live preview's server
 (:class:`marblevideo.live.preview.PreviewServer`) on 127.0.0.1 only, and does
 everything through this HTTP API, which scripts and tests may use too:
 
-- ``GET /api/recipe``: the recipe as saved in FILE (JSON).
+- ``GET /api/recipe``: the recipe as saved in FILE (JSON). While FILE on disk
+  is broken (another program saved an invalid recipe), ``409 {"error": "FILE:
+  ops[0].radius: ... (keeping the previous recipe)", "last_good": {...},
+  "version": N}``: the error with its JSON path and the recipe still shown.
 - ``PUT /api/recipe`` (``Content-Type: application/json``, body: a recipe):
   validated, saved atomically to FILE and shown; answers ``{"version": N,
   ...}`` as ``/api/info``. An invalid recipe is ``400 {"error": "FILE:
@@ -40,7 +43,9 @@ everything through this HTTP API, which scripts and tests may use too:
 (:mod:`marblevideo.design.live`): ``/api/info`` says ``"mode": "live"``, the
 sheet shows the live frames, and edits go to the live recipe file.
 
-Errors are JSON ``{"error": "..."}`` with status 400 (a bad request or recipe),
-404/405 (no such route) or 500. Hot reload: FILE is polled; when another
+Errors are JSON ``{"error": "..."}`` with status 400 (a bad request or recipe,
+a body nested deeper than :data:`~marblevideo.limits.MAX_DEPTH` levels), 403 (a
+write from another origin: :mod:`marblevideo.live.preview`), 404/405 (no such
+route), 409 (FILE is broken on disk) or 500. Hot reload: FILE is polled; when another
 program saves it, ``version`` moves on and the page follows.
 """

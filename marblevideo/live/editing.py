@@ -1,8 +1,9 @@
 """The live page's edits of the recipe file itself (``marblevideo live
 --preview``), as the designer's HTTP API (:mod:`marblevideo.design`) names them:
 
-- ``GET /api/recipe``: the recipe file as the session took it (its last valid
-  save), as JSON.
+- ``GET /api/recipe``: the recipe file as the session took it, as JSON; 409
+  while the file on disk is broken: ``{"error": ..., "last_good": ...}``
+  (:meth:`~marblevideo.live.recipefile.RecipeFile.answer`).
 - ``PUT /api/recipe``: a recipe, validated and saved atomically; the session
   takes it at once, as any save (sliders reset). 400 with the one-line
   JSON-path error, nothing saved, when invalid.
@@ -49,9 +50,10 @@ def live_api(session, method: str, path: str, body: bytes | None):
         return json_answer(answer[1], answer[0])
     try:
         if (method, path) == ("GET", "/api/recipe"):
-            return json_answer(session.file.snapshot()[0])
+            code, doc = session.file.answer()
+            return json_answer(doc, code)
         if (method, path) == ("PUT", "/api/recipe"):
-            return json_answer({"version": session.put(json.loads(body or b"null"))})
+            return json_answer({"version": session.put(request_json(body))})
         if (method, path) == ("POST", "/api/save-sliders"):
             doc, recipe, _ = session.file.snapshot()  # the file's JSON and what it renders
             overrides = session.controls.snapshot()[0]
@@ -62,6 +64,15 @@ def live_api(session, method: str, path: str, body: bytes | None):
     except (OSError, MediaError) as exc:
         return json_answer({"error": f"{session.recipe_path}: {exc}"}, 500)
     return json_answer({"error": f"{method} {path}: no such route"}, 404)
+
+
+def request_json(body: bytes | None):
+    """A request's JSON body; ValueError, in one line, when it is not JSON (a
+    recursion too deep for the parser included)."""
+    try:
+        return json.loads(body or b"null")
+    except (ValueError, RecursionError) as exc:
+        raise ValueError(f"request body: invalid JSON: {exc}") from None
 
 
 def json_answer(obj, code: int = 200):

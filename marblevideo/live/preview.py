@@ -21,24 +21,46 @@ with a ``page()`` method gives the page.
 Requests must name the server as their Host (127.0.0.1 or localhost), and
 ``/control`` and the API's PUT and POST take ``Content-Type: application/json``
 only, so other web pages open in the same browser cannot drive it (no CORS
-headers are ever sent).
+headers are ever sent). A PUT or POST that says where it comes from (its
+``Origin``, else its ``Referer``) must come from the server's own origin
+(``http://`` and the Host it named): 403 otherwise; scripts that send neither
+are served. A JSON body nested deeper than
+:data:`~marblevideo.limits.MAX_DEPTH` levels is refused (400) before it is
+parsed.
 """
 
 from __future__ import annotations
 
 import json
+import re
 import sys
 import threading
 from http.server import BaseHTTPRequestHandler, ThreadingHTTPServer
-from urllib.parse import parse_qs
+from urllib.parse import parse_qs, urlsplit
+
+import numpy as np
 
 from marblevideo.errors import MediaError, UsageError
-from marblevideo.limits import DEFAULT_PORT
+from marblevideo.limits import DEFAULT_PORT, MAX_DEPTH
 
 BOUNDARY = "marblevideoframe"
 #: Largest request body, in bytes (a recipe PUT to the designer's API).
 MAX_BODY = 4 << 20
 HOST = "127.0.0.1"
+#: A JSON string literal (its escapes included), whose brackets are no nesting;
+#: one left open runs to the end (so the scan stays linear in the text's length).
+_STRING = re.compile(rb'"(?:[^"\\]++|\\.)*+(?:"|\\?\Z)', re.DOTALL)
+
+
+def json_depth(data: bytes) -> int:
+    """How deeply the JSON text ``data`` nests lists and objects (0: a scalar),
+    counted without parsing it: brackets inside strings are skipped; an
+    unbalanced or invalid text gets a depth all the same (the parser refuses it)."""
+    text = np.frombuffer(_STRING.sub(b'""', data), np.uint8)
+    opens = (text == ord("[")) | (text == ord("{"))
+    closes = (text == ord("]")) | (text == ord("}"))
+    steps = opens.astype(np.int32) - closes
+    return int(np.cumsum(steps).max(initial=0))
 
 
 class _Handler(BaseHTTPRequestHandler):
@@ -54,6 +76,21 @@ class _Handler(BaseHTTPRequestHandler):
         if self.headers.get("Host", "") in allowed:
             return True
         self._send(403, b"forbidden host\n", "text/plain")
+        return False
+
+    def _origin_ok(self) -> bool:
+        """A write (PUT, POST) from the server's own page or from a script that
+        says no origin: its Origin header, else its Referer's origin, must be
+        ``http://HOST`` of the (already checked) Host header; 403 otherwise."""
+        origin = self.headers.get("Origin")
+        if origin is None and self.headers.get("Referer"):
+            parts = urlsplit(self.headers["Referer"])
+            origin = f"{parts.scheme}://{parts.netloc}"
+        if origin is None or origin == f"http://{self.headers['Host']}":
+            return True
+        route = f"{self.command} {self.path.partition('?')[0]}"
+        self._json({"error": f"{route}: cross-origin request from {origin} refused"}, 403)
+        self.close_connection = True  # its body is left unread
         return False
 
     def _send(self, code: int, body: bytes, ctype: str) -> None:
@@ -86,12 +123,24 @@ class _Handler(BaseHTTPRequestHandler):
         ctype = self.headers.get("Content-Type", "").split(";")[0].strip()
         if ctype != "application/json":
             self._json({"error": f"{what}: Content-Type must be application/json"}, 415)
+            self.close_connection = True  # its body is left unread
             return None
-        length = int(self.headers.get("Content-Length") or 0)
+        length = self.headers.get("Content-Length") or "0"
+        if not (length.isascii() and length.isdigit()):
+            self._json({"error": f"{what}: Content-Length must be a byte count"}, 400)
+            self.close_connection = True
+            return None
+        length = int(length)
         if length > limit:
             self._json({"error": f"{what}: request too large"}, 413)
+            self.close_connection = True
             return None
-        return self.rfile.read(length)
+        body = self.rfile.read(length)
+        if json_depth(body) > MAX_DEPTH:
+            message = f"{what}: request body nested too deeply (more than {MAX_DEPTH} levels)"
+            self._json({"error": message}, 400)
+            return None
+        return body
 
     def do_GET(self):  # noqa: N802 - http.server's naming
         if not self._host_ok() or self._api("GET"):
@@ -155,11 +204,11 @@ class _Handler(BaseHTTPRequestHandler):
             pass
 
     def do_PUT(self):  # noqa: N802 - http.server's naming
-        if self._host_ok() and not self._api("PUT"):
+        if self._host_ok() and self._origin_ok() and not self._api("PUT"):
             self._send(404, b"not found\n", "text/plain")
 
     def do_POST(self):  # noqa: N802 - http.server's naming
-        if not self._host_ok() or self._api("POST"):
+        if not (self._host_ok() and self._origin_ok()) or self._api("POST"):
             return
         if self.path != "/control":
             self._send(404, b"not found\n", "text/plain")
@@ -170,7 +219,7 @@ class _Handler(BaseHTTPRequestHandler):
         try:
             request = json.loads(body or b"null")
             self._json(self.server.session.control(request))
-        except (ValueError, UsageError) as exc:
+        except (ValueError, RecursionError, UsageError) as exc:
             self._json({"error": str(exc)}, 400)
 
 

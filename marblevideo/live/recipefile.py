@@ -101,6 +101,16 @@ class RecipeFile:
         with self._lock:
             return self.doc, self.recipe, self.version
 
+    def answer(self) -> tuple[int, dict]:
+        """``GET /api/recipe``: (200, the recipe's JSON), or while the last change
+        on disk was refused (:attr:`error`), (409, ``{"error": the one-line
+        message with its JSON path, "last_good": the recipe still in use,
+        "version": its version}``), so no client takes it for FILE's contents."""
+        with self._lock:
+            if self.error is None:
+                return 200, self.doc
+            return 409, {"error": self.error, "last_good": self.doc, "version": self.version}
+
     def put(self, doc: object) -> int:
         """Validate ``doc``, save it atomically and make it current; its version.
         RecipeError (nothing saved) when it is not a valid recipe."""
