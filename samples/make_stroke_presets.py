@@ -129,7 +129,7 @@ def bird() -> dict:
         for x in range(x0 - wavelength // 2, 521, 4)  # from a crest: N0 is +y
     ]
     tines = [r - y0 + o for r in rows for o in (-14, 14)]
-    ops.append(stroke(path, 18, 1.4, tines))
+    ops.append(stroke(path, 18, 1.0, tines))
     return {"description": "Birds: rows of ringed drops and one comb stroke along a wave "
             "through them.", "canvas": [480, 320], "background": "#eef3f7",
             "ops": timed(ops, 0.03)}  # fmt: skip
