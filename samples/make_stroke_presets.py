@@ -104,7 +104,7 @@ def french_curl() -> dict:
     for j, y in enumerate((40, 120, 200, 280)):
         x0, cols = (40, 6) if j % 2 == 0 else (0, 7)
         tines = [k * 80.0 for k in range(cols)]
-        ops.append(stroke(spiral(x0, y, 34, 6, 2.25), 26, 1.1, tines))
+        ops.append(stroke(spiral(x0, y, 34, 6, 2.25), 26, 0.6, tines))
     ops[0].update(start=0, end=3)
     for k, op in enumerate(ops[1:]):
         op.update(start=3 + k, end=4 + k)
