@@ -104,7 +104,7 @@ def french_curl() -> dict:
     for j, y in enumerate((40, 120, 200, 280)):
         x0, cols = (40, 6) if j % 2 == 0 else (0, 7)
         tines = [k * 80.0 for k in range(cols)]
-        ops.append(stroke(spiral(x0, y, 34, 6, 2.25), 26, 1.1, tines))
+        ops.append(stroke(spiral(x0, y, 34, 6, 2.25), 26, 0.6, tines))
     ops[0].update(start=0, end=3)
     for k, op in enumerate(ops[1:]):
         op.update(start=3 + k, end=4 + k)
@@ -129,7 +129,7 @@ def bird() -> dict:
         for x in range(x0 - wavelength // 2, 521, 4)  # from a crest: N0 is +y
     ]
     tines = [r - y0 + o for r in rows for o in (-14, 14)]
-    ops.append(stroke(path, 18, 1.4, tines))
+    ops.append(stroke(path, 18, 1.0, tines))
     return {"description": "Birds: rows of ringed drops and one comb stroke along a wave "
             "through them.", "canvas": [480, 320], "background": "#eef3f7",
             "ops": timed(ops, 0.03)}  # fmt: skip

@@ -115,32 +115,55 @@ def _turn(x, y, cx, cy, angle, inv_w2):
     return np.where(inside, cx + qx * c - qy * s, x), np.where(inside, cy + qx * s + qy * c, y)
 
 
+#: Steps walked together over the points in their joint reach (see :func:`_walk`).
+BLOCK = 32
+
+
 def _walk(sign: float):
     """The forward map (sign 1: steps in order, A then B) or the inverse (sign -1:
-    steps in reverse, B by +angle then A by -angle), on the points near each step."""
+    steps in reverse, B by +angle then A by -angle). Steps go in blocks of BLOCK:
+    only the points inside the block's reach (the box of its centres grown by
+    3w/2) are walked through it, each step on those within 3w/2 of its centre;
+    a step keeps a point it moves within its reach, so the box holds it."""
 
     def move(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
         lay = layout_of(v)
         turns = angles(v, lay)
-        w = float(v["width"])
-        inv_w2, reach2 = 1.0 / (w * w), (1.5 * w) ** 2
+        reach = 1.5 * float(v["width"])
         shape = np.broadcast(x, y).shape
         x = np.array(np.broadcast_to(x, shape), np.float64).ravel()
         y = np.array(np.broadcast_to(y, shape), np.float64).ravel()
         order = np.flatnonzero(turns)
-        for j in order if sign > 0 else order[::-1]:
-            (cx, cy), (hx, hy) = lay.centres[j], lay.halves[j]
-            near = np.flatnonzero((x - cx) ** 2 + (y - cy) ** 2 < reach2)
-            if near.size == 0:
-                continue
-            px, py = x[near], y[near]
-            first, second = ((cx + hx, cy + hy), (cx - hx, cy - hy))[:: int(sign)]
-            px, py = _turn(px, py, *first, turns[j], inv_w2)
-            px, py = _turn(px, py, *second, -turns[j], inv_w2)
-            x[near], y[near] = px, py
+        order = order if sign > 0 else order[::-1]
+        for at in range(0, len(order), BLOCK):
+            block = order[at : at + BLOCK]
+            lo = lay.centres[block].min(axis=0) - reach
+            hi = lay.centres[block].max(axis=0) + reach
+            inside = np.flatnonzero((x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1]))
+            if inside.size:
+                x[inside], y[inside] = _steps(
+                    lay, turns, block, sign, v["width"], x[inside], y[inside]
+                )
         return x.reshape(shape), y.reshape(shape)
 
     return move
+
+
+def _steps(lay: Layout, turns, block, sign: float, width: float, x, y) -> Points:
+    """Steps ``block`` (in the order given) on the points (x, y), each on those
+    within 3w/2 of its centre."""
+    inv_w2, reach2 = 1.0 / (width * width), (1.5 * width) ** 2
+    for j in block:
+        (cx, cy), (hx, hy) = lay.centres[j], lay.halves[j]
+        near = np.flatnonzero((x - cx) ** 2 + (y - cy) ** 2 < reach2)
+        if near.size == 0:
+            continue
+        px, py = x[near], y[near]
+        first, second = ((cx + hx, cy + hy), (cx - hx, cy - hy))[:: int(sign)]
+        px, py = _turn(px, py, *first, turns[j], inv_w2)
+        px, py = _turn(px, py, *second, -turns[j], inv_w2)
+        x[near], y[near] = px, py
+    return x, y
 
 
 @lru_cache(maxsize=64)
