@@ -9,12 +9,14 @@ runs them), each on a real recipe file.
   route; the page's own origin and scripts that send no Origin are served.
 - While the file on disk is broken, ``GET /api/recipe`` says so (409, the error
   with its JSON path, the last good recipe as ``last_good``).
+- ``/stats`` is read while the session's threads count frames.
 """
 
 from __future__ import annotations
 
 import http.client
 import json
+import threading
 import time
 
 import pytest
@@ -237,3 +239,28 @@ def test_the_live_server_says_its_file_is_broken(live):
     )
     assert client.json("PUT", "/api/recipe", RECIPE)[0] == 200
     assert client.json("GET", "/api/recipe") == (200, RECIPE)
+
+
+def test_stats_are_read_while_frames_are_counted():
+    """``/stats`` reads the session's rate windows while the render and JPEG threads
+    add to them (the soak benchmark met 'deque mutated during iteration')."""
+    from marblevideo.live.session import RateWindow
+
+    window, stop, errors = RateWindow(), threading.Event(), []
+
+    def count() -> None:
+        while not stop.is_set():
+            window.add(time.monotonic(), 0.01)
+
+    adder = threading.Thread(target=count)
+    adder.start()
+    try:
+        end = time.monotonic() + 1.5
+        while time.monotonic() < end:
+            window.rate(time.monotonic()), window.median(), window.quantile(0.95)
+    except RuntimeError as exc:
+        errors.append(exc)
+    finally:
+        stop.set()
+        adder.join()
+    assert errors == [] and window.rate(time.monotonic()) > 0

@@ -39,33 +39,42 @@ RELOAD_POLL = 0.5
 
 
 class RateWindow:
-    """Rates and latencies over the last few seconds."""
+    """Rates and latencies over the last few seconds. Threads add (the render, the
+    JPEG encoder) while others read (``/stats``): every access holds its lock."""
 
     def __init__(self, span: float = 2.0, keep: int = 120):
         self.span = span
         self.times: deque[float] = deque()
         self.values: deque[float] = deque(maxlen=keep)
+        self._lock = threading.Lock()
 
     def add(self, now: float, value: float | None = None) -> None:
-        self.times.append(now)
-        while self.times and self.times[0] < now - self.span:
-            self.times.popleft()
-        if value is not None:
-            self.values.append(value)
+        with self._lock:
+            self.times.append(now)
+            while self.times and self.times[0] < now - self.span:
+                self.times.popleft()
+            if value is not None:
+                self.values.append(value)
 
     def rate(self, now: float) -> float:
-        recent = [t for t in self.times if t >= now - self.span]
+        with self._lock:
+            recent = [t for t in self.times if t >= now - self.span]
         if len(recent) < 2:
             return 0.0
         return (len(recent) - 1) / max(recent[-1] - recent[0], 1e-9)
 
+    def _values(self) -> list[float]:
+        with self._lock:
+            return list(self.values)
+
     def median(self) -> float | None:
-        return statistics.median(self.values) if self.values else None
+        values = self._values()
+        return statistics.median(values) if values else None
 
     def quantile(self, q: float) -> float | None:
-        if not self.values:
+        ordered = sorted(self._values())
+        if not ordered:
             return None
-        ordered = sorted(self.values)
         return ordered[min(len(ordered) - 1, int(q * len(ordered)))]
 
 
