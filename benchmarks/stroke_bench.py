@@ -14,9 +14,9 @@ baselines, in one run on one renderer.
 
 from __future__ import annotations
 
-import statistics
-import time
+from functools import partial
 
+import bench
 import numpy as np
 
 from marblevideo import load_recipe
@@ -29,16 +29,8 @@ from marblevideo.recipe.frame import geometry
 SIZE = (1024, 768)
 
 
-def timings(fn, repeat: int = 11, warmup: int = 2) -> tuple[float, float]:
-    """(best, median) seconds of ``repeat`` runs."""
-    for _ in range(warmup):
-        fn()
-    times = []
-    for _ in range(repeat):
-        t = time.perf_counter()
-        fn()
-        times.append(time.perf_counter() - t)
-    return min(times), statistics.median(times)
+#: bench.py's timer, at this part's counts (best and median of 11 after 2 warm-ups)
+timings = partial(bench.timings, repeat=11, warmup=2)
 
 
 def _ms(pair: tuple[float, float]) -> str:
