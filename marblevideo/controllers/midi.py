@@ -10,12 +10,9 @@ messages (clock, pitch bend, sysex...) are ignored.
 
 from __future__ import annotations
 
-import contextlib
-import os
-import sys
-
 from marblevideo.controllers.values import ControllerSignals
 from marblevideo.errors import MarbleError, UsageError
+from marblevideo.media.encoders import stderr_silenced
 
 EXTRA = "marblevideo[midi]"
 HELP = f"MIDI needs the extra {EXTRA}: pip install '{EXTRA}' (mido and python-rtmidi)"
@@ -50,26 +47,11 @@ def mido_backend():
     return mido
 
 
-@contextlib.contextmanager
-def _alsa_quiet():
-    """File descriptor 2 to /dev/null for the while: ALSA's C library prints its
-    own lines there when it has no sequencer (the error is raised as well)."""
-    sys.stderr.flush()
-    saved = os.dup(2)
-    try:
-        with open(os.devnull, "w") as null:
-            os.dup2(null.fileno(), 2)
-            yield
-    finally:
-        os.dup2(saved, 2)
-        os.close(saved)
-
-
 def input_names() -> list[str]:
     """The MIDI input ports; MarbleError (exit 1) when the system has no MIDI."""
     mido = mido_backend()
     try:
-        with _alsa_quiet():
+        with stderr_silenced():  # ALSA prints its own lines without a sequencer
             return list(mido.get_input_names())
     except Exception as exc:  # noqa: BLE001 - rtmidi raises its own SystemError kinds
         raise MarbleError(f"MIDI: cannot list input ports: {_first_line(exc)}") from None
@@ -101,7 +83,7 @@ class MidiInput:
         self.name = port = pick_port(port)
         mido = mido_backend()
         try:
-            with _alsa_quiet():
+            with stderr_silenced():  # ALSA prints its own lines without a sequencer
                 self.port = mido.open_input(port, callback=self.handle)
         except Exception as exc:  # noqa: BLE001 - rtmidi's own error kinds
             raise MarbleError(f"--midi: cannot open {port!r}: {_first_line(exc)}") from None

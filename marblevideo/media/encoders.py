@@ -210,7 +210,7 @@ def _probing() -> Iterator[None]:
     av.logging.set_level(av.logging.WARNING)
     av.logging.set_skip_repeated(False)
     try:
-        with _stderr_silenced():
+        with stderr_silenced():
             yield
     finally:
         av.logging.set_skip_repeated(repeats)
@@ -218,8 +218,9 @@ def _probing() -> Iterator[None]:
 
 
 @contextlib.contextmanager
-def _stderr_silenced() -> Iterator[None]:
-    """File descriptor 2 pointed at os.devnull for the block."""
+def stderr_silenced() -> Iterator[None]:
+    """File descriptor 2 pointed at os.devnull for the block (C libraries' own
+    lines: encoder libraries, ALSA)."""
     with contextlib.suppress(AttributeError, ValueError, OSError):
         sys.stderr.flush()
     try:
