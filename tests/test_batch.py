@@ -8,13 +8,13 @@ import os
 import signal
 import subprocess
 import sys
-import time
 
 import cv2
 import numpy as np
 import pytest
 from clips import probe, write_clip
 from conftest import ROOT, files, one_line
+from interrupts import interrupt, wait_until
 
 from marblevideo import api
 from marblevideo.batch import MANIFEST_NAME, run_batch
@@ -169,18 +169,10 @@ def test_interrupting_a_batch_on_workers(tmp_path, sig, code):
         env={**os.environ, "PYTHONPATH": str(ROOT)},
     )
     manifest = tmp_path / "out" / MANIFEST_NAME
-    deadline = time.monotonic() + 180
-    while not manifest.exists() and time.monotonic() < deadline and proc.poll() is None:
-        time.sleep(0.05)
-    assert proc.poll() is None, proc.communicate()
-    proc.send_signal(sig)
-    try:
-        _, err = proc.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        raise
-    assert proc.returncode == code
-    assert err.splitlines() == ["marblevideo: interrupted"]
+    wait_until(proc, manifest.exists, 180)
+    done = interrupt(proc, sig)
+    assert done.returncode == code
+    assert done.stderr.splitlines() == ["marblevideo: interrupted"]
     written = sorted(f"out/{p.name}" for p in (tmp_path / "out").glob("*.png"))
     record = json.loads(manifest.read_text())["items"]
     assert sorted(k for k, v in record.items() if v["status"] == "done") == written

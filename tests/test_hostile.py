@@ -28,6 +28,7 @@ import numpy as np
 import pytest
 from clips import write_clip
 from conftest import ROOT, one_line
+from interrupts import interrupt
 from recipes import make_image
 
 from marblevideo.errors import DeviceError
@@ -447,13 +448,7 @@ def _interrupt(tmp_path: Path, args: list[str], sig: int) -> subprocess.Complete
     first = proc.stderr.readline()
     assert first.startswith('{"frame"'), first
     assert leftovers(tmp_path), "the temporary output should exist while encoding"
-    proc.send_signal(sig)
-    try:
-        _, err = proc.communicate(timeout=30)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        raise
-    return subprocess.CompletedProcess(proc.args, proc.returncode, "", err)
+    return interrupt(proc, sig, timeout=30)
 
 
 @pytest.mark.slow

@@ -11,13 +11,13 @@ import os
 import signal
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 import cv2
 import numpy as np
 import pytest
 from conftest import ROOT, files, one_line
+from interrupts import interrupt, wait_until
 from recipes import make_image
 from tolerances import KERNEL_SHARE
 
@@ -70,20 +70,13 @@ def _interrupt_banded(tmp_path: Path, name: str, sig: int) -> subprocess.Complet
         text=True,
         env={**os.environ, "PYTHONPATH": str(ROOT), "MARBLEVIDEO_BAND_PIXELS": "65536"},
     )
-    deadline = time.monotonic() + 120
-    while time.monotonic() < deadline and proc.poll() is None:
+
+    def writing() -> bool:
         parts = [p for p in tmp_path.iterdir() if ".part" in p.name]
-        if parts and parts[0].stat().st_size > 100_000:
-            break
-        time.sleep(0.02)
-    assert proc.poll() is None, proc.communicate()
-    proc.send_signal(sig)
-    try:
-        _, err = proc.communicate(timeout=60)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        raise
-    return subprocess.CompletedProcess(proc.args, proc.returncode, "", err)
+        return bool(parts) and parts[0].stat().st_size > 100_000
+
+    wait_until(proc, writing, 120)
+    return interrupt(proc, sig)
 
 
 @pytest.mark.parametrize("name", ["big.png", "big.tif"])
