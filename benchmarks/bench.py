@@ -532,7 +532,8 @@ def make_clip(path: Path, size=(1280, 720), seconds=4, fps=30, audio=True, keyin
 #: installed package's is (pip compiles it at install; a fresh compile is ~30 ms a run)
 ENV = {
     **{k: v for k, v in os.environ.items() if k != "PYTHONDONTWRITEBYTECODE"},
-    "PYTHONPATH": str(ROOT),
+    # the checkout, then the caller's PYTHONPATH (wheels installed with --target)
+    "PYTHONPATH": os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")])),
 }
 PLAIN_SCRIPT = Path(__file__).resolve().parent / "plain_transcode.py"
 

@@ -85,6 +85,11 @@ def browser():
         b.close()
 
 
+def _pythonpath() -> str:
+    """The checkout first, then the caller's PYTHONPATH (packages installed with --target)."""
+    return os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
+
+
 @pytest.fixture
 def cli(tmp_path):
     """Run the real command line in a subprocess; returns CompletedProcess."""
@@ -99,7 +104,7 @@ def cli(tmp_path):
             capture_output=True,
             text=input is None,
             timeout=timeout,
-            env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})},
+            env={**os.environ, "PYTHONPATH": _pythonpath(), **(env or {})},
         )
 
     return run
