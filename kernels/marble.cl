@@ -26,6 +26,16 @@
       cg = select(cg, (vf)g_, m);                                              \
       cb = select(cb, (vf)b_, m); }
 
+/* i mod n (0 <= result < n) for integer-valued floats below 2^24, exact on any
+ * device: OpenCL lets i / n be 2.5 ulp off, and NVIDIA's 96.0f / 96.0f floors
+ * to 0 (or -96 / 96 to -2), which sent whole wrapped columns to the far edge.
+ * The product and difference are exact, so one step either way corrects it. */
+inline vf wrap_index(vf i, float n) {
+    vf m = i - n * floor(i / n);
+    m = select(m, m - n, m >= n);
+    return select(m, m + n, m < 0.0f);
+}
+
 /* Map an integer-valued float tap index into 0..n-1 by the `edges` mode;
  * with EDGES == 3 (background) an index outside gives -1. */
 inline vi edge_index(vf i, int n) {
@@ -33,9 +43,9 @@ inline vi edge_index(vf i, int n) {
 #if EDGES == 0
     vf m = clamp(i, 0.0f, fn - 1.0f);
 #elif EDGES == 1
-    vf m = clamp(i - fn * floor(i / fn), 0.0f, fn - 1.0f);
+    vf m = wrap_index(i, fn);
 #elif EDGES == 2
-    vf m = i - 2.0f * fn * floor(i / (2.0f * fn));
+    vf m = wrap_index(i, 2.0f * fn);
     m = clamp(select(m, 2.0f * fn - 1.0f - m, m >= fn), 0.0f, fn - 1.0f);
 #else
     vf m = select(i, (vf)-1.0f, (i < 0.0f) | (i > fn - 1.0f));
@@ -83,7 +93,7 @@ inline void padded_axis(vf f, int n, vi *tap, vf *weight) {
 #if EDGES == 0
     vf m = clamp(i0, -1.0f, fn - 1.0f);  /* the border repeats the edge pixel */
 #elif EDGES == 1
-    vf m = clamp(i0 - fn * floor(i0 / fn), 0.0f, fn - 1.0f);  /* right border = column 0 */
+    vf m = wrap_index(i0, fn);  /* right border = column 0 */
 #elif EDGES == 2
     /* Mirrored stretches run backwards: take the lower tap and swap the weights;
      * a footprint folded onto one pixel weighs only that pixel. */
