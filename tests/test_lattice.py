@@ -18,7 +18,7 @@ from recipes import random_registry_op
 from marblevideo.errors import RecipeError
 from marblevideo.marbler import Marbler
 from marblevideo.media.yuv import YuvMatrix
-from marblevideo.opencl.lattice import RULE_CENTRE, RULE_INK, RULES
+from marblevideo.opencl.lattice import RULE_CENTRE, RULE_INK, RULES, LatticeWalk
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.ops import REGISTRY
 from marblevideo.recipe import parse_recipe
@@ -159,6 +159,15 @@ def test_frames_of_few_ops_are_walked_exactly():
     assert renderer.lattice_walk.frames == 0
     frames(renderer, [*SCENES["thin filament"][0], SCENES["sharp vortex core"][0][0]])
     assert renderer.lattice_walk.frames == 1
+
+
+def test_a_gpu_walks_every_frame_exactly():
+    """A GPU walks faster than it interpolates (BENCHMARKS.md, session 14): its
+    lattice takes no frame by default, whatever the number of ops."""
+    renderer = Renderer(reuse_maps=False)
+    renderer.lattice_walk = LatticeWalk(renderer.device_queue, renderer.lanes, gpu=True)
+    frames(renderer, [*SCENES["thin filament"][0], SCENES["sharp vortex core"][0][0]])
+    assert renderer.lattice_walk.frames == 0
 
 
 def test_repeated_values_keep_their_stored_maps():

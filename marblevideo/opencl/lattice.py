@@ -12,6 +12,7 @@ tolerances are in input (luma) pixels.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -44,6 +45,11 @@ WALK_CELL = -2
 #: does (720p I420, best of 31: one keyed turn 8.2 ms walked, 11.3
 #: interpolated; three smooth ops 13.4 and 11.9; BENCHMARKS.md, session 13).
 MIN_WALKED_OPS = 3
+#: On a GPU the lattice is off by default (min_ops infinite): an H100 walks a
+#: 720p I420 frame of the 12-op recipe, RGSS, in 0.6-0.9 ms and interpolates
+#: it in 0.8-1.1 (BENCHMARKS.md, session 14); it pays only where the walk is
+#: the work, on CPUs.
+GPU_MIN_WALKED_OPS = math.inf
 
 
 @dataclass(frozen=True)
@@ -62,10 +68,11 @@ class LatticeWalk:
     from it. :attr:`spacing`, :attr:`tolerance`, :attr:`reach` and :attr:`rules`
     may be changed between frames (no rebuild)."""
 
-    def __init__(self, queue: DeviceQueue, lanes: int):
+    def __init__(self, queue: DeviceQueue, lanes: int, gpu: bool = False):
         self.queue, self.lanes = queue, lanes
         self.spacing, self.tolerance, self.reach, self.rules = SPACING, TOLERANCE, REACH, RULES
-        self.min_ops = MIN_WALKED_OPS
+        #: frames walking fewer ops are walked exactly (GPU_MIN_WALKED_OPS on a GPU)
+        self.min_ops = GPU_MIN_WALKED_OPS if gpu else MIN_WALKED_OPS
         #: frames drawn from a lattice so far
         self.frames = 0
         self._last: Lattice | None = None

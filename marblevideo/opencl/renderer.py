@@ -123,7 +123,7 @@ class Renderer:
         self.tables = ReusedMaps(self.device_queue, self.lanes)
         self.fresh = FreshWalk(self.device_queue, self.lanes)
         self.adaptive_walk = AdaptiveWalk(self.device_queue, self.lanes)
-        self.lattice_walk = LatticeWalk(self.device_queue, self.lanes)
+        self.lattice_walk = LatticeWalk(self.device_queue, self.lanes, "GPU" in self.info.kind)
         self.planar = PlanarFrames(
             self.device_queue, self.programs, self.tables, reuse_maps, self.lattice_walk
         )
