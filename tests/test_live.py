@@ -17,10 +17,10 @@ import pytest
 
 from marblevideo.errors import UsageError
 from marblevideo.live.controls import Clock, sliders, with_overrides
-from marblevideo.live.preview import PreviewServer
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import Latest, TestPattern
 from marblevideo.recipe import parse_recipe
+from marblevideo.server import Server
 from tests.live_helpers import RECIPE, ROOT, LiveProcess
 
 SWIRL = ROOT / "samples" / "swirl.json"
@@ -158,7 +158,7 @@ def test_control_validates_requests(session):
 
 
 def test_preview_server_binds_loopback_only(session):
-    server = PreviewServer(session, 0)
+    server = Server(session, 0)
     server.start()
     try:
         host, port = server.address
@@ -224,7 +224,7 @@ def test_the_live_page_saves_its_sliders_and_edits(session):
     """POST /api/save-sliders writes the sliders into the file; PUT /api/recipe saves
     a recipe (the session takes it at once) or refuses it and keeps the file."""
     path = session.recipe_path
-    server = PreviewServer(session, 0)
+    server = Server(session, 0)
     server.start()
     try:
         assert _api(server, "GET", "/api/recipe") == (200, RECIPE)
@@ -278,7 +278,7 @@ def test_the_designers_api_over_a_live_session(session):
     from marblevideo.design.live import LiveDesign
 
     path = session.recipe_path
-    server = PreviewServer(LiveDesign(session), 0)
+    server = Server(LiveDesign(session), 0)
     server.start()
     try:
         host, port = server.address
@@ -323,7 +323,7 @@ def test_the_designers_api_over_a_live_session(session):
 def test_a_save_is_known_by_its_stamp_and_another_programs_change_is_seen(session):
     """The page's save takes the recipe it saved, known by the file's stamp (taken
     before the rename), so a change another program makes right after is reloaded."""
-    from marblevideo.live.recipefile import file_stamp, save_stamped
+    from marblevideo.recipefile import file_stamp, save_stamped
 
     path = session.recipe_path
     doc = {**RECIPE, "ops": RECIPE["ops"][1:]}

@@ -23,9 +23,9 @@ import pytest
 
 from marblevideo.design.live import LiveDesign
 from marblevideo.limits import MAX_DEPTH
-from marblevideo.live.preview import PreviewServer, json_depth
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import TestPattern
+from marblevideo.server import Server, json_depth
 from tests.live_helpers import RECIPE, LiveProcess
 
 DROP = {"type": "drop", "center": [40, 30], "radius": 12, "color": "#1d3557"}
@@ -78,7 +78,7 @@ def live(tmp_path, renderer):
     path = tmp_path / "live.json"
     path.write_text(json.dumps(RECIPE))
     session = LiveSession(path, TestPattern((96, 64), 30), renderer=renderer, jpeg=True, quiet=True)
-    server = PreviewServer(LiveDesign(session), 0)
+    server = Server(LiveDesign(session), 0)
     server.start()
     try:
         yield Client(server.address[1]), path, session

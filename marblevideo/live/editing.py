@@ -3,7 +3,7 @@
 
 - ``GET /api/recipe``: the recipe file as the session took it, as JSON; 409
   while the file on disk is broken: ``{"error": ..., "last_good": ...}``
-  (:meth:`~marblevideo.live.recipefile.RecipeFile.answer`).
+  (:meth:`~marblevideo.recipefile.RecipeFile.answer`).
 - ``PUT /api/recipe``: a recipe, validated and saved atomically; the session
   takes it at once, as any save (sliders reset). 400 with the one-line
   JSON-path error, nothing saved, when invalid.

@@ -31,8 +31,8 @@ import numpy as np
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
 from marblevideo.live.controls import Controls, sliders, with_overrides
 from marblevideo.live.editing import live_api
-from marblevideo.live.recipefile import RecipeFile
 from marblevideo.live.sources import Latest, Source
+from marblevideo.recipefile import RecipeFile
 from marblevideo.signals.live import FrameTimed
 
 RELOAD_POLL = 0.5
@@ -141,7 +141,7 @@ class LiveSession:
     # -- recipe -------------------------------------------------------------
     @property
     def recipe(self):
-        """The recipe now (:class:`~marblevideo.live.recipefile.RecipeFile`'s)."""
+        """The recipe now (:class:`~marblevideo.recipefile.RecipeFile`'s)."""
         return self.file.recipe
 
     @property

@@ -1,4 +1,5 @@
-"""The live preview: a small HTTP server on 127.0.0.1 only (standard library).
+"""The HTTP server of ``marblevideo design`` and ``marblevideo live --preview``:
+127.0.0.1 only, standard library, one session behind it.
 
 Routes:
 
@@ -9,8 +10,7 @@ Routes:
 - ``GET /frame.jpg``: the newest JPEG; ``?after=SEQ``: one newer than SEQ (the
   sequence number comes as the ``X-Frame-Seq`` header).
 - ``GET /stats``: JSON counters (fps, latency, dropped frames, recipe version and
-  error, control state); the page polls it.
-- ``GET /params``: JSON, each op's numeric parameters with slider ranges.
+  error, the clock's state); the page polls it.
 - ``POST /control``: a JSON object (see :meth:`LiveSession.control`), applied from
   the next frame; answers the new state, or 400 with ``{"error": ...}``.
 
@@ -64,7 +64,7 @@ def json_depth(data: bytes) -> int:
 
 
 class _Handler(BaseHTTPRequestHandler):
-    server: _Server
+    server: _HTTPD
     protocol_version = "HTTP/1.1"
 
     def log_message(self, format, *args):  # noqa: A002 - quiet: the terminal is for errors
@@ -223,7 +223,7 @@ class _Handler(BaseHTTPRequestHandler):
             self._json({"error": str(exc)}, 400)
 
 
-class _Server(ThreadingHTTPServer):
+class _HTTPD(ThreadingHTTPServer):
     daemon_threads = True
     allow_reuse_address = True
 
@@ -238,12 +238,13 @@ class _Server(ThreadingHTTPServer):
         super().__init__(address, _Handler)
 
 
-class PreviewServer:
-    """Serves ``session`` on 127.0.0.1:``port`` (0: any free port) in a thread."""
+class Server:
+    """Serves ``session`` (a design or live session) on 127.0.0.1:``port`` (0: any
+    free port) in a thread."""
 
     def __init__(self, session, port: int = DEFAULT_PORT):
         try:
-            self.httpd = _Server((HOST, port), session)
+            self.httpd = _HTTPD((HOST, port), session)
         except OSError as exc:
             raise MediaError(f"preview: cannot listen on {HOST}:{port}: {exc.strerror}") from None
         self._thread: threading.Thread | None = None
