@@ -63,6 +63,20 @@ def json_depth(data: bytes) -> int:
     return int(np.cumsum(steps).max(initial=0))
 
 
+def request_json(body: bytes | None):
+    """A request's JSON body; ValueError, in one line, when it is not JSON (a
+    recursion too deep for the parser included)."""
+    try:
+        return json.loads(body or b"null")
+    except (ValueError, RecursionError) as exc:
+        raise ValueError(f"request body: invalid JSON: {exc}") from None
+
+
+def json_answer(obj, code: int = 200) -> tuple[int, bytes, str]:
+    """``obj`` as a session's answer to an API request: (status, body, content type)."""
+    return code, json.dumps(obj).encode(), "application/json"
+
+
 class _Handler(BaseHTTPRequestHandler):
     server: _HTTPD
     protocol_version = "HTTP/1.1"
@@ -151,8 +165,6 @@ class _Handler(BaseHTTPRequestHandler):
             self._send(200, session.page(), "text/html; charset=utf-8")
         elif path == "/stats":
             self._json(session.stats())
-        elif path == "/params":
-            self._json(session.params())
         elif path == "/frame.jpg":
             self._frame(query)
         elif path == "/stream.mjpg":

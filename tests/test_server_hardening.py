@@ -124,7 +124,7 @@ def test_deep_json_is_a_bad_request_to_the_designer(designer):
 def test_deep_json_is_a_bad_request_to_the_live_server(live):
     client, path, session = live
     before = path.read_bytes()
-    for method, route in (("PUT", "/api/recipe"), ("POST", "/api/save-sliders"),
+    for method, route in (("PUT", "/api/recipe"), ("POST", "/api/learn"),
                           ("POST", "/control")):  # fmt: skip
         levels = 60000 if route == "/control" else 100000  # /control takes 64 KiB at most
         status, body = client.send(method, route, b"[" * levels)
@@ -184,7 +184,7 @@ def test_cross_origin_writes_to_the_live_server_are_refused(live):
     client, path, session = live
     routes = [
         ("PUT", "/api/recipe", RECIPE),
-        ("POST", "/api/save-sliders", {}),
+        ("POST", "/api/learn", {}),
         ("POST", "/control", {"paused": True}),
     ]
     check_origins(client, routes, path)

@@ -11,9 +11,9 @@ bounded)::
 - The recipe file is polled every 0.5 s; a save reloads it. An invalid save
   keeps the previous recipe running; its one-line RecipeError is printed on
   stderr and shown on the preview page (the designer's, in live mode:
-  :mod:`marblevideo.design.live`). Slider overrides are reset by a reload.
-- The preview's controls (clock, bypass, mirror, sliders) are
-  :class:`~marblevideo.live.controls.Controls`.
+  :mod:`marblevideo.design.live`).
+- How it plays (clock, bypass, mirror) is
+  :class:`~marblevideo.live.playback.Playback`.
 """
 
 from __future__ import annotations
@@ -29,8 +29,7 @@ import cv2
 import numpy as np
 
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
-from marblevideo.live.controls import Controls, sliders, with_overrides
-from marblevideo.live.editing import live_api
+from marblevideo.live.playback import Playback
 from marblevideo.live.sources import Latest, Source
 from marblevideo.recipefile import RecipeFile
 from marblevideo.signals.live import FrameTimed
@@ -79,7 +78,7 @@ class RateWindow:
 
 
 class LiveSession:
-    """A running live job: source, recipe (watched), controls, outputs and counters."""
+    """A running live job: source, recipe (watched), playback, outputs and counters."""
 
     def __init__(
         self,
@@ -110,12 +109,12 @@ class LiveSession:
         #: animated frames interpolate the map from a lattice (False: --exact-walk)
         self.lattice = lattice
         self.quiet = quiet
-        self.controls = Controls()
+        self.playback = Playback()
         self.controllers = ControllerSignals()  # OSC and MIDI, fed by their listeners
         self.signals = None  # other signals' source (audio), beside the controllers
         self._lock = threading.Lock()
         self._marbler = None
-        self._marbled_for: tuple[int, int] | None = None  # (recipe, overrides) versions
+        self._marbled_for: int | None = None  # the recipe's version
         # audio signals (marblevideo.signals.live): by the shown frame's time in its file
         self.media_t = 0.0
         self.signals = FrameTimed(audio, lambda: self.media_t) if audio_by_frame else audio
@@ -153,21 +152,18 @@ class LiveSession:
         return self.file.error
 
     def check_reload(self) -> bool:
-        """Take the recipe file's contents if another program changed it (sliders
-        reset); whether it did. A change that does not validate is said and kept out."""
+        """Take the recipe file's contents if another program changed it; whether it
+        did. A change that does not validate is said and kept out."""
         if not self.file.check_reload():
             return False
-        self.controls.reset()
         if not self.quiet:
             self._say(f"reloaded {self.recipe_path}")
         return True
 
     def put(self, doc: object) -> int:
-        """Validate ``doc``, save it atomically and take it from the next frame
-        (sliders reset); its version. RecipeError, nothing saved, when invalid."""
-        version = self.file.put(doc)
-        self.controls.reset()
-        return version
+        """Validate ``doc``, save it atomically and take it from the next frame; its
+        version. RecipeError, nothing saved, when invalid."""
+        return self.file.put(doc)
 
     def _watch(self) -> None:
         while not self.stop_event.wait(RELOAD_POLL):
@@ -179,20 +175,18 @@ class LiveSession:
 
     @property
     def clock(self):
-        """The animation clock (:class:`~marblevideo.live.controls.Clock`)."""
-        return self.controls.clock
+        """The animation clock (:class:`~marblevideo.live.playback.Clock`)."""
+        return self.playback.clock
 
     def _current(self):
-        overrides, bypass, mirror, version = self.controls.snapshot()
-        _, recipe, recipe_version = self.file.snapshot()
+        bypass, mirror = self.playback.snapshot()
+        _, recipe, version = self.file.snapshot()
         with self._lock:
-            if self._marbled_for != (recipe_version, version):
+            if self._marbled_for != version:
                 self._marbler = self._Marbler(
-                    self._bound(with_overrides(recipe, overrides)),
-                    renderer=self.renderer,
-                    lattice=self.lattice,
+                    self._bound(recipe), renderer=self.renderer, lattice=self.lattice
                 )
-                self._marbled_for = (recipe_version, version)
+                self._marbled_for = version
             return self._marbler, bypass, mirror
 
     def _bound(self, recipe):
@@ -202,29 +196,13 @@ class LiveSession:
         self.controllers.known = frozenset(t.signal.name for _, t in uses if t.signal.controller)
         return recipe.bind(SessionSignals(self.controllers, self.signals)) if uses else recipe
 
-    # -- controls (from the preview) ----------------------------------------
-    def params(self) -> dict:
-        """The sliders of the current recipe, with the overridden values."""
-        overrides = self.controls.snapshot()[0]
-        _, recipe, version = self.file.snapshot()
-        ops = sliders(recipe, self.source.size)
-        for op in ops:
-            for p in op["params"]:
-                key = (op["index"], p["name"])
-                if key in overrides:
-                    p["value"] = overrides[key]
-        return {"version": version, "source": str(self.recipe_path), "ops": ops}
-
-    def api(self, method: str, path: str, query: str, body: bytes | None):
-        """The page's edits of the recipe file (:mod:`marblevideo.live.editing`)."""
-        return live_api(self, method, path, body)
-
+    # -- playback (from the preview) ----------------------------------------
     def control(self, request: dict) -> dict:
-        """Apply a control request (see Controls.apply); the new state."""
-        return self.controls.apply(request, self.recipe)
+        """Apply a control request (see Playback.apply); the new state."""
+        return self.playback.apply(request, self.recipe)
 
     def state(self) -> dict:
-        return self.controls.state()
+        return self.playback.state()
 
     def stats(self) -> dict:
         now = time.monotonic()
