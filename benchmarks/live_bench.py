@@ -110,8 +110,7 @@ def bench(
         def sample():
             time.sleep(warmup)
             marks["start"] = (time.monotonic(), session.frames, received[0])
-            session._latency.values.clear()
-            session._render_ms.values.clear()
+            session.meters.clear()
             time.sleep(seconds)
             marks["end"] = (time.monotonic(), session.frames, received[0])
             session.stats_at_end = session.stats()

@@ -244,7 +244,7 @@ def test_the_live_server_says_its_file_is_broken(live):
 def test_stats_are_read_while_frames_are_counted():
     """``/stats`` reads the session's rate windows while the render and JPEG threads
     add to them (the soak benchmark met 'deque mutated during iteration')."""
-    from marblevideo.live.session import RateWindow
+    from marblevideo.live.meters import RateWindow
 
     window, stop, errors = RateWindow(), threading.Event(), []
 
