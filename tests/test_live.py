@@ -114,6 +114,34 @@ def test_clock_pauses_and_restarts():
     assert clock.now() < 0.02
 
 
+def test_the_preview_encodes_the_newest_frame_at_its_width():
+    """JpegPreview: a frame put is encoded (scaled to the preview's width) under the
+    next sequence number; one waited for after the newest times out; close wakes."""
+    import cv2
+
+    from marblevideo.live.jpeg import JpegPreview
+    from marblevideo.live.meters import RateWindow
+
+    preview, stop, latency = JpegPreview(width=40, quality=90), threading.Event(), RateWindow()
+    encoder = threading.Thread(target=preview.run, args=(stop, latency))
+    encoder.start()
+    try:
+        rgba = np.zeros((60, 80, 4), np.uint8)
+        rgba[..., 0], rgba[..., 3] = 200, 255  # red
+        preview.put(rgba, time.monotonic())
+        seq, data = preview.latest(0, timeout=5.0)
+        assert seq == 1 and latency.median() is not None
+        bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+        assert bgr.shape == (30, 40, 3) and abs(int(bgr[15, 20, 2]) - 200) <= 3
+        assert preview.latest(1, timeout=0.05) == (1, None)
+        preview.close()
+        start = time.monotonic()
+        assert preview.latest(1, timeout=5.0) == (1, None) and time.monotonic() - start < 1
+    finally:
+        stop.set()
+        encoder.join(5)
+
+
 @pytest.fixture
 def session(tmp_path, renderer):
     path = tmp_path / "r.json"
