@@ -16,7 +16,9 @@ Routes:
 
 A session with an ``api(method, path, query, body)`` method (the designer's,
 :mod:`marblevideo.design`) answers every ``/api/...`` request itself, and one
-with a ``page()`` method gives the page.
+with a ``page()`` method gives the page. The live routes are a live session's
+(``stats()``, ``latest_jpeg()``, ``control()``): 404 for a session without them
+(the designer's, :class:`~marblevideo.design.session.DesignSession`).
 
 Requests must name the server as their Host (127.0.0.1 or localhost), and
 ``/control`` and the API's PUT and POST take ``Content-Type: application/json``
@@ -163,11 +165,11 @@ class _Handler(BaseHTTPRequestHandler):
         path, _, query = self.path.partition("?")
         if path == "/" and hasattr(session, "page"):
             self._send(200, session.page(), "text/html; charset=utf-8")
-        elif path == "/stats":
+        elif path == "/stats" and hasattr(session, "stats"):
             self._json(session.stats())
-        elif path == "/frame.jpg":
+        elif path == "/frame.jpg" and hasattr(session, "latest_jpeg"):
             self._frame(query)
-        elif path == "/stream.mjpg":
+        elif path == "/stream.mjpg" and hasattr(session, "latest_jpeg"):
             self._stream()
         else:
             self._send(404, b"not found\n", "text/plain")
@@ -222,7 +224,7 @@ class _Handler(BaseHTTPRequestHandler):
     def do_POST(self):  # noqa: N802 - http.server's naming
         if not (self._host_ok() and self._origin_ok()) or self._api("POST"):
             return
-        if self.path != "/control":
+        if self.path != "/control" or not hasattr(self.server.session, "control"):
             self._send(404, b"not found\n", "text/plain")
             return
         body = self._body("control", 65536)

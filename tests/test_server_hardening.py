@@ -87,6 +87,17 @@ def live(tmp_path, renderer):
         session.close()
 
 
+def test_the_designer_has_no_live_routes(designer):
+    """One server for both modes: a live session's routes (its counters, frames and
+    clock) are not found on the designer's, rather than a traceback on its stderr
+    (the fixture's teardown checks there is none)."""
+    client, _ = designer
+    for method, route in (("GET", "/stats"), ("GET", "/frame.jpg"), ("GET", "/stream.mjpg"),
+                          ("POST", "/control"), ("GET", "/params")):  # fmt: skip
+        assert client.send(method, route, b"{}" if method == "POST" else None)[0] == 404, route
+    assert client.json("GET", "/api/info")[1]["mode"] == "design"
+
+
 def test_json_depth_is_counted_without_parsing():
     assert [json_depth(t) for t in (b"1", b"[]", b"[[{}], {}]", b"")] == [0, 1, 3, 0]
     assert json_depth(json.dumps({"a": "[[[{{{", "b": ['\\"[[[', []]}).encode()) == 3
