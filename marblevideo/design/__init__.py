@@ -1,7 +1,7 @@
 """``marblevideo design``: draw a recipe by hand in the browser, over a blank
 sheet, a photo, a video frame or a live source.
 
-The page (``page.html``) is served by the live preview's server
+The page (``page.html``) is served by the HTTP server of both modes
 (:class:`marblevideo.server.Server`) on 127.0.0.1 only, and does
 everything through this HTTP API, which scripts and tests may use too:
 
