@@ -71,9 +71,9 @@ def bench(
     size, seconds, warmup, preview_width, record, device, fps, recipe_dict=RECIPE, lattice=True
 ):
     from marblevideo.cli.arguments import parse_size
-    from marblevideo.live.preview import PreviewServer
     from marblevideo.live.session import LiveSession
     from marblevideo.live.sources import TestPattern
+    from marblevideo.server import Server
 
     w, h = parse_size(size)
     with tempfile.TemporaryDirectory() as tmp:
@@ -97,7 +97,7 @@ def bench(
             recorder = recorder_for(args)
             recorder.start(w, h, fps)
             session.recorder = recorder
-        server = PreviewServer(session, 0)
+        server = Server(session, 0)
         server.start()
         stop = threading.Event()
         received = [0]
@@ -110,8 +110,7 @@ def bench(
         def sample():
             time.sleep(warmup)
             marks["start"] = (time.monotonic(), session.frames, received[0])
-            session._latency.values.clear()
-            session._render_ms.values.clear()
+            session.meters.clear()
             time.sleep(seconds)
             marks["end"] = (time.monotonic(), session.frames, received[0])
             session.stats_at_end = session.stats()

@@ -73,7 +73,7 @@ def _jpeg_after(session, seq: int) -> tuple[int, np.ndarray, float]:
 def _settle(session, client, value: float) -> np.ndarray:
     client.send_message("/swirl", value)
     time.sleep(0.5)
-    return _jpeg_after(session, session.jpeg_seq)[1]
+    return _jpeg_after(session, session.preview.seq)[1]
 
 
 def rounds(session, client, n: int, fps: float) -> list[float]:
@@ -83,7 +83,7 @@ def rounds(session, client, n: int, fps: float) -> list[float]:
     for _ in range(n):
         value = 1 - value
         time.sleep(0.15 + random.random() / fps)  # a random phase of the frame clock
-        seq = session.jpeg_seq
+        seq = session.preview.seq
         sent = time.monotonic()
         client.send_message("/swirl", float(value))
         while True:
@@ -115,7 +115,7 @@ def bench(size: tuple[int, int], n: int, fps: float, device: str | None) -> dict
 
         def drive():
             try:
-                session._latency.values.clear()
+                session.meters.clear()
                 result["osc_ms"] = rounds(session, client, n, fps)
                 result["stats"] = session.stats()
             finally:

@@ -268,9 +268,9 @@ def trace(args) -> dict:
 
     from marblevideo.cli.live import build_parser, recorder_for
     from marblevideo.design.live import LiveDesign
-    from marblevideo.live.preview import PreviewServer
     from marblevideo.live.session import LiveSession
     from marblevideo.live.sources import TestPattern
+    from marblevideo.server import Server
 
     tracemalloc.start(10)
     w, h = map(int, args.size.split("x"))
@@ -281,7 +281,7 @@ def trace(args) -> dict:
         opts = build_parser().parse_args(["--ops", str(recipe), "-o", f"{tmp}/soak.mp4", "-y"])
         session.recorder = recorder_for(opts)
         session.recorder.start(w, h, 30)
-        server = PreviewServer(LiveDesign(session), 0)
+        server = Server(LiveDesign(session), 0)
         server.start()
         stop, marks = threading.Event(), []
 

@@ -23,7 +23,7 @@ MAX_SIDE = 1 << 15
 DEFAULT_TOLERANCE = 0.05
 #: Frame rate of a blank sheet rendered to video, and of the live test pattern.
 DEFAULT_FPS = 30.0
-#: Port of the live preview page (on 127.0.0.1).
+#: Port of the designer's and the live preview's page (on 127.0.0.1).
 DEFAULT_PORT = 8765
 #: Longest list in a recipe (rake tines, stir radii, layout colours).
 MAX_LIST = 256

@@ -16,11 +16,10 @@ import numpy as np
 import pytest
 
 from marblevideo.errors import UsageError
-from marblevideo.live.controls import Clock, sliders, with_overrides
-from marblevideo.live.preview import PreviewServer
+from marblevideo.live.playback import Clock
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import Latest, TestPattern
-from marblevideo.recipe import parse_recipe
+from marblevideo.server import Server
 from tests.live_helpers import RECIPE, ROOT, LiveProcess
 
 SWIRL = ROOT / "samples" / "swirl.json"
@@ -115,18 +114,32 @@ def test_clock_pauses_and_restarts():
     assert clock.now() < 0.02
 
 
-def test_sliders_cover_constant_numbers_only():
-    recipe = parse_recipe(RECIPE)
-    ops = sliders(recipe, (600, 400))
-    wave = {p["name"]: p for p in ops[0]["params"]}
-    assert wave["amplitude"]["animated"] and not wave["wavelength"]["animated"]
-    vortex = {p["name"]: p for p in ops[1]["params"]}
-    assert set(vortex) == {"alpha", "lambda"}  # the centre is a point
-    assert vortex["alpha"]["min"] < 200 < vortex["alpha"]["max"]
-    assert vortex["lambda"]["min"] > 0
-    changed = with_overrides(recipe, {(1, "alpha"): 50.0})
-    assert changed.ops[1].params["alpha"].at(0) == 50.0
-    assert recipe.ops[1].params["alpha"].at(0) == 200
+def test_the_preview_encodes_the_newest_frame_at_its_width():
+    """JpegPreview: a frame put is encoded (scaled to the preview's width) under the
+    next sequence number; one waited for after the newest times out; close wakes."""
+    import cv2
+
+    from marblevideo.live.jpeg import JpegPreview
+    from marblevideo.live.meters import RateWindow
+
+    preview, stop, latency = JpegPreview(width=40, quality=90), threading.Event(), RateWindow()
+    encoder = threading.Thread(target=preview.run, args=(stop, latency))
+    encoder.start()
+    try:
+        rgba = np.zeros((60, 80, 4), np.uint8)
+        rgba[..., 0], rgba[..., 3] = 200, 255  # red
+        preview.put(rgba, time.monotonic())
+        seq, data = preview.latest(0, timeout=5.0)
+        assert seq == 1 and latency.median() is not None
+        bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
+        assert bgr.shape == (30, 40, 3) and abs(int(bgr[15, 20, 2]) - 200) <= 3
+        assert preview.latest(1, timeout=0.05) == (1, None)
+        preview.close()
+        start = time.monotonic()
+        assert preview.latest(1, timeout=5.0) == (1, None) and time.monotonic() - start < 1
+    finally:
+        stop.set()
+        encoder.join(5)
 
 
 @pytest.fixture
@@ -141,24 +154,22 @@ def session(tmp_path, renderer):
 def test_control_validates_requests(session):
     assert session.control({"paused": True})["paused"]
     for bad in (
-        {"param": {"op": 1, "name": "lambda", "value": 0}},  # must be > 0
-        {"param": {"op": 0, "name": "amplitude", "value": 3}},  # keyframed
-        {"param": {"op": 5, "name": "alpha", "value": 3}},
-        {"param": {"op": 1, "name": "center", "value": 3}},
         {"time": -1},
         {"time": "0.5"},
         {"bypass": "yes"},
         {"jump": True},
+        {"param": {"op": 1, "name": "alpha", "value": 3}},  # the old page's overrides
         [],
     ):
         with pytest.raises(UsageError):
             session.control(bad)
-    state = session.control({"param": {"op": 1, "name": "alpha", "value": -40}})
-    assert state["overrides"] == [{"op": 1, "name": "alpha", "value": -40.0}]
+    state = session.control({"bypass": True, "mirror": True, "time": 0.5})
+    assert (state["bypass"], state["mirror"], state["t"]) == (True, True, 0.5)
+    assert set(state) == {"paused", "loop", "bypass", "mirror", "t"}
 
 
 def test_preview_server_binds_loopback_only(session):
-    server = PreviewServer(session, 0)
+    server = Server(session, 0)
     server.start()
     try:
         host, port = server.address
@@ -220,55 +231,35 @@ def _api(server, method: str, path: str, body=None) -> tuple[int, dict]:
     return answer
 
 
-def test_the_live_page_saves_its_sliders_and_edits(session):
-    """POST /api/save-sliders writes the sliders into the file; PUT /api/recipe saves
-    a recipe (the session takes it at once) or refuses it and keeps the file."""
+def test_a_live_recipe_is_edited_through_the_designers_api(session):
+    """GET /api/recipe reads the live recipe file, a PUT saves it and the session
+    takes it at once; the old page's routes (/params, save-sliders, a control's
+    param) are gone, each refused in one line."""
+    from marblevideo.design.live import LiveDesign
+
     path = session.recipe_path
-    server = PreviewServer(session, 0)
+    server = Server(LiveDesign(session), 0)
     server.start()
     try:
         assert _api(server, "GET", "/api/recipe") == (200, RECIPE)
-        session.control({"param": {"op": 1, "name": "alpha", "value": -40}})
-        status, answer = _api(server, "POST", "/api/save-sliders", {})
-        assert status == 200 and answer == {"version": 2, "skipped": []}
-        saved = json.loads(path.read_text())
-        assert saved["ops"][1]["alpha"] == -40 and saved["ops"][0] == RECIPE["ops"][0]
+        doc = {**RECIPE, "ops": [RECIPE["ops"][0], {**RECIPE["ops"][1], "alpha": -40}]}
+        status, answer = _api(server, "PUT", "/api/recipe", doc)
+        assert status == 200 and answer["version"] == 2
+        assert json.loads(path.read_text()) == doc
         assert session.recipe.ops[1].params["alpha"].at(0) == -40
-        assert session.controls.snapshot()[0] == {}  # now the file's value
-        before = path.read_bytes()
-        bad = {**saved, "ops": [{**saved["ops"][1], "lambda": -2}]}
-        status, answer = _api(server, "PUT", "/api/recipe", bad)
-        assert status == 400 and answer["error"] == f"{path}: ops[0].lambda: must be > 0, got -2"
-        assert path.read_bytes() == before and session.recipe_version == 2
-        status, answer = _api(server, "PUT", "/api/recipe", {**saved, "ops": saved["ops"][1:]})
-        assert (status, answer) == (200, {"version": 3}) and len(session.recipe.ops) == 1
+        assert _api(server, "GET", "/api/recipe") == (200, doc)
+        status, answer = _api(server, "POST", "/api/save-sliders", {})
+        assert status == 404 and "no such route" in answer["error"]
+        status, answer = _api(server, "POST", "/control", {"param": {"op": 1}})
+        assert status == 400 and "PUT /api/recipe" in answer["error"]
+        host, port = server.address
+        conn = http.client.HTTPConnection(host, port, timeout=10)
+        conn.request("GET", "/params")
+        assert conn.getresponse().status == 404
+        conn.close()
+        assert session.recipe_version == 2
     finally:
         server.stop()
-
-
-def test_sliders_of_a_layouts_drops_are_left_out():
-    from marblevideo.live.editing import file_indices, with_sliders
-
-    doc = {
-        "canvas": [100, 100],
-        "ops": [
-            {"type": "tine", "point": [0, 0], "angle": 0, "alpha": 5, "lambda": 3},
-            {"type": "rings", "center": [50, 50], "width": 5, "count": 3, "colors": ["red"]},
-            {"type": "vortex", "center": [50, 50], "alpha": 10, "lambda": 20},
-        ],
-    }
-    recipe = parse_recipe(doc)
-    assert file_indices(recipe) == [0, None, None, None, 2]
-    changed, skipped = with_sliders(doc, recipe, {(4, "alpha"): 7.0, (2, "radius"): 9.0})
-    assert changed["ops"][2]["alpha"] == 7.0 and doc["ops"][2]["alpha"] == 10
-    assert skipped == ["ops[2].radius (a drop of the layout ops[1])"]
-    # hidden ops are not rendered, so they have no sliders: the others keep their entries
-    wave = {"type": "wave", "amplitude": 2, "wavelength": 30, "phase": 0, "angle": 0}
-    doc["ops"][1:1] = [{**wave, "hidden": True}]
-    recipe = parse_recipe(doc)
-    assert file_indices(recipe) == [0, None, None, None, 3]
-    changed, _ = with_sliders(doc, recipe, {(4, "alpha"): 7.0})
-    assert changed["ops"][3]["alpha"] == 7.0 and changed["ops"][1] == doc["ops"][1]
 
 
 def test_the_designers_api_over_a_live_session(session):
@@ -278,7 +269,7 @@ def test_the_designers_api_over_a_live_session(session):
     from marblevideo.design.live import LiveDesign
 
     path = session.recipe_path
-    server = PreviewServer(LiveDesign(session), 0)
+    server = Server(LiveDesign(session), 0)
     server.start()
     try:
         host, port = server.address
@@ -323,7 +314,7 @@ def test_the_designers_api_over_a_live_session(session):
 def test_a_save_is_known_by_its_stamp_and_another_programs_change_is_seen(session):
     """The page's save takes the recipe it saved, known by the file's stamp (taken
     before the rename), so a change another program makes right after is reloaded."""
-    from marblevideo.live.recipefile import file_stamp, save_stamped
+    from marblevideo.recipefile import file_stamp, save_stamped
 
     path = session.recipe_path
     doc = {**RECIPE, "ops": RECIPE["ops"][1:]}

@@ -163,10 +163,13 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         drag(page, client, (100, 300), (500, 300))
         ops = wait_for(lambda: len(saved()) == 4 and saved(), "the comb is saved")
         assert ops[3]["type"] == "comb" and ops[3]["angle"] == 0
-        # hide is saved in the file, and the session leaves the op out
+        # hide is saved in the file, and the session leaves the op out (the comb is gone)
+        d = _settled(page, live)
         page.click("#op-3 button[data-act=hide]")
         wait_for(lambda: saved()[3].get("hidden") is True, "the hide is saved")
-        wait_for(lambda: len(live.get("/params")["ops"]) == 3, "the session leaves it out")
+        hidden = page.evaluate("version")
+        live.wait_stats(lambda s: s["recipe_version"] >= hidden)
+        assert _diff(d, _settled(page, live)) > 5 * still
         page.wait_for_function(
             "document.querySelector('#op-3 button[data-act=hide]').textContent === 'show'"
         )

@@ -23,9 +23,9 @@ import pytest
 
 from marblevideo.design.live import LiveDesign
 from marblevideo.limits import MAX_DEPTH
-from marblevideo.live.preview import PreviewServer, json_depth
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import TestPattern
+from marblevideo.server import Server, json_depth
 from tests.live_helpers import RECIPE, LiveProcess
 
 DROP = {"type": "drop", "center": [40, 30], "radius": 12, "color": "#1d3557"}
@@ -78,13 +78,24 @@ def live(tmp_path, renderer):
     path = tmp_path / "live.json"
     path.write_text(json.dumps(RECIPE))
     session = LiveSession(path, TestPattern((96, 64), 30), renderer=renderer, jpeg=True, quiet=True)
-    server = PreviewServer(LiveDesign(session), 0)
+    server = Server(LiveDesign(session), 0)
     server.start()
     try:
         yield Client(server.address[1]), path, session
     finally:
         server.stop()
         session.close()
+
+
+def test_the_designer_has_no_live_routes(designer):
+    """One server for both modes: a live session's routes (its counters, frames and
+    clock) are not found on the designer's, rather than a traceback on its stderr
+    (the fixture's teardown checks there is none)."""
+    client, _ = designer
+    for method, route in (("GET", "/stats"), ("GET", "/frame.jpg"), ("GET", "/stream.mjpg"),
+                          ("POST", "/control"), ("GET", "/params")):  # fmt: skip
+        assert client.send(method, route, b"{}" if method == "POST" else None)[0] == 404, route
+    assert client.json("GET", "/api/info")[1]["mode"] == "design"
 
 
 def test_json_depth_is_counted_without_parsing():
@@ -124,7 +135,7 @@ def test_deep_json_is_a_bad_request_to_the_designer(designer):
 def test_deep_json_is_a_bad_request_to_the_live_server(live):
     client, path, session = live
     before = path.read_bytes()
-    for method, route in (("PUT", "/api/recipe"), ("POST", "/api/save-sliders"),
+    for method, route in (("PUT", "/api/recipe"), ("POST", "/api/learn"),
                           ("POST", "/control")):  # fmt: skip
         levels = 60000 if route == "/control" else 100000  # /control takes 64 KiB at most
         status, body = client.send(method, route, b"[" * levels)
@@ -184,7 +195,7 @@ def test_cross_origin_writes_to_the_live_server_are_refused(live):
     client, path, session = live
     routes = [
         ("PUT", "/api/recipe", RECIPE),
-        ("POST", "/api/save-sliders", {}),
+        ("POST", "/api/learn", {}),
         ("POST", "/control", {"paused": True}),
     ]
     check_origins(client, routes, path)
@@ -244,7 +255,7 @@ def test_the_live_server_says_its_file_is_broken(live):
 def test_stats_are_read_while_frames_are_counted():
     """``/stats`` reads the session's rate windows while the render and JPEG threads
     add to them (the soak benchmark met 'deque mutated during iteration')."""
-    from marblevideo.live.session import RateWindow
+    from marblevideo.live.meters import RateWindow
 
     window, stop, errors = RateWindow(), threading.Event(), []
 

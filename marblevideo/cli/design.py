@@ -99,8 +99,8 @@ def design_command(argv: list[str]) -> int:
     """The ``design`` command; returns the exit status (MarbleError propagates)."""
     from marblevideo.design.backdrop import open_backdrop
     from marblevideo.design.session import DesignSession
-    from marblevideo.live.preview import PreviewServer
-    from marblevideo.live.recipefile import DEFAULT_CANVAS, RecipeFile
+    from marblevideo.recipefile import DEFAULT_CANVAS, RecipeFile
+    from marblevideo.server import Server
 
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose)
@@ -122,7 +122,7 @@ def design_command(argv: list[str]) -> int:
         stack.callback(backdrop.close)
         session = DesignSession(document, backdrop, device=args.device)
         stack.callback(session.close)
-        server = PreviewServer(session, args.port)
+        server = Server(session, args.port)
         stack.callback(server.stop)
         for signum in (signal.SIGINT, signal.SIGTERM):
             stack.callback(signal.signal, signum, signal.signal(signum, lambda *_: stop.set()))

@@ -196,9 +196,9 @@ def run_live(argv: list[str]) -> int:
             session.recorder = recorder
         if args.preview:
             from marblevideo.design.live import LiveDesign
-            from marblevideo.live.preview import PreviewServer
+            from marblevideo.server import Server
 
-            server = PreviewServer(LiveDesign(session), args.port)  # the designer, live
+            server = Server(LiveDesign(session), args.port)  # the designer, live
             server.start()
             print(f"preview: {server.url}", flush=True)
         listeners = start_controllers(args, session)

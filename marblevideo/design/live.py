@@ -10,10 +10,14 @@ edit the live recipe file:
 - ``GET /api/info``: as the designer's, with ``"mode": "live"``, the input
   ``kind`` ``live`` and the frame's ``size`` the source's.
 - ``GET /api/ops``: every op and layout type with its parameters.
-- ``GET``/``PUT /api/recipe``, ``POST /api/save-sliders``: the live session's
-  (:mod:`marblevideo.live.editing`): validated, saved atomically, taken from the
-  next frame; 400 with the one-line JSON-path error and nothing saved when
-  invalid. A PUT answers ``/api/info`` with the new ``version``.
+- ``GET /api/recipe``: the live recipe file as the session took it; 409 while
+  the file on disk is broken: ``{"error": ..., "last_good": ...}``
+  (:meth:`~marblevideo.recipefile.RecipeFile.answer`).
+- ``PUT /api/recipe``: validated, saved atomically, taken from the next frame;
+  400 with the one-line JSON-path error and nothing saved when invalid. It
+  answers ``/api/info`` with the new ``version``.
+- ``GET /api/signals``, ``POST /api/learn``: the controllers' meters and learn
+  (:mod:`marblevideo.controllers.api`).
 
 The page draws the newest marbled frame (``GET /frame.jpg?after=SEQ``) and
 polls ``/stats`` (fps, latency, the clock); ``POST /control`` pauses, seeks
@@ -23,11 +27,12 @@ recipes (``/api/frame.*``): the frame shown is the live one.
 
 from __future__ import annotations
 
-import json
 from importlib import resources
 
+from marblevideo.controllers.api import controllers_api
 from marblevideo.design.session import page_info, registry
-from marblevideo.live.editing import json_answer
+from marblevideo.errors import MediaError, RecipeError
+from marblevideo.server import json_answer, request_json
 
 
 class LiveDesign:
@@ -54,17 +59,25 @@ class LiveDesign:
             return json_answer(self.info())
         if (method, path) == ("GET", "/api/ops"):
             return json_answer(registry())
-        code, data, ctype = self.live.api(method, path, query, body)
-        if (method, path) == ("PUT", "/api/recipe") and code == 200:
-            return json_answer({**self.info(), **json.loads(data)})
-        return code, data, ctype
+        answer = controllers_api(self.live, method, path)  # meters and learn
+        if answer is not None:
+            return json_answer(answer[1], answer[0])
+        try:
+            if (method, path) == ("GET", "/api/recipe"):
+                code, doc = self.live.file.answer()
+                return json_answer(doc, code)
+            if (method, path) == ("PUT", "/api/recipe"):
+                version = self.live.put(request_json(body))
+                return json_answer({**self.info(), "version": version})
+        except (RecipeError, ValueError) as exc:
+            return json_answer({"error": str(exc)}, 400)
+        except (OSError, MediaError) as exc:
+            return json_answer({"error": f"{self.live.recipe_path}: {exc}"}, 500)
+        return json_answer({"error": f"{method} {path}: no such route"}, 404)
 
     # the live session's own routes
     def stats(self) -> dict:
         return self.live.stats()
-
-    def params(self) -> dict:
-        return self.live.params()
 
     def control(self, request) -> dict:
         return self.live.control(request)

@@ -113,7 +113,7 @@ def _only(query: dict, count: int) -> tuple[int, ...] | None:
 
 
 class DesignSession:
-    """The recipe file (:class:`~marblevideo.live.recipefile.RecipeFile`) drawn over
+    """The recipe file (:class:`~marblevideo.recipefile.RecipeFile`) drawn over
     a backdrop (:mod:`marblevideo.design.backdrop`) by one OpenCL renderer."""
 
     def __init__(self, document, backdrop, *, device: str | None = None, renderer=None):

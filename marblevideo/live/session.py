@@ -11,75 +11,35 @@ bounded)::
 - The recipe file is polled every 0.5 s; a save reloads it. An invalid save
   keeps the previous recipe running; its one-line RecipeError is printed on
   stderr and shown on the preview page (the designer's, in live mode:
-  :mod:`marblevideo.design.live`). Slider overrides are reset by a reload.
-- The preview's controls (clock, bypass, mirror, sliders) are
-  :class:`~marblevideo.live.controls.Controls`.
+  :mod:`marblevideo.design.live`).
+- How it plays (clock, bypass, mirror) is
+  :class:`~marblevideo.live.playback.Playback`; the preview's JPEGs are
+  :class:`~marblevideo.live.jpeg.JpegPreview`'s, the rates and latencies
+  :class:`~marblevideo.live.meters.Meters`'.
 """
 
 from __future__ import annotations
 
-import statistics
 import sys
 import threading
 import time
-from collections import deque
 from pathlib import Path
 
-import cv2
 import numpy as np
 
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
-from marblevideo.live.controls import Controls, sliders, with_overrides
-from marblevideo.live.editing import live_api
-from marblevideo.live.recipefile import RecipeFile
-from marblevideo.live.sources import Latest, Source
+from marblevideo.live.jpeg import JpegPreview
+from marblevideo.live.meters import Meters
+from marblevideo.live.playback import Playback
+from marblevideo.live.sources import Source
+from marblevideo.recipefile import RecipeFile
 from marblevideo.signals.live import FrameTimed
 
 RELOAD_POLL = 0.5
 
 
-class RateWindow:
-    """Rates and latencies over the last few seconds. Threads add (the render, the
-    JPEG encoder) while others read (``/stats``): every access holds its lock."""
-
-    def __init__(self, span: float = 2.0, keep: int = 120):
-        self.span = span
-        self.times: deque[float] = deque()
-        self.values: deque[float] = deque(maxlen=keep)
-        self._lock = threading.Lock()
-
-    def add(self, now: float, value: float | None = None) -> None:
-        with self._lock:
-            self.times.append(now)
-            while self.times and self.times[0] < now - self.span:
-                self.times.popleft()
-            if value is not None:
-                self.values.append(value)
-
-    def rate(self, now: float) -> float:
-        with self._lock:
-            recent = [t for t in self.times if t >= now - self.span]
-        if len(recent) < 2:
-            return 0.0
-        return (len(recent) - 1) / max(recent[-1] - recent[0], 1e-9)
-
-    def _values(self) -> list[float]:
-        with self._lock:
-            return list(self.values)
-
-    def median(self) -> float | None:
-        values = self._values()
-        return statistics.median(values) if values else None
-
-    def quantile(self, q: float) -> float | None:
-        ordered = sorted(self._values())
-        if not ordered:
-            return None
-        return ordered[min(len(ordered) - 1, int(q * len(ordered)))]
-
-
 class LiveSession:
-    """A running live job: source, recipe (watched), controls, outputs and counters."""
+    """A running live job: source, recipe (watched), playback, outputs and counters."""
 
     def __init__(
         self,
@@ -110,64 +70,50 @@ class LiveSession:
         #: animated frames interpolate the map from a lattice (False: --exact-walk)
         self.lattice = lattice
         self.quiet = quiet
-        self.controls = Controls()
+        self.playback = Playback()
         self.controllers = ControllerSignals()  # OSC and MIDI, fed by their listeners
-        self.signals = None  # other signals' source (audio), beside the controllers
         self._lock = threading.Lock()
         self._marbler = None
-        self._marbled_for: tuple[int, int] | None = None  # (recipe, overrides) versions
-        # audio signals (marblevideo.signals.live): by the shown frame's time in its file
+        self._marbled_for: int | None = None  # the recipe's version
+        # other signals (audio, marblevideo.signals.live), beside the controllers: by
+        # the shown frame's time in its file when audio_by_frame
         self.media_t = 0.0
         self.signals = FrameTimed(audio, lambda: self.media_t) if audio_by_frame else audio
         # outputs
-        self.shown = Latest()  # rendered frames for the JPEG encoder
-        self.jpeg = jpeg
-        self.preview_width = preview_width
-        self.jpeg_quality = jpeg_quality
-        self.jpeg_cond = threading.Condition()
-        self.jpeg_bytes: bytes | None = None
-        self.jpeg_seq = 0
+        self.jpeg = jpeg  # whether frames shown go to the preview
+        self.preview = JpegPreview(preview_width, jpeg_quality)
         self.recorder = None
         self.vcam = None
         # counters
         self.frames = 0
         self.started = time.monotonic()
-        self._rendered = RateWindow()
-        self._latency = RateWindow()  # capture -> JPEG ready, seconds
-        self._render_ms = RateWindow()
+        self.meters = Meters()
         self._threads: list[threading.Thread] = []
         self.stop_event = threading.Event()
 
     # -- recipe -------------------------------------------------------------
     @property
     def recipe(self):
-        """The recipe now (:class:`~marblevideo.live.recipefile.RecipeFile`'s)."""
+        """The recipe now (:class:`~marblevideo.recipefile.RecipeFile`'s)."""
         return self.file.recipe
 
     @property
     def recipe_version(self) -> int:
         return self.file.version
 
-    @property
-    def recipe_error(self) -> str | None:
-        return self.file.error
-
     def check_reload(self) -> bool:
-        """Take the recipe file's contents if another program changed it (sliders
-        reset); whether it did. A change that does not validate is said and kept out."""
+        """Take the recipe file's contents if another program changed it; whether it
+        did. A change that does not validate is said and kept out."""
         if not self.file.check_reload():
             return False
-        self.controls.reset()
         if not self.quiet:
             self._say(f"reloaded {self.recipe_path}")
         return True
 
     def put(self, doc: object) -> int:
-        """Validate ``doc``, save it atomically and take it from the next frame
-        (sliders reset); its version. RecipeError, nothing saved, when invalid."""
-        version = self.file.put(doc)
-        self.controls.reset()
-        return version
+        """Validate ``doc``, save it atomically and take it from the next frame; its
+        version. RecipeError, nothing saved, when invalid."""
+        return self.file.put(doc)
 
     def _watch(self) -> None:
         while not self.stop_event.wait(RELOAD_POLL):
@@ -179,20 +125,18 @@ class LiveSession:
 
     @property
     def clock(self):
-        """The animation clock (:class:`~marblevideo.live.controls.Clock`)."""
-        return self.controls.clock
+        """The animation clock (:class:`~marblevideo.live.playback.Clock`)."""
+        return self.playback.clock
 
     def _current(self):
-        overrides, bypass, mirror, version = self.controls.snapshot()
-        _, recipe, recipe_version = self.file.snapshot()
+        bypass, mirror = self.playback.snapshot()
+        _, recipe, version = self.file.snapshot()
         with self._lock:
-            if self._marbled_for != (recipe_version, version):
+            if self._marbled_for != version:
                 self._marbler = self._Marbler(
-                    self._bound(with_overrides(recipe, overrides)),
-                    renderer=self.renderer,
-                    lattice=self.lattice,
+                    self._bound(recipe), renderer=self.renderer, lattice=self.lattice
                 )
-                self._marbled_for = (recipe_version, version)
+                self._marbled_for = version
             return self._marbler, bypass, mirror
 
     def _bound(self, recipe):
@@ -202,51 +146,30 @@ class LiveSession:
         self.controllers.known = frozenset(t.signal.name for _, t in uses if t.signal.controller)
         return recipe.bind(SessionSignals(self.controllers, self.signals)) if uses else recipe
 
-    # -- controls (from the preview) ----------------------------------------
-    def params(self) -> dict:
-        """The sliders of the current recipe, with the overridden values."""
-        overrides = self.controls.snapshot()[0]
-        _, recipe, version = self.file.snapshot()
-        ops = sliders(recipe, self.source.size)
-        for op in ops:
-            for p in op["params"]:
-                key = (op["index"], p["name"])
-                if key in overrides:
-                    p["value"] = overrides[key]
-        return {"version": version, "source": str(self.recipe_path), "ops": ops}
-
-    def api(self, method: str, path: str, query: str, body: bytes | None):
-        """The page's edits of the recipe file (:mod:`marblevideo.live.editing`)."""
-        return live_api(self, method, path, body)
-
+    # -- playback (from the preview) ----------------------------------------
     def control(self, request: dict) -> dict:
-        """Apply a control request (see Controls.apply); the new state."""
-        return self.controls.apply(request, self.recipe)
+        """Apply a control request (see Playback.apply); the new state."""
+        return self.playback.apply(request, self.recipe)
 
     def state(self) -> dict:
-        return self.controls.state()
+        return self.playback.state()
 
     def stats(self) -> dict:
+        """``GET /stats``: the counters, the meters' figures and the playback's state."""
         now = time.monotonic()
-        lat = self._latency.median()
-        p95 = self._latency.quantile(0.95)
-        render = self._render_ms.median()
-        error, version = self.file.error, self.file.snapshot()[2]
+        recorder = self.recorder
         return {
             "frames": self.frames,
-            "fps": round(self._rendered.rate(now), 2),
-            "latency_ms": None if lat is None else round(lat * 1000, 1),
-            "latency_p95_ms": None if p95 is None else round(p95 * 1000, 1),
-            "render_ms": None if render is None else round(render * 1000, 2),
+            **self.meters.figures(now),
             "dropped": self.source.frames.dropped,
-            "preview_skipped": self.shown.dropped,
-            "record_dropped": self.recorder.dropped if self.recorder else 0,
-            "recorded": self.recorder.frames if self.recorder else 0,
-            "jpeg_seq": self.jpeg_seq,
+            "preview_skipped": self.preview.skipped,
+            "record_dropped": recorder.dropped if recorder else 0,
+            "recorded": recorder.frames if recorder else 0,
+            "jpeg_seq": self.preview.seq,
             "size": list(self.source.size),
             "source": self.source.name,
-            "recipe_version": version,
-            "recipe_error": error,
+            "recipe_version": self.file.snapshot()[2],
+            "recipe_error": self.file.error,
             "uptime": round(now - self.started, 2),
             "controllers": dict(self.controllers.counts),
             **self.state(),
@@ -258,35 +181,9 @@ class LiveSession:
         self._threads.append(thread)
         thread.start()
 
-    def _encode_jpeg(self) -> None:
-        params = [cv2.IMWRITE_JPEG_QUALITY, int(self.jpeg_quality)]
-        while not self.stop_event.is_set():
-            item = self.shown.get(timeout=0.2)
-            if item is None:
-                continue
-            rgba, ts = item
-            if self.preview_width and self.preview_width < rgba.shape[1]:
-                h = max(1, round(rgba.shape[0] * self.preview_width / rgba.shape[1]))
-                rgba = cv2.resize(rgba, (self.preview_width, h), interpolation=cv2.INTER_AREA)
-            ok, buf = cv2.imencode(".jpg", cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGR), params)
-            if not ok:
-                continue
-            done = time.monotonic()
-            self._latency.add(done, done - ts)
-            with self.jpeg_cond:
-                self.jpeg_bytes = buf.tobytes()
-                self.jpeg_seq += 1
-                self.jpeg_cond.notify_all()
-
     def latest_jpeg(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None]:
         """Wait for a JPEG newer than sequence ``after``: (seq, bytes), or (after, None)."""
-        with self.jpeg_cond:
-            self.jpeg_cond.wait_for(
-                lambda: self.jpeg_seq > after or self.stop_event.is_set(), timeout
-            )
-            if self.jpeg_seq > after and self.jpeg_bytes is not None:
-                return self.jpeg_seq, self.jpeg_bytes
-            return after, None
+        return self.preview.latest(after, timeout)
 
     # -- the loop -------------------------------------------------------------
     def run(self, duration: float | None = None) -> None:
@@ -298,7 +195,7 @@ class LiveSession:
             self._current()[0].render(np.zeros((h, w, 4), np.uint8), 0.0)
         self._spawn("watch", self._watch)
         if self.jpeg:
-            self._spawn("jpeg", self._encode_jpeg)
+            self._spawn("jpeg", lambda: self.preview.run(self.stop_event, self.meters.latency))
         self.source.start()
         self.started = time.monotonic()
         self.clock.restart()
@@ -327,11 +224,10 @@ class LiveSession:
         start = time.monotonic()
         out = rgba if bypass else marbler.render(rgba, self.clock.now(), animated=True)
         now = time.monotonic()
-        self._render_ms.add(now, now - start)
-        self._rendered.add(now)
+        self.meters.frame(now, now - start)
         self.frames += 1
         if self.jpeg:
-            self.shown.put((out, ts))
+            self.preview.put(out, ts)
         if self.recorder is not None:
             self.recorder.add(out, ts)
         if self.vcam is not None:
@@ -341,9 +237,7 @@ class LiveSession:
     def close(self) -> None:
         self.stop_event.set()
         self.source.stop()
-        self.shown.close()
-        with self.jpeg_cond:
-            self.jpeg_cond.notify_all()
+        self.preview.close()
         for thread in self._threads:
             thread.join(5.0)
 

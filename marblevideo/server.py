@@ -1,4 +1,5 @@
-"""The live preview: a small HTTP server on 127.0.0.1 only (standard library).
+"""The HTTP server of ``marblevideo design`` and ``marblevideo live --preview``:
+127.0.0.1 only, standard library, one session behind it.
 
 Routes:
 
@@ -9,14 +10,15 @@ Routes:
 - ``GET /frame.jpg``: the newest JPEG; ``?after=SEQ``: one newer than SEQ (the
   sequence number comes as the ``X-Frame-Seq`` header).
 - ``GET /stats``: JSON counters (fps, latency, dropped frames, recipe version and
-  error, control state); the page polls it.
-- ``GET /params``: JSON, each op's numeric parameters with slider ranges.
+  error, the clock's state); the page polls it.
 - ``POST /control``: a JSON object (see :meth:`LiveSession.control`), applied from
   the next frame; answers the new state, or 400 with ``{"error": ...}``.
 
 A session with an ``api(method, path, query, body)`` method (the designer's,
 :mod:`marblevideo.design`) answers every ``/api/...`` request itself, and one
-with a ``page()`` method gives the page.
+with a ``page()`` method gives the page. The live routes are a live session's
+(``stats()``, ``latest_jpeg()``, ``control()``): 404 for a session without them
+(the designer's, :class:`~marblevideo.design.session.DesignSession`).
 
 Requests must name the server as their Host (127.0.0.1 or localhost), and
 ``/control`` and the API's PUT and POST take ``Content-Type: application/json``
@@ -63,8 +65,22 @@ def json_depth(data: bytes) -> int:
     return int(np.cumsum(steps).max(initial=0))
 
 
+def request_json(body: bytes | None):
+    """A request's JSON body; ValueError, in one line, when it is not JSON (a
+    recursion too deep for the parser included)."""
+    try:
+        return json.loads(body or b"null")
+    except (ValueError, RecursionError) as exc:
+        raise ValueError(f"request body: invalid JSON: {exc}") from None
+
+
+def json_answer(obj, code: int = 200) -> tuple[int, bytes, str]:
+    """``obj`` as a session's answer to an API request: (status, body, content type)."""
+    return code, json.dumps(obj).encode(), "application/json"
+
+
 class _Handler(BaseHTTPRequestHandler):
-    server: _Server
+    server: _HTTPD
     protocol_version = "HTTP/1.1"
 
     def log_message(self, format, *args):  # noqa: A002 - quiet: the terminal is for errors
@@ -149,13 +165,11 @@ class _Handler(BaseHTTPRequestHandler):
         path, _, query = self.path.partition("?")
         if path == "/" and hasattr(session, "page"):
             self._send(200, session.page(), "text/html; charset=utf-8")
-        elif path == "/stats":
+        elif path == "/stats" and hasattr(session, "stats"):
             self._json(session.stats())
-        elif path == "/params":
-            self._json(session.params())
-        elif path == "/frame.jpg":
+        elif path == "/frame.jpg" and hasattr(session, "latest_jpeg"):
             self._frame(query)
-        elif path == "/stream.mjpg":
+        elif path == "/stream.mjpg" and hasattr(session, "latest_jpeg"):
             self._stream()
         else:
             self._send(404, b"not found\n", "text/plain")
@@ -210,7 +224,7 @@ class _Handler(BaseHTTPRequestHandler):
     def do_POST(self):  # noqa: N802 - http.server's naming
         if not (self._host_ok() and self._origin_ok()) or self._api("POST"):
             return
-        if self.path != "/control":
+        if self.path != "/control" or not hasattr(self.server.session, "control"):
             self._send(404, b"not found\n", "text/plain")
             return
         body = self._body("control", 65536)
@@ -223,7 +237,7 @@ class _Handler(BaseHTTPRequestHandler):
             self._json({"error": str(exc)}, 400)
 
 
-class _Server(ThreadingHTTPServer):
+class _HTTPD(ThreadingHTTPServer):
     daemon_threads = True
     allow_reuse_address = True
 
@@ -238,12 +252,13 @@ class _Server(ThreadingHTTPServer):
         super().__init__(address, _Handler)
 
 
-class PreviewServer:
-    """Serves ``session`` on 127.0.0.1:``port`` (0: any free port) in a thread."""
+class Server:
+    """Serves ``session`` (a design or live session) on 127.0.0.1:``port`` (0: any
+    free port) in a thread."""
 
     def __init__(self, session, port: int = DEFAULT_PORT):
         try:
-            self.httpd = _Server((HOST, port), session)
+            self.httpd = _HTTPD((HOST, port), session)
         except OSError as exc:
             raise MediaError(f"preview: cannot listen on {HOST}:{port}: {exc.strerror}") from None
         self._thread: threading.Thread | None = None

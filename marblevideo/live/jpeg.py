@@ -1,0 +1,79 @@
+"""The live preview's JPEGs: the newest frame shown, encoded in a thread of its
+own and handed to every client that asks (``/frame.jpg``, ``/stream.mjpg``).
+
+Frames reach the encoder through a one-slot mailbox: when it is behind, the
+older frame is dropped (:attr:`JpegPreview.skipped`), never queued. Each JPEG
+gets the next sequence number (1, 2, ...), so a client asks for one newer than
+the last it has.
+"""
+
+from __future__ import annotations
+
+import threading
+import time
+
+import cv2
+import numpy as np
+
+from marblevideo.live.meters import RateWindow
+from marblevideo.live.sources import Latest
+
+
+class JpegPreview:
+    """JPEGs of the frames shown, ``width`` pixels wide at most (None: as shown),
+    at JPEG ``quality`` (1..100)."""
+
+    def __init__(self, width: int | None = None, quality: int = 80):
+        self.width = width
+        self.quality = quality
+        self.shown = Latest()  # frames for the encoder: (RGBA, capture time)
+        self.seq = 0
+        self._data: bytes | None = None
+        self._cond = threading.Condition()
+        self._closed = False
+
+    @property
+    def skipped(self) -> int:
+        """Frames shown that the encoder never took (it was behind)."""
+        return self.shown.dropped
+
+    def put(self, rgba: np.ndarray, ts: float) -> None:
+        """Offer a frame shown (RGBA), captured at ``ts`` (``time.monotonic()``)."""
+        self.shown.put((rgba, ts))
+
+    def run(self, stop: threading.Event, latency: RateWindow) -> None:
+        """Encode until ``stop``; each JPEG's capture-to-ready seconds go to ``latency``."""
+        params = [cv2.IMWRITE_JPEG_QUALITY, int(self.quality)]
+        while not stop.is_set():
+            item = self.shown.get(timeout=0.2)
+            if item is None:
+                continue
+            rgba, ts = item
+            if self.width and self.width < rgba.shape[1]:
+                h = max(1, round(rgba.shape[0] * self.width / rgba.shape[1]))
+                rgba = cv2.resize(rgba, (self.width, h), interpolation=cv2.INTER_AREA)
+            ok, buf = cv2.imencode(".jpg", cv2.cvtColor(rgba, cv2.COLOR_RGBA2BGR), params)
+            if not ok:
+                continue
+            done = time.monotonic()
+            latency.add(done, done - ts)
+            with self._cond:
+                self._data = buf.tobytes()
+                self.seq += 1
+                self._cond.notify_all()
+
+    def latest(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None]:
+        """Wait for a JPEG newer than sequence ``after``: (seq, bytes), or (after,
+        None) after ``timeout`` seconds or once closed."""
+        with self._cond:
+            self._cond.wait_for(lambda: self.seq > after or self._closed, timeout)
+            if self.seq > after and self._data is not None:
+                return self.seq, self._data
+            return after, None
+
+    def close(self) -> None:
+        """Wake every client waiting; the encoder thread ends with its ``stop``."""
+        self.shown.close()
+        with self._cond:
+            self._closed = True
+            self._cond.notify_all()
