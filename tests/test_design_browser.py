@@ -48,8 +48,8 @@ def settled(page, frames: int, shown: str = "all", ops: list | None = None) -> N
         """([n, shown, ops]) => {
             const d = document.getElementById('sheet').dataset;
             return Number(d.frames) > n && d.draft === '0' && d.shown === shown
-                && d.version === String(version)
-                && (ops === null || JSON.stringify(doc.ops) === JSON.stringify(ops));
+                && d.version === String(designer.state.version)
+                && (ops === null || JSON.stringify(designer.state.doc.ops) === JSON.stringify(ops));
         }""",
         arg=[frames, shown, ops],
     )
@@ -265,7 +265,7 @@ def test_the_pages_keyed_values_are_the_renderers(browser, tmp_path):
     try:
         page, errors = watched_page(browser, app.url, "body[data-ready='1']")
         ours = page.evaluate(
-            "([tracks, times]) => tracks.map((v) => times.map((tt) => valueNow(v, tt)))",
+            "([tracks, times]) => tracks.map((v) => times.map((tt) => designer.valueNow(v, tt)))",
             [tracks, times],
         )
         page.close()

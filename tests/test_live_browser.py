@@ -48,7 +48,7 @@ def _near(point, expected) -> bool:
 def _version(page, n: int) -> None:
     """Wait until the page has the answer of its save number ``n`` (its editors
     are then of the saved recipe)."""
-    page.wait_for_function(f"version === {n}")
+    page.wait_for_function(f"designer.state.version === {n}")
 
 
 def _slide(page, slider: str, value: float) -> None:

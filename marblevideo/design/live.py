@@ -24,9 +24,9 @@ recipes (``/api/frame.*``): the frame shown is the live one.
 from __future__ import annotations
 
 import json
-from importlib import resources
 
-from marblevideo.design.session import page_info, registry
+from marblevideo.design.describe import describe_ops
+from marblevideo.design.session import WEB, page_info
 from marblevideo.live.editing import json_answer
 
 
@@ -44,16 +44,18 @@ class LiveDesign:
         size = live.source.size
         return page_info("live", live.recipe_path, version, live.file.error, source, size, recipe)
 
+    web = WEB  # the page's static files (GET /web/NAME)
+
     def page(self) -> bytes:
         """The designer's page (it reads the mode from ``/api/info``)."""
-        return (resources.files("marblevideo.design") / "page.html").read_bytes()
+        return (WEB / "index.html").read_bytes()
 
     def api(self, method: str, path: str, query: str, body: bytes | None):
         """Answer an API request: (status, body, content type)."""
         if (method, path) == ("GET", "/api/info"):
             return json_answer(self.info())
         if (method, path) == ("GET", "/api/ops"):
-            return json_answer(registry())
+            return json_answer(describe_ops())
         code, data, ctype = self.live.api(method, path, query, body)
         if (method, path) == ("PUT", "/api/recipe") and code == 200:
             return json_answer({**self.info(), **json.loads(data)})
