@@ -11,7 +11,8 @@ order, the drop layouts after the ink family) to:
   ``help``, ``optional``, ``default``, ``keyable`` (may be keyframes),
   ``timing`` (``start``/``end``, which every op takes), ``handle`` (a point the
   page shows as a handle), ``choices`` (a kind that is one of some strings),
-  and for numbers ``slider`` (the law), ``units`` and ``range`` (the law as data:
+  ``units`` for points (canvas units: origin top-left, y down), and for
+  numbers ``slider`` (the law), ``units`` and ``range`` (the law as data:
   :data:`marblevideo.ops.base.SLIDER_SPECS`, evaluated by ``range.js``);
 - ``tools``: the designer's tools that draw it (name, ``gesture``, ``make``,
   ``label``: :mod:`marblevideo.ops.gestures`, evaluated by ``tools.js``), and
@@ -51,6 +52,8 @@ def describe_param(p: Param, defs: dict, op_schema: dict) -> dict:
     }
     if "enum" in kind:
         out["choices"] = list(kind["enum"])
+    if p.kind in ("point", "pointList"):
+        out["units"] = "canvas units"
     if p.slider is not None:
         spec = slider_spec(p)
         out["units"] = SLIDER_SPECS[p.slider]["units"]
