@@ -74,7 +74,8 @@ class Param:
     description), the live page's ``slider`` law (:data:`SLIDER_LAWS`; None for
     all but numbers), and whether it may be left out (``optional``; then
     ``default``, if not None, stands in). Keyable kinds may be keyframe tracks
-    unless ``keyable`` is False (a layout's fields are constants)."""
+    unless ``keyable`` is False (a layout's fields are constants). A point is a
+    place the designer shows as a handle unless ``handle`` is False (a motion)."""
 
     name: str
     kind: str
@@ -83,7 +84,7 @@ class Param:
     optional: bool = False
     default: object = None
     keyable: bool = True
-    handle: bool = True  # a point the page shows as a handle (not a motion's [dx, dy])
+    handle: bool = True
 
     def __post_init__(self):
         if self.kind not in KINDS:

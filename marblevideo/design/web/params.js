@@ -10,7 +10,7 @@ import { show } from "./sheet.js";
 import { bindRow, controlled } from "./signals.js";
 import { $, state, isLive, isSignal, isTrack, round3, clone, showError } from "./state.js";
 
-//: Kinds edited as a number field (the others: a point, a colour, a choice, or JSON).
+// Kinds edited as a number field (the others: a point, a colour, a choice, or JSON).
 const NUMBER_KINDS = ["number", "positive", "nonnegative", "count", "seed"];
 
 // A number's value at the current time (or tt), as the renderer evaluates its track.

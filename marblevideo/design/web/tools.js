@@ -94,7 +94,7 @@ export function settingControls(types) {
     if (!def.settings.length) continue;
     const box = document.createElement("span");
     box.id = `${type}-controls`;
-    box.title = `the ${type} tools' ${def.settings.map((s) => s.help).join(", ")} (canvas units; empty: from the canvas)`;
+    box.title = `${type} tools: ${def.settings.map((s) => s.help).join(", ")} (canvas units; empty: from the canvas)`;
     for (const s of def.settings) {
       const f = document.createElement("input");
       f.id = `${type}-${s.name}`; f.type = "number"; f.step = "any"; f.value = s.initial;
