@@ -9,6 +9,8 @@ Routes:
   each JPEG sent once, newest first: a slow client skips frames, it never queues them.
 - ``GET /frame.jpg``: the newest JPEG; ``?after=SEQ``: one newer than SEQ (the
   sequence number comes as the ``X-Frame-Seq`` header).
+- ``GET /web/NAME``: the page's static files (its ES modules), from the
+  session's ``web`` folder when it has one (:func:`static_file`).
 - ``GET /stats``: JSON counters (fps, latency, dropped frames, recipe version and
   error, the clock's state); the page polls it.
 - ``POST /control``: a JSON object (see :meth:`LiveSession.control`), applied from
@@ -52,6 +54,25 @@ HOST = "127.0.0.1"
 #: A JSON string literal (its escapes included), whose brackets are no nesting;
 #: one left open runs to the end (so the scan stays linear in the text's length).
 _STRING = re.compile(rb'"(?:[^"\\]++|\\.)*+(?:"|\\?\Z)', re.DOTALL)
+#: The page's static files: their types by suffix, and the names served (one
+#: plain name in the folder: no subfolders, no "..", no hidden files).
+MIME = {
+    ".js": "text/javascript; charset=utf-8",
+    ".html": "text/html; charset=utf-8",
+    ".css": "text/css; charset=utf-8",
+}
+_STATIC = re.compile(r"/web/[a-z][a-z0-9_-]*(\.[a-z]+)")
+
+
+def static_file(folder, path: str) -> tuple[bytes, str] | None:
+    """``GET /web/NAME``: the file NAME of ``folder`` (a directory as a Path or an
+    importlib resource) and its Content-Type; None when ``path`` is not such a
+    file of a known type (or there is no folder)."""
+    match = _STATIC.fullmatch(path)
+    if folder is None or match is None or match[1] not in MIME:
+        return None
+    found = folder / path.removeprefix("/web/")
+    return (found.read_bytes(), MIME[match[1]]) if found.is_file() else None
 
 
 def json_depth(data: bytes) -> int:
@@ -165,6 +186,8 @@ class _Handler(BaseHTTPRequestHandler):
         path, _, query = self.path.partition("?")
         if path == "/" and hasattr(session, "page"):
             self._send(200, session.page(), "text/html; charset=utf-8")
+        elif (found := static_file(getattr(session, "web", None), path)) is not None:
+            self._send(200, *found)
         elif path == "/stats" and hasattr(session, "stats"):
             self._json(session.stats())
         elif path == "/frame.jpg" and hasattr(session, "latest_jpeg"):

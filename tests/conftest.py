@@ -122,3 +122,45 @@ def one_line(proc) -> str:
 def files(folder: Path) -> list[str]:
     """The names in ``folder``, sorted."""
     return sorted(p.name for p in folder.iterdir())
+
+
+@pytest.fixture
+def coffee_designer(browser, tmp_path):
+    """``marblevideo design`` over samples/coffee.jpg with a 400x300 canvas (shown
+    at 4/3 and centred in the 600x400 frame) and its page, once that shows an exact
+    frame of the saved recipe: a namespace of ``recipe`` (the file), ``saved()``
+    (its ops), ``page``, ``errors`` (the page's), ``s``, ``dx``, ``dy`` (frame
+    pixel = s * canvas point + (dx, dy)) and ``client(px, py)`` (the page point
+    over frame pixel (px, py)). The designer must then exit with status 0."""
+    import json
+    from types import SimpleNamespace
+
+    from marblevideo.recipe.frame import fit
+    from tests.live_helpers import LiveProcess, watched_page
+
+    recipe = tmp_path / "coffee.json"
+    app = LiveProcess(
+        ROOT / "samples" / "coffee.jpg", "--ops", recipe, "--canvas", "400x300",
+        "--no-browser", "--port", "0", "--duration", "120", cwd=tmp_path, command="design",
+    )  # fmt: skip
+    try:
+        page, errors = watched_page(browser, app.url, "body[data-ready='1']")
+        page.wait_for_function(
+            """() => { const d = document.getElementById('sheet').dataset;
+                return Number(d.frames) > 0 && d.draft === '0' && d.shown === 'all'
+                    && d.version === String(designer.state.version); }"""
+        )
+        box = page.locator("#overlay").bounding_box()
+
+        def client(px: float, py: float) -> tuple[float, float]:
+            return box["x"] + px * box["width"] / 600, box["y"] + py * box["height"] / 400
+
+        s, dx, dy = fit((400, 300), 600, 400)
+        saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
+        yield SimpleNamespace(
+            recipe=recipe, saved=saved, page=page, errors=errors, s=s, dx=dx, dy=dy, client=client
+        )
+        page.close()
+    finally:
+        rc = app.stop()
+    assert rc == 0

@@ -13,7 +13,6 @@ import time
 import cv2
 import numpy as np
 
-from marblevideo.recipe.frame import fit
 from tests.live_helpers import ROOT, LiveProcess, watched_page
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
@@ -48,8 +47,8 @@ def settled(page, frames: int, shown: str = "all", ops: list | None = None) -> N
         """([n, shown, ops]) => {
             const d = document.getElementById('sheet').dataset;
             return Number(d.frames) > n && d.draft === '0' && d.shown === shown
-                && d.version === String(version)
-                && (ops === null || JSON.stringify(doc.ops) === JSON.stringify(ops));
+                && d.version === String(designer.state.version)
+                && (ops === null || JSON.stringify(designer.state.doc.ops) === JSON.stringify(ops));
         }""",
         arg=[frames, shown, ops],
     )
@@ -72,131 +71,115 @@ def frames(page) -> int:
     return int(page.evaluate("document.getElementById('sheet').dataset.frames || 0"))
 
 
-def test_draw_undo_refuse_and_follow_the_file(browser, tmp_path):
-    recipe = tmp_path / "coffee.json"
-    app = LiveProcess(
-        COFFEE, "--ops", recipe, "--canvas", "400x300",
-        "--no-browser", "--port", "0", "--duration", "120", cwd=tmp_path, command="design",
-    )  # fmt: skip
-    saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
-    try:
-        page, errors = watched_page(browser, app.url, "body[data-ready='1']")
-        settled(page, 0)
-        s, dx, dy = fit((400, 300), 600, 400)
-        box = page.locator("#overlay").bounding_box()
+def test_draw_undo_refuse_and_follow_the_file(coffee_designer):
+    d = coffee_designer
+    page, errors, saved, client, recipe = d.page, d.errors, d.saved, d.client, d.recipe
+    s, dx, dy = d.s, d.dx, d.dy
 
-        def client(px: float, py: float) -> tuple[float, float]:
-            """The page point over frame pixel (px, py) (the canvas is shown scaled)."""
-            return box["x"] + px * box["width"] / 600, box["y"] + py * box["height"] / 400
+    # the drop tool is active at load: a click drops ink where it was clicked
+    assert "on" in page.get_attribute("#tool-drop", "class")
+    n = frames(page)
+    page.mouse.click(*client(180, 160))
+    ops = wait_for(saved, "the drop is saved")
+    assert [op["type"] for op in ops] == ["drop"]
+    cx, cy = ops[0]["center"]
+    assert (abs(cx - (180 - dx) / s) <= 0.11, abs(cy - (160 - dy) / s) <= 0.11) == (True, True)
+    assert (round(cx), round(cy)) == (110, 120)
+    settled(page, n)
+    assert pixel(page, 180, 160) == INK  # the exact render shows it there
+    assert pixel(page, 560, 30) != INK
 
-        # the drop tool is active at load: a click drops ink where it was clicked
-        assert "on" in page.get_attribute("#tool-drop", "class")
-        n = frames(page)
-        page.mouse.click(*client(180, 160))
-        ops = wait_for(saved, "the drop is saved")
-        assert [op["type"] for op in ops] == ["drop"]
-        cx, cy = ops[0]["center"]
-        assert (abs(cx - (180 - dx) / s) <= 0.11, abs(cy - (160 - dy) / s) <= 0.11) == (True, True)
-        assert (round(cx), round(cy)) == (110, 120)
-        settled(page, n)
-        assert pixel(page, 180, 160) == INK  # the exact render shows it there
-        assert pixel(page, 560, 30) != INK
+    # a drag with the comb tool: a comb along the drag's direction, of a modest
+    # strength (it moves the whole sheet by alpha at its tines, so not the drag's
+    # length: a tenth of it, at most the spacing), shown while dragging
+    page.click("#tool-comb")
+    n = frames(page)
+    a, b = (120, 200), (360, 320)
+    label = drag(page, client, a, b)
+    ops = wait_for(lambda: len(saved()) == 2 and saved(), "the comb is saved")
+    comb = ops[1]
+    assert comb["type"] == "comb"
+    assert abs(comb["angle"] - math.degrees(math.atan2(b[1] - a[1], b[0] - a[0]))) < 0.3
+    assert abs(comb["point"][0] - (a[0] - dx) / s) < 0.2
+    assert comb["spacing"] == round(300 / 16, 1)
+    assert comb["alpha"] == min(round(math.dist(a, b) / s / 10, 1), comb["spacing"]) > 0
+    assert label == f"alpha {comb['alpha']:g}"
+    assert page.get_attribute("#overlay", "data-label") == ""  # let go: gone
+    settled(page, n)
+    assert page.text_content("#oplist") == "0 drop" + "hidesolo↑↓✕" + "1 comb" + "hidesolo↑↓✕"
 
-        # a drag with the comb tool: a comb along the drag's direction, of a modest
-        # strength (it moves the whole sheet by alpha at its tines, so not the drag's
-        # length: a tenth of it, at most the spacing), shown while dragging
-        page.click("#tool-comb")
-        n = frames(page)
-        a, b = (120, 200), (360, 320)
-        label = drag(page, client, a, b)
-        ops = wait_for(lambda: len(saved()) == 2 and saved(), "the comb is saved")
-        comb = ops[1]
-        assert comb["type"] == "comb"
-        assert abs(comb["angle"] - math.degrees(math.atan2(b[1] - a[1], b[0] - a[0]))) < 0.3
-        assert abs(comb["point"][0] - (a[0] - dx) / s) < 0.2
-        assert comb["spacing"] == round(300 / 16, 1)
-        assert comb["alpha"] == min(round(math.dist(a, b) / s / 10, 1), comb["spacing"]) > 0
-        assert label == f"alpha {comb['alpha']:g}"
-        assert page.get_attribute("#overlay", "data-label") == ""  # let go: gone
-        settled(page, n)
-        assert page.text_content("#oplist") == "0 drop" + "hidesolo↑↓✕" + "1 comb" + "hidesolo↑↓✕"
+    # undo removes it, redo brings it back, undo again
+    page.click("#undo")
+    wait_for(lambda: [op["type"] for op in saved()] == ["drop"], "undone")
+    page.click("#redo")
+    wait_for(lambda: saved() == ops, "redone")
+    # undo by Ctrl-Z, and hide at once (hide is saved as "hidden": true): an edit
+    # made while a save is on its way applies to what that save left
+    n = frames(page)
+    page.keyboard.press("Control+z")
+    page.click("#op-0 button[data-act=hide]")
+    hidden = [{**ops[0], "hidden": True}]
+    wait_for(lambda: saved() == hidden, "undone, then hidden")
+    settled(page, n, ops=hidden)
+    assert pixel(page, 180, 160) != INK
+    assert page.text_content("#op-0 button[data-act=hide]") == "show"
+    n = frames(page)
+    page.click("#op-0 button[data-act=hide]")
+    wait_for(lambda: saved() == ops[:1], "the show is saved")
+    settled(page, n, ops=ops[:1])
+    assert pixel(page, 180, 160) == INK
 
-        # undo removes it, redo brings it back, undo again
-        page.click("#undo")
-        wait_for(lambda: [op["type"] for op in saved()] == ["drop"], "undone")
-        page.click("#redo")
-        wait_for(lambda: saved() == ops, "redone")
-        # undo by Ctrl-Z, and hide at once (hide is saved as "hidden": true): an edit
-        # made while a save is on its way applies to what that save left
-        n = frames(page)
-        page.keyboard.press("Control+z")
-        page.click("#op-0 button[data-act=hide]")
-        hidden = [{**ops[0], "hidden": True}]
-        wait_for(lambda: saved() == hidden, "undone, then hidden")
-        settled(page, n, ops=hidden)
-        assert pixel(page, 180, 160) != INK
-        assert page.text_content("#op-0 button[data-act=hide]") == "show"
-        n = frames(page)
-        page.click("#op-0 button[data-act=hide]")
-        wait_for(lambda: saved() == ops[:1], "the show is saved")
-        settled(page, n, ops=ops[:1])
-        assert pixel(page, 180, 160) == INK
+    # an invalid edit is refused with its JSON path; the file is kept
+    page.click("#op-0 .name")
+    assert errors == []
+    before = recipe.read_bytes()
+    page.fill("#p-radius", "-2")
+    page.press("#p-radius", "Enter")
+    page.wait_for_selector("#error", state="visible")
+    assert "coffee.json: ops[0].radius: must be > 0, got -2" in page.text_content("#error")
+    assert recipe.read_bytes() == before
+    assert page.input_value("#p-radius") == str(ops[0]["radius"])
+    assert errors == [REFUSED]  # Chromium logs the refused PUT; nothing else
+    errors.clear()
+    # a valid one is saved
+    page.fill("#p-radius", "30")
+    page.press("#p-radius", "Enter")
+    wait_for(lambda: saved()[0]["radius"] == 30, "the radius is saved")
+    page.wait_for_selector("#error", state="hidden")
+    # its slider: moved, the sheet shows a draft; let go, the value is saved
+    n = frames(page)
+    page.locator("#s-radius").evaluate(
+        "el => { el.value = 50; el.dispatchEvent(new Event('input')); }"
+    )
+    page.wait_for_function(
+        f"document.getElementById('sheet').dataset.frames > {n} "
+        "&& document.getElementById('sheet').dataset.draft === '1'"
+    )
+    assert saved()[0]["radius"] == 30
+    page.locator("#s-radius").evaluate("el => el.dispatchEvent(new Event('change'))")
+    wait_for(lambda: abs(saved()[0]["radius"] - 50) < 0.2, "the slider's radius is saved")
 
-        # an invalid edit is refused with its JSON path; the file is kept
-        page.click("#op-0 .name")
-        assert errors == []
-        before = recipe.read_bytes()
-        page.fill("#p-radius", "-2")
-        page.press("#p-radius", "Enter")
-        page.wait_for_selector("#error", state="visible")
-        assert "coffee.json: ops[0].radius: must be > 0, got -2" in page.text_content("#error")
-        assert recipe.read_bytes() == before
-        assert page.input_value("#p-radius") == str(ops[0]["radius"])
-        assert errors == [REFUSED]  # Chromium logs the refused PUT; nothing else
-        errors.clear()
-        # a valid one is saved
-        page.fill("#p-radius", "30")
-        page.press("#p-radius", "Enter")
-        wait_for(lambda: saved()[0]["radius"] == 30, "the radius is saved")
-        page.wait_for_selector("#error", state="hidden")
-        # its slider: moved, the sheet shows a draft; let go, the value is saved
-        n = frames(page)
-        page.locator("#s-radius").evaluate(
-            "el => { el.value = 50; el.dispatchEvent(new Event('input')); }"
-        )
-        page.wait_for_function(
-            f"document.getElementById('sheet').dataset.frames > {n} "
-            "&& document.getElementById('sheet').dataset.draft === '1'"
-        )
-        assert saved()[0]["radius"] == 30
-        page.locator("#s-radius").evaluate("el => el.dispatchEvent(new Event('change'))")
-        wait_for(lambda: abs(saved()[0]["radius"] - 50) < 0.2, "the slider's radius is saved")
+    # hot reload: another program saves FILE; the page follows
+    doc = json.loads(recipe.read_text())
+    doc["ops"][0]["radius"] = 12.5
+    recipe.write_text(json.dumps(doc))
+    page.wait_for_function("document.getElementById('p-radius').value === '12.5'")
 
-        # hot reload: another program saves FILE; the page follows
-        doc = json.loads(recipe.read_text())
-        doc["ops"][0]["radius"] = 12.5
-        recipe.write_text(json.dumps(doc))
-        page.wait_for_function("document.getElementById('p-radius').value === '12.5'")
-
-        # the timeline: "key" sets a keyframe at the time shown; play moves the clock
-        page.locator("#time").evaluate(
-            "el => { el.value = el.max; el.dispatchEvent(new Event('input')); }"
-        )
-        page.fill("#p-radius", "40")
-        page.click("#key-radius")
-        wait_for(lambda: isinstance(saved()[0]["radius"], dict), "the key is saved")
-        assert saved()[0]["radius"] == {"keys": [{"t": 0, "v": 12.5}, {"t": 1, "v": 40}]}
-        page.click("#play")
-        page.wait_for_function("document.getElementById('clock').textContent !== 't = 1.00 s'")
-        page.click("#play")
-        assert page.text_content("#play") == "Play"
-        time.sleep(0.5)  # the key stays (the field typed in is not saved again as it goes)
-        assert saved()[0]["radius"] == {"keys": [{"t": 0, "v": 12.5}, {"t": 1, "v": 40}]}
-        assert errors == []
-        page.close()
-    finally:
-        rc = app.stop()
-    assert rc == 0
+    # the timeline: "key" sets a keyframe at the time shown; play moves the clock
+    page.locator("#time").evaluate(
+        "el => { el.value = el.max; el.dispatchEvent(new Event('input')); }"
+    )
+    page.fill("#p-radius", "40")
+    page.click("#key-radius")
+    wait_for(lambda: isinstance(saved()[0]["radius"], dict), "the key is saved")
+    assert saved()[0]["radius"] == {"keys": [{"t": 0, "v": 12.5}, {"t": 1, "v": 40}]}
+    page.click("#play")
+    page.wait_for_function("document.getElementById('clock').textContent !== 't = 1.00 s'")
+    page.click("#play")
+    assert page.text_content("#play") == "Play"
+    time.sleep(0.5)  # the key stays (the field typed in is not saved again as it goes)
+    assert saved()[0]["radius"] == {"keys": [{"t": 0, "v": 12.5}, {"t": 1, "v": 40}]}
+    assert errors == []
 
 
 def test_a_nonpareil_a_bouquet_and_a_swirl_over_a_photo_by_mouse_then_rendered(
@@ -265,7 +248,7 @@ def test_the_pages_keyed_values_are_the_renderers(browser, tmp_path):
     try:
         page, errors = watched_page(browser, app.url, "body[data-ready='1']")
         ours = page.evaluate(
-            "([tracks, times]) => tracks.map((v) => times.map((tt) => valueNow(v, tt)))",
+            "([tracks, times]) => tracks.map((v) => times.map((tt) => designer.valueNow(v, tt)))",
             [tracks, times],
         )
         page.close()

@@ -48,7 +48,7 @@ def _near(point, expected) -> bool:
 def _version(page, n: int) -> None:
     """Wait until the page has the answer of its save number ``n`` (its editors
     are then of the saved recipe)."""
-    page.wait_for_function(f"version === {n}")
+    page.wait_for_function(f"designer.state.version === {n}")
 
 
 def _slide(page, slider: str, value: float) -> None:
@@ -167,7 +167,7 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         d = _settled(page, live)
         page.click("#op-3 button[data-act=hide]")
         wait_for(lambda: saved()[3].get("hidden") is True, "the hide is saved")
-        hidden = page.evaluate("version")
+        hidden = page.evaluate("designer.state.version")
         live.wait_stats(lambda s: s["recipe_version"] >= hidden)
         assert _diff(d, _settled(page, live)) > 5 * still
         page.wait_for_function(

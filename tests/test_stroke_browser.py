@@ -8,16 +8,11 @@ Chromium."""
 
 from __future__ import annotations
 
-import json
 import math
 
 import numpy as np
 from test_design_browser import INK, drag, frames, settled, wait_for
 
-from marblevideo.recipe.frame import fit
-from tests.live_helpers import ROOT, LiveProcess, watched_page
-
-COFFEE = ROOT / "samples" / "coffee.jpg"
 #: The S drawn, in frame pixels: through the drop at (300, 200) at its middle.
 S = [(220 + 160 * u, 200 - 70 * math.sin(2 * math.pi * u)) for u in np.linspace(0, 1, 41)]
 
@@ -49,87 +44,71 @@ def segment_distance(p, a, b) -> float:
     return float(np.linalg.norm(p - (a + u * ab)))
 
 
-def test_stroke_comb_stroke_curl_handles_and_undo(browser, tmp_path):
-    recipe = tmp_path / "coffee.json"
-    app = LiveProcess(
-        COFFEE, "--ops", recipe, "--canvas", "400x300",
-        "--no-browser", "--port", "0", "--duration", "120", cwd=tmp_path, command="design",
-    )  # fmt: skip
-    saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
-    try:
-        page, errors = watched_page(browser, app.url, "body[data-ready='1']")
-        settled(page, 0)
-        s, dx, dy = fit((400, 300), 600, 400)
-        box = page.locator("#overlay").bounding_box()
+def test_stroke_comb_stroke_curl_handles_and_undo(coffee_designer):
+    d = coffee_designer
+    page, errors, saved, client = d.page, d.errors, d.saved, d.client
+    s, dx, dy = d.s, d.dx, d.dy
 
-        def client(px: float, py: float) -> tuple[float, float]:
-            return box["x"] + px * box["width"] / 600, box["y"] + py * box["height"] / 400
+    def frame(q) -> tuple[float, float]:
+        return q[0] * s + dx, q[1] * s + dy
 
-        def frame(q) -> tuple[float, float]:
-            return q[0] * s + dx, q[1] * s + dy
+    page.mouse.click(*client(300, 200))  # a drop of ink where the S will pass
+    drop = wait_for(saved, "the drop is saved")
+    tail = S[28:38]  # the S after the drop, where the stylus carries its ink
+    settled(page, 0, ops=drop)
+    assert ink_near(page, tail) == 0
 
-        page.mouse.click(*client(300, 200))  # a drop of ink where the S will pass
-        drop = wait_for(saved, "the drop is saved")
-        tail = S[28:38]  # the S after the drop, where the stylus carries its ink
-        settled(page, 0, ops=drop)
-        assert ink_near(page, tail) == 0
+    # the stroke tool: the S, one stroke along it, the ink carried along
+    page.click("#tool-stroke")
+    n = frames(page)
+    page.mouse.move(*client(*S[0]))
+    page.mouse.down()
+    for p in S[1:]:
+        page.mouse.move(*client(*p))
+    page.mouse.up()
+    ops = wait_for(lambda: len(saved()) == 2 and saved(), "the stroke is saved")
+    stroke = ops[1]
+    assert stroke["type"] == "stroke" and stroke["drag"] == 1 and "tines" not in stroke
+    path = [frame(q) for q in stroke["points"]]
+    assert 3 <= len(path) < len(S)  # simplified, and still an S
+    for p in S:
+        assert (
+            min(segment_distance(p, a, b) for a, b in zip(path[:-1], path[1:], strict=True)) <= 2.0
+        ), p
+    settled(page, n, ops=ops)
+    assert ink_near(page, tail) > 20
 
-        # the stroke tool: the S, one stroke along it, the ink carried along
-        page.click("#tool-stroke")
-        n = frames(page)
-        page.mouse.move(*client(*S[0]))
-        page.mouse.down()
-        for p in S[1:]:
-            page.mouse.move(*client(*p))
-        page.mouse.up()
-        ops = wait_for(lambda: len(saved()) == 2 and saved(), "the stroke is saved")
-        stroke = ops[1]
-        assert stroke["type"] == "stroke" and stroke["drag"] == 1 and "tines" not in stroke
-        path = [frame(q) for q in stroke["points"]]
-        assert 3 <= len(path) < len(S)  # simplified, and still an S
-        for p in S:
-            assert (
-                min(segment_distance(p, a, b) for a, b in zip(path[:-1], path[1:], strict=True))
-                <= 2.0
-            ), p
-        settled(page, n, ops=ops)
-        assert ink_near(page, tail) > 20
+    # a point of the path is a handle: dragged, that point moves
+    first = frame(stroke["points"][0])
+    drag(page, client, first, (first[0] - 30, first[1] + 20))
+    wait_for(lambda: saved()[1]["points"][0] != stroke["points"][0], "the handle moved")
+    moved = frame(saved()[1]["points"][0])
+    assert math.dist(moved, (first[0] - 30, first[1] + 20)) <= 1.5
+    assert saved()[1]["points"][1:] == stroke["points"][1:]
 
-        # a point of the path is a handle: dragged, that point moves
-        first = frame(stroke["points"][0])
-        drag(page, client, first, (first[0] - 30, first[1] + 20))
-        wait_for(lambda: saved()[1]["points"][0] != stroke["points"][0], "the handle moved")
-        moved = frame(saved()[1]["points"][0])
-        assert math.dist(moved, (first[0] - 30, first[1] + 20)) <= 1.5
-        assert saved()[1]["points"][1:] == stroke["points"][1:]
+    # undo twice: the handle's move, then the stroke; the ink is back in its drop
+    n = frames(page)
+    page.click("#undo")
+    wait_for(lambda: saved() == ops, "the handle's move undone")
+    page.click("#undo")
+    wait_for(lambda: saved() == drop, "the stroke undone")
+    settled(page, n, ops=drop)
+    assert ink_near(page, tail) == 0
 
-        # undo twice: the handle's move, then the stroke; the ink is back in its drop
-        n = frames(page)
-        page.click("#undo")
-        wait_for(lambda: saved() == ops, "the handle's move undone")
-        page.click("#undo")
-        wait_for(lambda: saved() == drop, "the stroke undone")
-        settled(page, n, ops=drop)
-        assert ink_near(page, tail) == 0
+    # the comb stroke: the same gesture with tines, 5 by default, centred
+    page.click("#tool-comb-stroke")
+    page.fill("#stroke-tines", "3")
+    page.fill("#stroke-spacing", "12")
+    drag(page, client, (200, 320), (420, 330))
+    comb = wait_for(lambda: len(saved()) == 2 and saved()[1], "the comb stroke is saved")
+    assert comb["type"] == "stroke" and comb["tines"] == [-12, 0, 12]
 
-        # the comb stroke: the same gesture with tines, 5 by default, centred
-        page.click("#tool-comb-stroke")
-        page.fill("#stroke-tines", "3")
-        page.fill("#stroke-spacing", "12")
-        drag(page, client, (200, 320), (420, 330))
-        comb = wait_for(lambda: len(saved()) == 2 and saved()[1], "the comb stroke is saved")
-        assert comb["type"] == "stroke" and comb["tines"] == [-12, 0, 12]
-
-        # the curl: a click draws a small loop about the point clicked
-        page.click("#tool-curl")
-        page.mouse.click(*client(450, 120))
-        curl = wait_for(lambda: len(saved()) == 3 and saved()[2], "the curl is saved")
-        centre = ((450 - dx) / s, (120 - dy) / s)
-        radii = [math.dist(q, centre) for q in curl["points"]]
-        assert curl["type"] == "stroke" and len(curl["points"]) > 20
-        assert max(radii) - min(radii) < 0.2 and abs(radii[0] - 10) < 0.2  # side / 30
-        assert errors == []
-        page.close()
-    finally:
-        rc = app.stop()
-    assert rc == 0
+    # the curl: a click draws a small loop about the point clicked
+    page.click("#tool-curl")
+    page.mouse.click(*client(450, 120))
+    curl = wait_for(lambda: len(saved()) == 3 and saved()[2], "the curl is saved")
+    centre = ((450 - dx) / s, (120 - dy) / s)
+    radii = [math.dist(q, centre) for q in curl["points"]]
+    assert curl["type"] == "stroke" and len(curl["points"]) > 20
+    assert max(radii) - min(radii) < 0.2 and abs(radii[0] - 10) < 0.2  # side / 30
+    assert errors == []

@@ -1,8 +1,9 @@
 """``marblevideo design``: draw a recipe by hand in the browser, over a blank
 sheet, a photo, a video frame or a live source.
 
-The page (``page.html``) is served by the HTTP server of both modes
-(:class:`marblevideo.server.Server`) on 127.0.0.1 only, and does
+The page (``web/index.html`` and its ES modules, ``GET /web/NAME``) is served
+by the HTTP server of both modes (:class:`marblevideo.server.Server`) on
+127.0.0.1 only, and does
 everything through this HTTP API, which scripts and tests may use too:
 
 - ``GET /api/recipe``: the recipe as saved in FILE (JSON). While FILE on disk
@@ -37,7 +38,8 @@ everything through this HTTP API, which scripts and tests may use too:
   ``offset`` [dx, dy]: pixel = s * canvas point + offset, the recipe format's
   geometry), the recipe's ``end`` time and number of ``ops``.
 - ``GET /api/ops``: every op and layout type with its parameters (name, kind,
-  help, whether optional and keyable).
+  help, whether optional and keyable, slider ranges as data) and the tools that
+  draw it (:mod:`marblevideo.design.describe`).
 
 ``marblevideo live --preview`` serves the same page in "live" mode
 (:mod:`marblevideo.design.live`): ``/api/info`` says ``"mode": "live"``, the

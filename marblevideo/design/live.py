@@ -27,10 +27,9 @@ recipes (``/api/frame.*``): the frame shown is the live one.
 
 from __future__ import annotations
 
-from importlib import resources
-
 from marblevideo.controllers.api import controllers_api
-from marblevideo.design.session import page_info, registry
+from marblevideo.design.describe import describe_ops
+from marblevideo.design.session import WEB, page_info
 from marblevideo.errors import MediaError, RecipeError
 from marblevideo.server import json_answer, request_json
 
@@ -49,16 +48,18 @@ class LiveDesign:
         size = live.source.size
         return page_info("live", live.recipe_path, version, live.file.error, source, size, recipe)
 
+    web = WEB  # the page's static files (GET /web/NAME)
+
     def page(self) -> bytes:
         """The designer's page (it reads the mode from ``/api/info``)."""
-        return (resources.files("marblevideo.design") / "page.html").read_bytes()
+        return (WEB / "index.html").read_bytes()
 
     def api(self, method: str, path: str, query: str, body: bytes | None):
         """Answer an API request: (status, body, content type)."""
         if (method, path) == ("GET", "/api/info"):
             return json_answer(self.info())
         if (method, path) == ("GET", "/api/ops"):
-            return json_answer(registry())
+            return json_answer(describe_ops())
         answer = controllers_api(self.live, method, path)  # meters and learn
         if answer is not None:
             return json_answer(answer[1], answer[0])

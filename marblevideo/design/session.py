@@ -20,39 +20,16 @@ from urllib.parse import parse_qs
 
 from marblevideo.controllers.api import learn, signals_state
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
+from marblevideo.design.describe import describe_ops
 from marblevideo.errors import MarbleError, RecipeError, UsageError
 from marblevideo.marbler import Marbler, blank_size
-from marblevideo.ops import LAYOUTS, REGISTRY, is_ink
 from marblevideo.recipe import Recipe, parse_recipe
 from marblevideo.recipe.frame import fit
 
 RELOAD_POLL = 0.25
 RAW = "application/octet-stream"
-
-
-def registry() -> dict:
-    """Every type a recipe's ``ops`` may hold, with its parameters, for the page."""
-
-    def params(definition) -> list[dict]:
-        return [
-            {
-                "name": p.name,
-                "kind": p.kind,
-                "help": p.help,
-                "optional": p.optional,
-                "default": p.default,
-                "keyable": p.tracked,
-                "slider": p.slider,
-            }
-            for p in definition.params
-        ]
-
-    types = {
-        t: {"help": d.help, "params": params(d), "ink": is_ink(t)} for t, d in REGISTRY.items()
-    }
-    for t, d in LAYOUTS.items():
-        types[t] = {"help": d.help, "params": params(d), "ink": True, "layout": True}
-    return types
+#: The page: ``index.html`` and its ES modules, served as ``/web/NAME``.
+WEB = resources.files("marblevideo.design") / "web"
 
 
 def page_info(mode: str, file, version: int, error, source: dict, size, recipe: Recipe) -> dict:
@@ -227,9 +204,11 @@ class DesignSession:
         return text.encode()
 
     # -- the HTTP API -------------------------------------------------------------
+    web = WEB  # the page's static files (GET /web/NAME)
+
     def page(self) -> bytes:
         """The designer's page."""
-        return (resources.files("marblevideo.design") / "page.html").read_bytes()
+        return (WEB / "index.html").read_bytes()
 
     def api(self, method: str, path: str, query: str, body: bytes | None):
         """Answer an API request: (status, body, content type)."""
@@ -249,7 +228,7 @@ class DesignSession:
         routes = {
             ("PUT", "/api/recipe"): lambda: ({"version": self.put(body), **self.info()}, None),
             ("GET", "/api/info"): lambda: (self.info(), None),
-            ("GET", "/api/ops"): lambda: (registry(), None),
+            ("GET", "/api/ops"): lambda: (describe_ops(), None),
             ("GET", "/api/frame.png"): lambda: (self.frame_png(q), "image/png"),
             ("POST", "/api/frame.png"): lambda: (self.frame_png(q, body or b"null"), "image/png"),
             ("GET", "/api/frame.rgba"): lambda: (self.frame_rgba(q), RAW),

@@ -23,6 +23,8 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from marblevideo.ops.gestures import Setting, Tool
+
 Value = float | tuple[float, ...]
 Values = Mapping[str, Value]
 Points = tuple[np.ndarray, np.ndarray]
@@ -72,7 +74,8 @@ class Param:
     description), the live page's ``slider`` law (:data:`SLIDER_LAWS`; None for
     all but numbers), and whether it may be left out (``optional``; then
     ``default``, if not None, stands in). Keyable kinds may be keyframe tracks
-    unless ``keyable`` is False (a layout's fields are constants)."""
+    unless ``keyable`` is False (a layout's fields are constants). A point is a
+    place the designer shows as a handle unless ``handle`` is False (a motion)."""
 
     name: str
     kind: str
@@ -81,6 +84,7 @@ class Param:
     optional: bool = False
     default: object = None
     keyable: bool = True
+    handle: bool = True
 
     def __post_init__(self):
         if self.kind not in KINDS:
@@ -132,6 +136,8 @@ class OpDef:
       (for tests, the device check and docs).
     - ``family``: the module that defines it, and so the kernel file
       ``kernels/ops/<family>.cl`` that holds its ``op_<type>`` section.
+    - ``tools``: the designer's tools that draw it (:mod:`marblevideo.ops.gestures`);
+      ``settings``: the numbers those tools ask for once, beside them.
     """
 
     type: str
@@ -146,6 +152,8 @@ class OpDef:
     check: Callable[[Mapping, Mapping], list] | None = None
     settle: Callable[[dict], dict] | None = None
     travels: bool = False
+    tools: tuple[Tool, ...] = ()
+    settings: tuple[Setting, ...] = ()
     family: str = ""
     code: int = field(default=-1, compare=False)
 
@@ -208,35 +216,81 @@ class OpDef:
         return row
 
 
+#: The slider laws as data (the page evaluates the same: marblevideo/design/web/
+#: range.js): hi = max(times * |v| (v when not ``absolute``; rounded up with
+#: ``ceil``), least * size**power / per); lo is -hi (``mirror``), 0 (``zero``) or
+#: hi / 1000 (``thousandth``); the step is hi / steps, or ``step``. ``kinds``
+#: changes some of these for a parameter of that kind.
+SLIDER_SPECS: dict[str, dict] = {
+    "angle": {"times": 1, "least": 180, "ceil": True, "step": 1, "units": "degrees"},
+    "phase": {"times": 1, "least": 360, "ceil": True, "step": 1, "units": "degrees"},
+    "shift": {"times": 2, "least": 1, "power": 1, "per": 4, "units": "canvas units"},
+    "amplitude": {"times": 2, "least": 1, "power": 1, "per": 40, "units": "canvas units"},
+    "length": {
+        "times": 4,
+        "absolute": False,
+        "least": 1,
+        "power": 1,
+        "per": 10,
+        "lo": "thousandth",
+        "steps": 1000,
+        "units": "canvas units",
+        "kinds": {"nonnegative": {"lo": "zero"}},
+    },
+    "area": {
+        "times": 2,
+        "least": 1,
+        "power": 2,
+        "per": 4,
+        "lo": "thousandth",
+        "steps": 1000,
+        "units": "canvas units squared",
+        "kinds": {"number": {"lo": "mirror", "steps": 500}, "nonnegative": {"lo": "zero"}},
+    },
+    "time": {"times": 4, "absolute": False, "least": 10, "lo": "zero", "steps": 1000, "units": "s"},
+    "share": {"times": 0, "least": 4, "step": 0.01, "units": ""},
+}
+_SPEC_DEFAULTS = {
+    "absolute": True,
+    "ceil": False,
+    "power": 0,
+    "per": 1,
+    "lo": "mirror",
+    "steps": 500,
+}
+
+
+def slider_spec(param: Param) -> dict:
+    """The slider law of ``param`` (a number) as data, for its kind."""
+    spec = {**_SPEC_DEFAULTS, **SLIDER_SPECS[param.slider]}
+    kinds = spec.pop("kinds", {})
+    return {**spec, **kinds.get(param.kind, {})}
+
+
+def spec_range(spec: Mapping, v: float, size: float) -> tuple[float, float, float]:
+    """(min, max, step) of a slider of law ``spec`` (:func:`slider_spec`) for a value
+    ``v`` on a canvas whose larger side is ``size``."""
+    term = spec["times"] * (abs(v) if spec["absolute"] else v)
+    if spec["ceil"]:
+        term = math.ceil(term)
+    least = spec["least"]
+    for _ in range(spec["power"]):
+        least *= size
+    hi = max(term, least / spec["per"])
+    lo = {"mirror": -hi, "zero": 0.0, "thousandth": hi / 1000}[spec["lo"]]
+    return lo, hi, spec.get("step") or hi / spec["steps"]
+
+
 def slider_range(param: Param, v: float, size: float) -> tuple[float, float, float]:
     """(min, max, step) of ``param``'s slider for a value ``v`` on a canvas whose
     larger side is ``size``: angles +-180 and phases +-360 degrees (or |v|) in
     whole degrees; signed shifts (arc lengths, alpha) at least +-size/4 and
     amplitudes at least +-size/40, else twice |v|; lengths (radii, lambda,
     spacing, wavelength) up to four times v or size/10, from 0 where 0 is
-    allowed."""
-    law = param.slider
-    if law == "area":  # canvas units squared (a circulation, a viscosity)
-        m = max(abs(v) * 2, size * size / 4)
-        if param.kind == "number":
-            return -m, m, m / 500
-        return (0.0 if param.kind == "nonnegative" else m / 1000), m, m / 1000
-    if law == "share":  # a stroke's drag: -4..4
-        return -4.0, 4.0, 0.01
-    if law == "time":  # seconds
-        hi = max(v * 4, 10.0)
-        return 0.0, hi, hi / 1000
-    if law in ("angle", "phase"):
-        m = max(180.0 if law == "angle" else 360.0, math.ceil(abs(v)))
-        return -m, m, 1.0
-    if law in ("shift", "amplitude"):
-        m = max(abs(v) * 2, size / 4 if law == "shift" else size / 40)
-        return -m, m, m / 500
-    if law == "length":
-        hi = max(v * 4, size / 10)
-        lo = 0.0 if param.kind == "nonnegative" else hi / 1000
-        return lo, hi, hi / 1000
-    raise ValueError(f"{param.name} has no slider")
+    allowed (:data:`SLIDER_SPECS`)."""
+    if param.slider is None:
+        raise ValueError(f"{param.name} has no slider")
+    return spec_range(slider_spec(param), v, size)
 
 
 def direction(degrees: float) -> tuple[float, float]:

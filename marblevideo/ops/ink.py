@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 
 from marblevideo.ops.base import CENTER, COLOR, RADIUS, OpDef, Points, Values, identity
+from marblevideo.ops.gestures import Tool
 
 
 def contains(v: Values, x: np.ndarray, y: np.ndarray) -> np.ndarray:
@@ -117,6 +118,17 @@ DROP = OpDef(
     inverse=drop_inverse,
     forward=drop_forward,
     contains=contains,
+    tools=(
+        Tool(
+            "click",
+            {
+                "center": "a",
+                "radius": {"positive": {"clicked": [{"mul": ["side", 0.06]}, "len"]}},
+                "color": "color",
+            },
+            label="radius",
+        ),
+    ),
     example={"type": "drop", "center": [40, 30], "radius": 18, "color": "#1d3557"},
 )
 
@@ -129,6 +141,17 @@ SPRAY = OpDef(
     inverse=identity,
     forward=identity,
     contains=contains,
+    tools=(
+        Tool(
+            "click",
+            {
+                "center": "a",
+                "radius": {"positive": {"clicked": [{"mul": ["side", 0.03]}, "len"]}},
+                "color": "color",
+            },
+            label="radius",
+        ),
+    ),
     example={"type": "spray", "center": [60, 20], "radius": 9, "color": [233, 196, 106]},
 )
 

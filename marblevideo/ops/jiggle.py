@@ -16,6 +16,7 @@ import math
 import numpy as np
 
 from marblevideo.ops.base import ANGLE, OpDef, Param, Points, Values, direction
+from marblevideo.ops.gestures import Tool
 
 #: Largest |k A| a frame renders with (keys must stay below 1).
 KA_LIMIT = 0.99
@@ -125,6 +126,19 @@ JIGGLE = OpDef(
     forward=forward,
     check=check,
     settle=settle,
+    tools=(
+        Tool(
+            "line",
+            {
+                "angle": "angle",
+                "wavelength": {"positive": "len"},
+                "phase": 0,
+                "major": {"round1": {"div": ["op.wavelength", 10]}},
+                "minor": {"round1": {"div": ["op.wavelength", 20]}},
+            },
+            label="wavelength",
+        ),
+    ),
     example={
         "type": "jiggle",
         "angle": 30,

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 
 from marblevideo.limits import MAX_COUNT
 from marblevideo.ops.base import Param
+from marblevideo.ops.gestures import Tool
 
 Placement = list[tuple[tuple[float, float], float]]  # (centre, radius) of each drop
 
@@ -33,6 +34,7 @@ class LayoutDef:
     place: Callable[[Mapping], Placement]
     example: Mapping
     check: Callable[[Mapping, Mapping], list] | None = None
+    tools: tuple[Tool, ...] = ()  # the designer's (marblevideo.ops.gestures)
 
     @property
     def kinds(self) -> dict[str, str]:
@@ -138,6 +140,18 @@ RINGS = LayoutDef(
         COLORS.but(help="Colours of the rings, outermost first, used in turn."),
     ),
     place=_rings,
+    tools=(
+        Tool(
+            "centre",
+            {
+                "center": "a",
+                "width": {"positive": {"div": ["len", 3]}},
+                "count": 5,
+                "colors": "inks",
+            },
+            label="width",
+        ),
+    ),
     example={
         "type": "rings",
         "center": [40, 30],
@@ -158,6 +172,19 @@ LINE_DROPS = LayoutDef(
         COLORS,
     ),
     place=_line,
+    tools=(
+        Tool(
+            "line",
+            {
+                "from": "a",
+                "to": "tip",
+                "count": 8,
+                "radius": {"positive": {"div": ["len", 16]}},
+                "colors": "inks",
+            },
+            label="radius",
+        ),
+    ),
     example={
         "type": "line-drops",
         "from": [10, 30],
@@ -181,6 +208,22 @@ GRID_DROPS = LayoutDef(
     ),
     place=_grid,
     check=_check_grid,
+    tools=(
+        Tool(
+            "line",
+            {
+                "origin": [{"min": ["a.0", "tip.0"]}, {"min": ["a.1", "tip.1"]}],
+                "spacing": [
+                    {"positive": {"or": [{"div": [{"abs": "dx"}, 4]}, {"div": ["side", 20]}]}},
+                    {"positive": {"or": [{"div": [{"abs": "dy"}, 3]}, {"div": ["side", 20]}]}},
+                ],
+                "size": [5, 4],
+                "radius": {"positive": {"div": [{"min": ["op.spacing.0", "op.spacing.1"]}, 3]}},
+                "colors": "inks",
+            },
+            label="radius",
+        ),
+    ),
     example={
         "type": "grid-drops",
         "origin": [15, 12],
@@ -211,6 +254,23 @@ SCATTER_DROPS = LayoutDef(
         COLORS,
     ),
     place=_scatter,
+    tools=(
+        Tool(
+            "centre",
+            {
+                "center": "a",
+                "size": [
+                    {"positive": {"or": [{"mul": [2, {"abs": "dx"}]}, {"div": ["side", 5]}]}},
+                    {"positive": {"or": [{"mul": [2, {"abs": "dy"}]}, {"div": ["side", 5]}]}},
+                ],
+                "count": 24,
+                "radius": {"positive": {"div": ["side", 40]}},
+                "seed": "seed",
+                "colors": "inks",
+            },
+            label="size",
+        ),
+    ),
     example={
         "type": "scatter-drops",
         "center": [40, 30],

@@ -22,6 +22,7 @@ from marblevideo.ops.base import (
     Values,
     direction,
 )
+from marblevideo.ops.gestures import Tool
 from marblevideo.ops.series import pack_series
 
 
@@ -64,6 +65,18 @@ CIRCLE = OpDef(
     pack=pack_rotation,
     inverse=_rotate(-1.0, circle=True),
     forward=_rotate(1.0, circle=True),
+    tools=(
+        Tool(
+            "centre",
+            {
+                "center": "a",
+                "radius": {"positive": "len"},
+                "alpha": {"positive": {"div": ["side", 3]}},
+                "lambda": {"positive": {"div": ["side", 25]}},
+            },
+            label="radius",
+        ),
+    ),
     example={"type": "circle", "center": [40, 30], "radius": 15, "alpha": 30, "lambda": 8},
 )
 
@@ -75,6 +88,17 @@ VORTEX = OpDef(
     pack=pack_rotation,
     inverse=_rotate(-1.0, circle=False),
     forward=_rotate(1.0, circle=False),
+    tools=(
+        Tool(
+            "centre",
+            {
+                "center": "a",
+                "alpha": {"positive": {"mul": [2, "len"]}},
+                "lambda": {"positive": {"div": ["len", 2]}},
+            },
+            label="alpha",
+        ),
+    ),
     example={"type": "vortex", "center": [40, 30], "alpha": 60, "lambda": 20},
 )
 
@@ -107,6 +131,7 @@ TURN = OpDef(
     pack=pack_turn,
     inverse=_turn(-1.0),
     forward=_turn(1.0),
+    tools=(Tool("centre", {"center": "a", "angle": "angle"}, label="angle"),),
     example={"type": "turn", "center": [40, 30], "angle": 35},
 )
 
@@ -162,6 +187,22 @@ STIR = OpDef(
     pack=pack_stir,
     inverse=_rotate_by(_stir_theta, -1.0),
     forward=_rotate_by(_stir_theta, 1.0),
+    tools=(
+        Tool(
+            "centre",
+            {
+                "center": "a",
+                "radii": [
+                    {"positive": {"div": ["len", 3]}},
+                    {"positive": {"div": [{"mul": [2, "len"]}, 3]}},
+                    {"positive": "len"},
+                ],
+                "alpha": {"positive": {"div": ["side", 6]}},
+                "falloff": {"positive": {"div": ["len", 12]}},
+            },
+            label="alpha",
+        ),
+    ),
     example={"type": "stir", "center": [40, 30], "radii": [8, -16, 24], "alpha": 9, "falloff": 3},
 )
 
@@ -202,6 +243,18 @@ OSEEN = OpDef(
     pack=pack_oseen,
     inverse=_rotate_by(_oseen_theta, -1.0),
     forward=_rotate_by(_oseen_theta, 1.0),
+    tools=(
+        Tool(
+            "centre",
+            {
+                "center": "a",
+                "circulation": {"positive": {"mul": [2, "pi", "len", "len"]}},
+                "viscosity": {"positive": {"div": [{"mul": ["len", "len"]}, 4]}},
+                "time": 1,
+            },
+            label="circulation",
+        ),
+    ),
     example={
         "type": "oseen",
         "center": [40, 30],

@@ -22,6 +22,7 @@ from marblevideo.ops.base import (
     Values,
     direction,
 )
+from marblevideo.ops.gestures import Tool
 from marblevideo.ops.series import pack_series
 
 
@@ -82,6 +83,18 @@ TINE = OpDef(
     pack=pack_tine,
     inverse=_shear(_tine_shift, -1.0),
     forward=_shear(_tine_shift, 1.0),
+    tools=(
+        Tool(
+            "line",
+            {
+                "point": "a",
+                "angle": "angle",
+                "alpha": {"positive": "len"},
+                "lambda": {"positive": {"div": ["side", 25]}},
+            },
+            label="alpha",
+        ),
+    ),
     example={"type": "tine", "point": [10, 35], "angle": 20, "alpha": 25, "lambda": 12},
 )
 
@@ -93,6 +106,20 @@ COMB = OpDef(
     pack=pack_tine,
     inverse=_shear(_tine_shift, -1.0, comb=True),
     forward=_shear(_tine_shift, 1.0, comb=True),
+    # it moves the whole sheet (by alpha at its tines): a tenth of the drag, at most its spacing
+    tools=(
+        Tool(
+            "line",
+            {
+                "point": "a",
+                "angle": "angle",
+                "spacing": {"positive": {"div": ["side", 16]}},
+                "alpha": {"positive": {"min": [{"div": ["len", 10]}, "op.spacing"]}},
+                "lambda": {"positive": {"div": ["side", 60]}},
+            },
+            label="alpha",
+        ),
+    ),
     example={
         "type": "comb",
         "point": [0, 0],
@@ -116,6 +143,18 @@ WAVE = OpDef(
     pack=pack_wave,
     inverse=_shear(_wave_shift, -1.0),
     forward=_shear(_wave_shift, 1.0),
+    tools=(
+        Tool(
+            "line",
+            {
+                "amplitude": {"positive": {"div": ["side", 30]}},
+                "wavelength": {"positive": "len"},
+                "phase": 0,
+                "angle": "angle",
+            },
+            label="wavelength",
+        ),
+    ),
     example={"type": "wave", "amplitude": 6, "wavelength": 40, "phase": 30, "angle": 0},
 )
 
@@ -131,11 +170,12 @@ def _offset(sign: float):
 SHIFT = OpDef(
     type="shift",
     help="The whole tank moved by `offset`.",
-    params=(Param("offset", "point", "The motion [dx, dy] in canvas units."),),
+    params=(Param("offset", "point", "The motion [dx, dy] in canvas units.", handle=False),),
     progress=(("offset", "linear"),),
     pack=lambda v, lists: tuple(v["offset"]),
     inverse=_offset(-1.0),
     forward=_offset(1.0),
+    tools=(Tool("line", {"offset": {"round1": ["dx", "dy"]}}, label="offset"),),
     example={"type": "shift", "offset": [9, -6]},
 )
 
@@ -210,6 +250,20 @@ RAKE = OpDef(
     inverse=_shear(_rake_shift, -1.0),
     forward=_shear(_rake_shift, 1.0),
     check=check_rake,
+    tools=(
+        Tool(
+            "line",
+            {
+                "point": "a",
+                "angle": "angle",
+                "alpha": {"positive": "len"},
+                "falloff": {"positive": {"div": ["side", 60]}},
+                "spacing": {"positive": {"div": ["side", 12]}},
+                "count": 9,
+            },
+            label="alpha",
+        ),
+    ),
     example={
         "type": "rake",
         "point": [40, 30],

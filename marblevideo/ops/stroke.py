@@ -29,6 +29,7 @@ from functools import lru_cache
 import numpy as np
 
 from marblevideo.ops.base import OpDef, Param, Points, Values
+from marblevideo.ops.gestures import Setting, Tool
 
 #: Most points in a stroke's path, tines in its comb, and steps (along the path
 #: times tines) in one stroke.
@@ -239,6 +240,9 @@ def settle(values: dict) -> dict:
     return values
 
 
+#: The curl tool's loop radius: a thirtieth of the canvas for a click, else the drag.
+_CURL_RADIUS = {"max": [0.5, {"round1": {"clicked": [{"div": ["side", 30]}, "len"]}}]}
+
 STROKE = OpDef(
     type="stroke",
     help="A stylus (or a comb of styluses) drawn along a free-hand path `points`.",
@@ -275,6 +279,39 @@ STROKE = OpDef(
         ),
     ),
     travels=True,
+    tools=(
+        Tool(
+            "path", {"points": "path", "width": {"round1": "setting.width"}, "drag": "setting.drag"}
+        ),
+        Tool(
+            "path",
+            {
+                "points": "path",
+                "width": {"round1": "setting.width"},
+                "drag": "setting.drag",
+                "tines": {"round1": {"centred": ["setting.tines", {"round1": "setting.spacing"}]}},
+            },
+            name="comb-stroke",
+        ),
+        # the French curl's gesture: a click draws a small closed loop; a drag sets its radius
+        Tool(
+            "click",
+            {
+                "points": {"loop": ["a", _CURL_RADIUS]},
+                "width": {"round1": _CURL_RADIUS},
+                "drag": "setting.drag",
+            },
+            name="curl",
+        ),
+    ),
+    settings=(
+        Setting("width", "the strokes' width", {"div": ["side", 12]}, positive=True),
+        Setting("drag", "their drag (-4..4)", 1, initial="1", low=-4, high=4),
+        Setting(
+            "tines", "the comb stroke's tines", 5, initial="5", positive=True, high=64, integer=True
+        ),
+        Setting("spacing", "and their spacing", {"div": ["side", 16]}, positive=True),
+    ),
     pack=pack,
     inverse=_walk(-1.0),
     forward=_walk(1.0),
