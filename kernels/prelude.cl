@@ -6,9 +6,10 @@
  * input pixels likewise; images are packed RGBA8 (R in the low byte).
  *
  * The program is this prelude, one file of op sections per op family
- * (kernels/ops/<family>.cl, one `op_<type>(OP_ARGS)` each) and marble.cl (the
- * walk, sampling and the kernels), after a header that marblevideo/opencl
- * generates from the op registry (WALK, INK). Build-time defines (-D):
+ * (kernels/ops/<family>.cl, one `op_<type>(OP_ARGS)` each) and the kernels'
+ * files by concern (sampling.cl, walk.cl, adaptive.cl, tables.cl, i420.cl,
+ * planar.cl, lattice.cl; marblevideo/opencl/program.py: KERNEL_FILES), after a
+ * header that marblevideo/opencl generates from the op registry (WALK, INK). Build-time defines (-D):
  *   LANES    pixels per work-item along x, as one vector: on CPUs the device's
  *            native float width (4 SSE, 8 AVX/AVX2, 16 AVX-512), 1 on GPUs
  *   YLANES   pixels per work-item of the I420 and quad kernels (4, 8 or 16)

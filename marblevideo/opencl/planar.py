@@ -2,7 +2,7 @@
 matrix throughout (:func:`marblevideo.reference.yuv.render_planes` is the
 reference): luma at full resolution, both chroma planes at half, each sampled
 through its *quads* (a whole bilinear footprint in one 32-bit gather; see
-marble.cl), with the same tables of reused maps per plane as RGBA frames."""
+kernels/planar.cl), with the same tables of reused maps per plane as RGBA frames."""
 
 from __future__ import annotations
 

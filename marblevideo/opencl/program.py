@@ -7,8 +7,9 @@ buffer by :func:`pack_params`, so animating a recipe never recompiles.
 :class:`Programs` caches each structure's kernels, fetched once.
 
 The source is kernels/prelude.cl, each op family's sections
-(kernels/ops/<family>.cl) and kernels/marble.cl, after a header generated from
-the op registry (:func:`walk_source`). On CPU devices the kernels run vector
+(kernels/ops/<family>.cl) and the files of :data:`KERNEL_FILES` (the walk,
+sampling, adaptive antialiasing, tables, I420, planes, the lattice), after a
+header generated from the op registry (:func:`walk_source`). On CPU devices the kernels run vector
 code as wide as the device's native float vectors (:func:`cpu_lanes`: 16 lanes
 on AVX-512, 8 on AVX2, 4 on SSE) with several independent chains per
 work-item (:func:`cpu_chains`; see BENCHMARKS.md); on GPUs one pixel per
@@ -72,6 +73,18 @@ KERNEL_NAMES = (
     "marble_lattice_plane",
 )
 
+#: The kernels' files after the prelude and the op sections, in the order they are
+#: joined (each uses only what the files before it define).
+KERNEL_FILES = (
+    "sampling.cl",
+    "walk.cl",
+    "adaptive.cl",
+    "tables.cl",
+    "i420.cl",
+    "planar.cl",
+    "lattice.cl",
+)
+
 log = logging.getLogger("marblevideo.opencl")
 
 
@@ -101,7 +114,7 @@ def cpu_chains(lanes: int) -> int:
     return max(1, min(8, CPU_PIXELS_IN_FLIGHT // max(lanes, 1)))
 
 
-def kernel_source(name: str = "marble.cl") -> str:
+def kernel_source(name: str = "walk.cl") -> str:
     """An OpenCL source (a path under kernels/) from the installed package, or from
     the repository's kernels/."""
     packaged = resources.files("marblevideo") / "kernels" / name
@@ -112,10 +125,10 @@ def kernel_source(name: str = "marble.cl") -> str:
 
 def program_source() -> str:
     """The program's source without its generated header: the prelude, each op
-    family's sections (kernels/ops/<family>.cl, in registry order), marble.cl and
-    lattice.cl."""
+    family's sections (kernels/ops/<family>.cl, in registry order) and
+    :data:`KERNEL_FILES`."""
     families = dict.fromkeys(d.family for d in REGISTRY.values())
-    parts = ["prelude.cl", *(f"ops/{family}.cl" for family in families), "marble.cl", "lattice.cl"]
+    parts = ["prelude.cl", *(f"ops/{family}.cl" for family in families), *KERNEL_FILES]
     return "\n".join(kernel_source(name) for name in parts)
 
 
@@ -186,7 +199,7 @@ class Structure:
 def walk_source(types: tuple[str, ...] | None) -> str:
     """The generated header that bakes a recipe's structure into the program: WALK
     calls every op's section, last op first, and INK resolves the ink ops' hits
-    (see kernels/marble.cl). ``types`` None is the loop walk, which serves every
+    (see kernels/walk.cl). ``types`` None is the loop walk, which serves every
     recipe: both loop over the frame's ops (their number is the first float of
     ``lists``) and switch on the type code, with one case per registered op type."""
     if types is None:

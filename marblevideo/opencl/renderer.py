@@ -74,7 +74,7 @@ class Renderer:
     GPUs). ``lanes`` is 1, 4, 8 or 16.
     ``adaptive`` samples the full antialiasing pattern only where a pixel's
     neighbourhood shows an ink edge or a strongly curved map, one walk
-    elsewhere (see marble.cl); False evaluates the full pattern everywhere;
+    elsewhere (see kernels/adaptive.cl); False evaluates the full pattern everywhere;
     None (default) is adaptive on blank sheets only, where it halves the time,
     while over an input its four bilinear fetches per pixel stay and the
     centre pass measured slower than the full pattern (BENCHMARKS.md); and
@@ -84,7 +84,7 @@ class Renderer:
     ``reuse_maps``: over an input, when a frame's values, geometry and sizes
     equal the previous frame's (a static recipe over a video), where every
     subsample lands is recorded once and later frames only fetch and blend
-    (within one level of a fresh walk; see marble.cl). False walks every frame.
+    (within one level of a fresh walk; see kernels/tables.cl). False walks every frame.
     A render called with ``static=True`` (the caller knows that later frames
     repeat its values, as a static recipe over a video does) fills the table
     on its first frame already, instead of walking afresh and then again into
