@@ -8,7 +8,7 @@
  * its rounding and clamping; the chroma planes are walked at chroma resolution
  * (a chroma pixel covers 2 x 2 luma pixels) and sampled bilinearly there.
  * Ink colours arrive as 8-bit Y'CbCr codes in the params' colour slots, and
- * bgc holds the background's codes (for EDGES 3).
+ * bgc holds the background's codes (for EDGES_BACKGROUND).
  *
  * A plane of pw x ph is sampled through its *quads*: quad t of the padded plane
  * (row stride pw + 2, as the padded RGBA input) packs the padded samples t,

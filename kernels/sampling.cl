@@ -4,14 +4,14 @@
  * from it, gathered lane by lane from packed RGBA8. */
 
 /* Map an integer-valued float tap index into 0..n-1 by the `edges` mode;
- * with EDGES == 3 (background) an index outside gives -1. */
+ * with EDGES_BACKGROUND an index outside gives -1. */
 inline vi edge_index(vf i, int n) {
     float fn = (float)n;
-#if EDGES == 0
+#if EDGES == EDGES_CLAMP
     vf m = clamp(i, 0.0f, fn - 1.0f);
-#elif EDGES == 1
+#elif EDGES == EDGES_REPEAT
     vf m = clamp(i - fn * floor(i / fn), 0.0f, fn - 1.0f);
-#elif EDGES == 2
+#elif EDGES == EDGES_MIRROR
     vf m = i - 2.0f * fn * floor(i / (2.0f * fn));
     m = clamp(select(m, 2.0f * fn - 1.0f - m, m >= fn), 0.0f, fn - 1.0f);
 #else
@@ -57,11 +57,11 @@ inline void padded_axis(vf f, int n, vi *tap, vf *weight) {
     vf i0 = floor(f);
     vf wt = f - i0;
     float fn = (float)n;
-#if EDGES == 0
+#if EDGES == EDGES_CLAMP
     vf m = clamp(i0, -1.0f, fn - 1.0f);  /* the border repeats the edge pixel */
-#elif EDGES == 1
+#elif EDGES == EDGES_REPEAT
     vf m = clamp(i0 - fn * floor(i0 / fn), 0.0f, fn - 1.0f);  /* right border = column 0 */
-#elif EDGES == 2
+#elif EDGES == EDGES_MIRROR
     /* Mirrored stretches run backwards: take the lower tap and swap the weights;
      * a footprint folded onto one pixel weighs only that pixel. */
     vf ma = CVT_F(edge_index(i0, n)), mb = CVT_F(edge_index(i0 + 1.0f, n));
@@ -103,9 +103,9 @@ inline void bilinear(__global const uint *src, int sw, int sh, vf ix, vf iy,
 /* Padded coordinate i (0 .. n + 1) of an axis of n samples (pixels) -> the sample, or
  * -1 for the background. */
 inline int padded_sample(int i, int n) {
-#if EDGES == 1
+#if EDGES == EDGES_REPEAT
     return (i - 1 + n) % n;
-#elif EDGES == 3
+#elif EDGES == EDGES_BACKGROUND
     return (i < 1 || i > n) ? -1 : i - 1;
 #else
     return clamp(i - 1, 0, n - 1); /* clamp; mirror repeats the edge sample too */

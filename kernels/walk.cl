@@ -2,7 +2,7 @@
  * shaded and stored as RGBA (the `marble` kernel; see prelude.cl for the
  * defines, sampling.cl for the input's sampling).
  *
- * WALK (generated): op i of the recipe, last op first, as OP(i, type); or for
+ * WALK (generated): op i of the recipe, last op first, as OP(i, op_<type>); or for
  * long recipes (and editors' renderers) a loop over NOPS ops, the first float of
  * `lists`, whose switch has a case per op type.
  * INK (generated): INK_COLOR(i) for every ink op (resolves a hit to its colour).
@@ -12,12 +12,13 @@
 #define ROW_OF(j) (ROWS == 1 ? 0 : (j) / NSAMPLES)
 #define FOR_CHAINS for (int c = 0; c < CHAINS; c++)
 #define PARAMS(i) (params + (i) * PSTRIDE)
-/* Op i of type `name` in every chain (the generated WALK is a list of these, or
- * a loop whose switch has one case per op type). An op still this frame (type
- * code -1: not started yet) is skipped, by a branch every lane takes alike. */
-#define OP(i, name)                                                            \
-    if (PARAMS(i)[PSTRIDE - 1] >= 0.0f)                                        \
-        FOR_CHAINS CAT(op_, name)(&px[c], &py[c], &ink[c], PARAMS(i), i, lists);
+/* Op i in every chain through its section `section` (op_<type>; the generated
+ * WALK is a list of these, or a loop whose switch has one case per op type). An
+ * op still this frame (CODE_STILL: not started yet) is skipped, by a branch
+ * every lane takes alike. */
+#define OP(i, section)                                                         \
+    if (PARAMS(i)[CODE_SLOT] >= 0.0f)                                          \
+        FOR_CHAINS section(&px[c], &py[c], &ink[c], PARAMS(i), i, lists);
 /* The colour of ink op i for the lanes whose walk ended there (INK lists these). */
 #define INK_COLOR(i)                                                           \
     { vi m = ink[c] == i;                                                      \
