@@ -1,6 +1,6 @@
 /* lattice.cl: the interpolated inverse map of animated frames (issue 35;
  * marblevideo/opencl/lattice.py drives it). Three passes:
- * 1. marble_centres (marble.cl) walks a *fine* lattice: point (i, j) at luma
+ * 1. marble_centres (adaptive.cl) walks a *fine* lattice: point (i, j) at luma
  *    output coordinates (i H, j H) from the frame's top-left corner, H = S / 2,
  *    its walk's end in canvas units and its ink (the host hands it the luma
  *    geometry scaled by H and an identity canvas -> input map).

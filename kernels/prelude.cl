@@ -6,9 +6,15 @@
  * input pixels likewise; images are packed RGBA8 (R in the low byte).
  *
  * The program is this prelude, one file of op sections per op family
- * (kernels/ops/<family>.cl, one `op_<type>(OP_ARGS)` each) and marble.cl (the
- * walk, sampling and the kernels), after a header that marblevideo/opencl
- * generates from the op registry (WALK, INK). Build-time defines (-D):
+ * (kernels/ops/<family>.cl, one `op_<type>(OP_ARGS)` each) and the kernels'
+ * files by concern (sampling.cl, walk.cl, adaptive.cl, tables.cl, i420.cl,
+ * planar.cl, lattice.cl; marblevideo/opencl/program.py: KERNEL_FILES), after a
+ * header that marblevideo/opencl/header.py generates from the op definitions:
+ * each op's parameter offsets P_<TYPE>_<SLOT> (a section reads p[P_DROP_R2]),
+ * its type code CODE_<TYPE>, CODE_STILL, PSTRIDE (floats per op in `params`;
+ * the last, CODE_SLOT, holds the op's type code), COLOR_SLOT (where an ink
+ * op's red, green, blue start), the edges modes EDGES_<MODE>, and WALK and INK
+ * for the recipe's structure. Build-time defines (-D):
  *   LANES    pixels per work-item along x, as one vector: on CPUs the device's
  *            native float width (4 SSE, 8 AVX/AVX2, 16 AVX-512), 1 on GPUs
  *   YLANES   pixels per work-item of the I420 and quad kernels (4, 8 or 16)
@@ -16,9 +22,8 @@
  *   ROWS     output rows per work-item (> 1 only without antialiasing)
  *   NSAMPLES subsamples per pixel; offsets and weights arrive in `samples`
  *   HAS_INPUT 1: sample the input image where no ink is hit; 0: blank sheet
- *   EDGES    0 clamp, 1 repeat, 2 mirror, 3 background (what lies outside the input)
- *   PSTRIDE  floats per op in `params` (the last holds the op's type code)
- *   COLOR_SLOT where an ink op's red, green, blue start in its floats
+ *   EDGES    what lies outside the input: EDGES_CLAMP, EDGES_REPEAT,
+ *            EDGES_MIRROR or EDGES_BACKGROUND
  * Per-frame values live in `params`, packed by each op's definition
  * (marblevideo/ops: its `pack`). Changing them never rebuilds the program.
  *

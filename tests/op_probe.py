@@ -5,8 +5,9 @@ from __future__ import annotations
 
 import numpy as np
 
+from marblevideo.opencl.header import header_source
 from marblevideo.opencl.program import kernel_source, pack_params
-from marblevideo.ops import COLOR_SLOTS, PSTRIDE, op_def
+from marblevideo.ops import op_def
 from marblevideo.recipe.frame import FrameSpec, OpState
 
 PROBE = """
@@ -33,14 +34,13 @@ def run_op(renderer, op: OpState, x: np.ndarray, y: np.ndarray, lanes: int | Non
     lanes = lanes or renderer.lanes
     spec = FrameSpec((op,), (0.0, 0.0, 0.0), "none", "clamp", (1.0, 1.0))
     packed = pack_params(spec)
-    source = kernel_source("prelude.cl") + kernel_source(f"ops/{definition.family}.cl") + PROBE
+    source = header_source() + kernel_source("prelude.cl")
+    source += kernel_source(f"ops/{definition.family}.cl") + PROBE
     options = [
         f"-DLANES={lanes}",
         "-DCHAINS=1",
         "-DROWS=1",
         "-DNSAMPLES=1",
-        f"-DPSTRIDE={PSTRIDE}",
-        f"-DCOLOR_SLOT={COLOR_SLOTS[0]}",
         f"-DPROBE_OP={definition.kernel_function}",
     ]
     program = renderer.build_program(source, options)

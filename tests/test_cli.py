@@ -257,7 +257,7 @@ def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
             for p in (ROOT / "kernels").rglob("*.cl")
         ]
         assert "marblevideo/kernels/ops/ink.cl" in kernels and set(kernels) <= set(names)
-        shipped = zf.read("marblevideo/kernels/marble.cl").decode()
+        shipped = zf.read("marblevideo/kernels/walk.cl").decode()
         recipes = {p.name for p in (ROOT / "samples").glob("*.json")}
         assert {f"marblevideo/samples/{n}" for n in recipes} <= set(names)
         assert (
@@ -265,7 +265,7 @@ def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
             == (ROOT / "samples" / "figure6.json").read_bytes()
         )
         assert "marblevideo/samples/coffee.mp4" not in names  # the wheel stays small
-    assert shipped == (ROOT / "kernels" / "marble.cl").read_text()
+    assert shipped == (ROOT / "kernels" / "walk.cl").read_text()
 
     venv = tmp_path / "venv"
     subprocess.run(
@@ -297,7 +297,7 @@ def test_built_wheel_contains_and_serves_the_kernels(wheel, tmp_path):
     probe = (
         "import marblevideo, marblevideo.opencl.program as r; from importlib import resources;"
         "print(marblevideo.__file__);"
-        "print(resources.files('marblevideo') / 'kernels' / 'marble.cl');"
+        "print(resources.files('marblevideo') / 'kernels' / 'walk.cl');"
         "print(len(r.program_source()))"
     )
     proc = subprocess.run(

@@ -282,7 +282,7 @@ def test_evenly_spaced_tines_and_rings_sum_in_closed_form(renderer, op, closed):
     state = parse_recipe({"canvas": [80, 60], "ops": [op]}, "r.json").at(0).ops[0]
     definition = REGISTRY[op["type"]]
     packed = definition.pack(state.values, [])
-    assert packed[-1] == (1.0 if closed else 0.0)
+    assert packed["series_even"] == (1.0 if closed else 0.0)
     rng = np.random.default_rng(len(str(op)))
     if op["type"] == "rake":
         offsets = rake_offsets(state.values)

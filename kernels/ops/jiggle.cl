@@ -13,15 +13,15 @@
  * |k A| -> 1 an error in it grows 1 / (1 - |k A|) times in the root, and float32
  * holds s' only to 1e-4 at 2000 units: so where the device has float64 the
  * phase is taken in float64, from M, 1/wavelength and the phase packed as
- * float pairs (value = p[k] + p[k + 7]). */
+ * float pairs (value = p[P_JIGGLE_<NAME>] + p[P_JIGGLE_<NAME>_LO]). */
 #if defined(cl_khr_fp64)
 #pragma OPENCL EXTENSION cl_khr_fp64 : enable
-#define PAIR(k) ((double)p[k] + (double)p[(k) + 7])
+#define PAIR(name) ((double)p[P_JIGGLE_##name] + (double)p[P_JIGGLE_##name##_LO])
 /* the phase of the points v.part (x) and w.part (y) into t.part, in float64 */
 #define JIGGLE_PHASE_OF(T, CD, CF, xs, ys, ts)                                 \
     {                                                                          \
-        T s_ = CD(xs) * PAIR(0) + CD(ys) * PAIR(1);                            \
-        T t_ = s_ * PAIR(2) + PAIR(3);                                         \
+        T s_ = CD(xs) * PAIR(MX) + CD(ys) * PAIR(MY);                          \
+        T t_ = s_ * PAIR(INV_WAVELENGTH) + PAIR(PHASE_TURNS);                  \
         ts = CF(t_ - floor(t_));                                               \
     }
 #if LANES == 1
@@ -46,15 +46,17 @@
 #else
 #define JIGGLE_PHASE(t0)                                                       \
     {                                                                          \
-        t0 = (*x * p[0] + *y * p[1]) * p[2] + p[3];                            \
+        t0 = (*x * p[P_JIGGLE_MX] + *y * p[P_JIGGLE_MY]) * p[P_JIGGLE_INV_WAVELENGTH] \
+             + p[P_JIGGLE_PHASE_TURNS];                                        \
         t0 -= floor(t0);                                                       \
     }
 #endif
 
-/* p: mx, my, 1/wavelength, phase in turns, A, B, k A, then the low parts of the
- * first four (see JIGGLE_PHASE) */
+/* p: mx, my, inv_wavelength, phase_turns, major (A), minor (B), ka (k A), then
+ * the low parts of the first four (see JIGGLE_PHASE) */
 inline void op_jiggle(OP_ARGS) {
-    const float mx = p[0], my = p[1], inv_w = p[2], a = p[4], b = p[5], ka = p[6];
+    const float mx = p[P_JIGGLE_MX], my = p[P_JIGGLE_MY], inv_w = p[P_JIGGLE_INV_WAVELENGTH];
+    const float a = p[P_JIGGLE_MAJOR], b = p[P_JIGGLE_MINOR], ka = p[P_JIGGLE_KA];
     vf t0;
     JIGGLE_PHASE(t0)
     vf u = (vf)0.0f, lo = (vf)-fabs(a), hi = (vf)fabs(a);  /* u = s - s' */

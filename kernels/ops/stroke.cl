@@ -4,8 +4,9 @@
  * g(r) = (1 - r^2 / w^2)^2 inside w. A step moves nothing farther than 3w/2
  * from its centre C (one squared distance skips it), and a stroke nothing
  * outside its steps' bounding box.
- * p: where the steps start in `lists`, how many, 1/w^2, (3w/2)^2, the box
- * xmin, ymin, xmax, ymax. A step: cx, cy, hx, hy, t (radians) */
+ * p: steps_at, steps_n (where the steps start in `lists`, how many), inv_w2
+ * (1/w^2), reach2 ((3w/2)^2), the box xmin, ymin, xmax, ymax. A step: cx, cy,
+ * hx, hy, t (radians) */
 
 /* Turn the lanes' points about (cx, cy) by t g(r); from r = w on (g = 0) the
  * points are kept exactly (cx + (x - cx) could round). |t g| <= 16/9 radians
@@ -26,11 +27,12 @@ inline void stroke_turn(vf *x, vf *y, float cx, float cy, float t, float inv_w2)
 }
 
 inline void op_stroke(OP_ARGS) {
-    if (!ANY((*x >= p[4]) & (*x <= p[6]) & (*y >= p[5]) & (*y <= p[7])))
+    if (!ANY((*x >= p[P_STROKE_XMIN]) & (*x <= p[P_STROKE_XMAX]) & (*y >= p[P_STROKE_YMIN])
+             & (*y <= p[P_STROKE_YMAX])))
         return;
-    __global const float *s = lists + (int)p[0];
-    const float inv_w2 = p[2], reach2 = p[3];
-    for (int k = (int)p[1] - 1; k >= 0; k--) {
+    __global const float *s = lists + (int)p[P_STROKE_STEPS_AT];
+    const float inv_w2 = p[P_STROKE_INV_W2], reach2 = p[P_STROKE_REACH2];
+    for (int k = (int)p[P_STROKE_STEPS_N] - 1; k >= 0; k--) {
         __global const float *q = s + 5 * k;
         vf dx = *x - q[0], dy = *y - q[1];
         if (!ANY(dx * dx + dy * dy < reach2))

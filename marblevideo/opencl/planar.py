@@ -2,7 +2,7 @@
 matrix throughout (:func:`marblevideo.reference.yuv.render_planes` is the
 reference): luma at full resolution, both chroma planes at half, each sampled
 through its *quads* (a whole bilinear footprint in one 32-bit gather; see
-marble.cl), with the same tables of reused maps per plane as RGBA frames."""
+kernels/planar.cl), with the same tables of reused maps per plane as RGBA frames."""
 
 from __future__ import annotations
 
@@ -49,7 +49,7 @@ class PlanarFrames:
         """(frame or finishing function, reused): see Renderer.render_i420;
         ``errors`` turns OpenCL errors into DeviceError; ``lattice``: interpolate
         from a walked lattice unless the maps are reused."""
-        queue, lanes = self.queue, self.programs.lanes
+        queue = self.queue
         w, h = geom.out_w, geom.out_h
         sh, sw = planes[0].shape
         coded = coded_spec(spec, matrix)
@@ -59,14 +59,12 @@ class PlanarFrames:
         luma, chroma = geom, chroma_geometry(geom)
         (luma_maps, geo), (chroma_maps, _) = geometry_args(luma), geometry_args(chroma)
         key = ("planes", structure, packed.key, geo.tobytes(), w, h, sw, sh)
-        reuse = False
-        if self.reuse_maps:
-            nbytes = sum(
-                self.tables.nbytes(spec.antialias, g.out_w, g.out_h) for g in (luma, chroma)
-            )
-            reuse = self.tables.decide(key, nbytes, static)
+        reuse = self.reuse_maps and self.tables.decide(
+            key,
+            sum(self.tables.nbytes(spec.antialias, g.out_w, g.out_h) for g in (luma, chroma)),
+            static,
+        )
         result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
-        bg = coded.background
         with errors():
             # the uploads' events hold their host arrays until the copies are done
             uploads: list = []
@@ -74,23 +72,12 @@ class PlanarFrames:
             staged = queue.put_i420(planes, uploads)
             dst = queue.buffer("i420_out", result.nbytes)
             samples = queue.samples(spec.antialias)
+            bg = coded.background
             bgc = float4([*bg, 255.0])
-            cw, ch = sw // 2, sh // 2
-            planes_in = (  # (name, offset, width, height, background code) of each input plane
-                ("quads_y", 0, sw, sh, bg[0]),
-                ("quads_u", sw * sh, cw, ch, bg[1]),
-                ("quads_v", sw * sh + cw * ch, cw, ch, bg[2]),
-            )
-            quads = []
-            k = built.kernels["marble_quads"]
-            yl = self.programs.yuv_lanes
-            for name, off, pw, ph, code in planes_in:
-                buf = queue.buffer(name, (pw + 2) * (ph + 2) * 4)
-                k.set_args(buf, staged, np.int32(off), np.int32(pw), np.int32(ph), np.uint32(code))
-                queue.launch(k, (pw + yl) // yl * (ph + 1))
-                quads.append(buf)
+            quads = self.quads(built, staged, sw, sh, bg)
             # luma, then both chroma planes at the same points: (geometry, its maps,
             # output offsets, input plane size, quads, chroma flag, table names)
+            cw, ch = sw // 2, sh // 2
             luma_job = (luma, luma_maps, (0, 0), (sw, sh), quads[0], quads[0], 0, ("taps", "wts"))
             chroma_offsets = (w * h, w * h * 5 // 4)
             chroma_job = (chroma, chroma_maps, chroma_offsets, (cw, ch), *quads[1:], 1)
@@ -99,22 +86,51 @@ class PlanarFrames:
             lattice = lattice and not reuse and self.lattice.worth(packed)
             walked = self.lattice.walk(built, luma, pbuf, lbuf) if lattice else None
             for g, maps, offsets, in_size, q0, q1, is_chroma, names in (luma_job, chroma_job):
-                pw, ph = g.out_w, g.out_h
-                head = (dst, *map(np.int32, offsets), np.int32(pw), np.int32(ph), q0, q1)
-                head += (np.int32(is_chroma),)
+                head = (dst, *map(np.int32, offsets), np.int32(g.out_w), np.int32(g.out_h))
+                head += (q0, q1, np.int32(is_chroma))
                 common = (q0, *map(np.int32, in_size), pbuf, samples, *maps, bgc, lbuf)
-                if walked is not None:
-                    self.lattice.render_plane(built, head, walked, common)
-                    continue
-                if not reuse:
-                    k = built.kernels["marble_plane"]
-                    k.set_args(*head, *common)
-                    queue.launch(k, -(-pw // lanes) * -(-ph // built.rows))
-                    continue
-                table = self.tables.table(built, names, pw, ph, spec.antialias, common, walk)
-                k = built.kernels["marble_apply_plane"]
-                k.set_args(*head, *table, samples)
-                queue.launch(k, -(-pw // lanes) * ph)
+                plane = (g.out_w, g.out_h, names, spec.antialias, samples)
+                self.plane(built, head, common, plane, walked, reuse, walk)
             if reuse:
                 self.tables.hold(key)
             return queue.download(result, dst, wait, uploads, errors), reuse
+
+    def quads(self, built, staged, sw: int, sh: int, bg) -> list:
+        """The quads of the input's three planes (Y of sw x sh, U and V at half
+        size, packed I420 in ``staged``), padded for the edges mode with the
+        background's codes ``bg`` (Y, Cb, Cr)."""
+        queue, yl = self.queue, self.programs.yuv_lanes
+        cw, ch = sw // 2, sh // 2
+        planes_in = (  # (name, offset, width, height, background code) of each input plane
+            ("quads_y", 0, sw, sh, bg[0]),
+            ("quads_u", sw * sh, cw, ch, bg[1]),
+            ("quads_v", sw * sh + cw * ch, cw, ch, bg[2]),
+        )
+        quads = []
+        k = built.kernels["marble_quads"]
+        for name, off, pw, ph, code in planes_in:
+            buf = queue.buffer(name, (pw + 2) * (ph + 2) * 4)
+            k.set_args(buf, staged, np.int32(off), np.int32(pw), np.int32(ph), np.uint32(code))
+            queue.launch(k, (pw + yl) // yl * (ph + 1))
+            quads.append(buf)
+        return quads
+
+    def plane(self, built, head: tuple, common: tuple, plane: tuple, walked, reuse, walk) -> None:
+        """Queue one output plane (luma, or both chroma planes): ``head`` and
+        ``common``, the plane kernels' arguments; ``plane``: its width, height,
+        table names, antialiasing and samples buffer; from the ``walked``
+        lattice, the table of reused maps (``reuse``; ``walk``: fill it first) or
+        a fresh walk."""
+        queue, lanes = self.queue, self.programs.lanes
+        pw, ph, names, antialias, samples = plane
+        if walked is not None:
+            self.lattice.render_plane(built, head, walked, common)
+        elif not reuse:
+            k = built.kernels["marble_plane"]
+            k.set_args(*head, *common)
+            queue.launch(k, -(-pw // lanes) * -(-ph // built.rows))
+        else:
+            table = self.tables.table(built, names, pw, ph, antialias, common, walk)
+            k = built.kernels["marble_apply_plane"]
+            k.set_args(*head, *table, samples)
+            queue.launch(k, -(-pw // lanes) * ph)

@@ -7,12 +7,14 @@ buffer by :func:`pack_params`, so animating a recipe never recompiles.
 :class:`Programs` caches each structure's kernels, fetched once.
 
 The source is kernels/prelude.cl, each op family's sections
-(kernels/ops/<family>.cl) and kernels/marble.cl, after a header generated from
-the op registry (:func:`walk_source`). On CPU devices the kernels run vector
-code as wide as the device's native float vectors (:func:`cpu_lanes`: 16 lanes
-on AVX-512, 8 on AVX2, 4 on SSE) with several independent chains per
-work-item (:func:`cpu_chains`; see BENCHMARKS.md); on GPUs one pixel per
-work-item.
+(kernels/ops/<family>.cl) and the files of :data:`KERNEL_FILES` (sampling, the
+walk, adaptive antialiasing, tables, I420, planes, the lattice), after a header
+generated from the op definitions (:mod:`marblevideo.opencl.header`: parameter
+offsets, type codes, edges modes, the walk). Every kernel in the source is
+fetched once, by its name. On CPU devices the kernels run vector code as wide
+as the device's native float vectors (:func:`cpu_lanes`: 16 lanes on AVX-512, 8
+on AVX2, 4 on SSE) with several independent chains per work-item
+(:func:`cpu_chains`; see BENCHMARKS.md); on GPUs one pixel per work-item.
 
 Programs build silently: the OpenCL compiler's warnings are switched off
 (``-w``) and its log is kept, unless the ``marblevideo`` logger is enabled for
@@ -38,10 +40,11 @@ import numpy as np
 
 from marblevideo.errors import DeviceError, UsageError
 from marblevideo.opencl.device import DeviceInfo
-from marblevideo.ops import COLOR_SLOTS, PSTRIDE, REGISTRY, is_ink, op_def
+from marblevideo.opencl.header import STILL_CODE, edges_macro, header_source, walk_source
+from marblevideo.ops import PSTRIDE, REGISTRY, op_def
 from marblevideo.ops.ink import link_concentric_drops
 from marblevideo.recipe.antialias import pattern
-from marblevideo.recipe.frame import EDGE_MODES, FrameSpec
+from marblevideo.recipe.frame import FrameSpec
 
 #: Recipes longer than this walk their ops in a loop instead of unrolled code.
 UNROLL_LIMIT = 48
@@ -53,23 +56,16 @@ CPU_PIXELS_IN_FLIGHT = 64
 LANES_VARIABLE = "MARBLEVIDEO_LANES"
 #: Vector widths the kernel is written for.
 VECTOR_WIDTHS = (4, 8, 16)
-#: The kernels of every program, fetched once each.
-KERNEL_NAMES = (
-    "marble",
-    "marble_centres",
-    "marble_classify",
-    "marble_list",
-    "marble_table",
-    "marble_apply",
-    "marble_pad",
-    "marble_from_i420",
-    "marble_to_i420",
-    "marble_quads",
-    "marble_plane",
-    "marble_apply_plane",
-    "marble_lattice_cells",
-    "marble_lattice",
-    "marble_lattice_plane",
+#: The kernels' files after the prelude and the op sections, in the order they are
+#: joined (each uses only what the files before it define).
+KERNEL_FILES = (
+    "sampling.cl",
+    "walk.cl",
+    "adaptive.cl",
+    "tables.cl",
+    "i420.cl",
+    "planar.cl",
+    "lattice.cl",
 )
 
 log = logging.getLogger("marblevideo.opencl")
@@ -101,7 +97,7 @@ def cpu_chains(lanes: int) -> int:
     return max(1, min(8, CPU_PIXELS_IN_FLIGHT // max(lanes, 1)))
 
 
-def kernel_source(name: str = "marble.cl") -> str:
+def kernel_source(name: str = "walk.cl") -> str:
     """An OpenCL source (a path under kernels/) from the installed package, or from
     the repository's kernels/."""
     packaged = resources.files("marblevideo") / "kernels" / name
@@ -112,10 +108,10 @@ def kernel_source(name: str = "marble.cl") -> str:
 
 def program_source() -> str:
     """The program's source without its generated header: the prelude, each op
-    family's sections (kernels/ops/<family>.cl, in registry order), marble.cl and
-    lattice.cl."""
+    family's sections (kernels/ops/<family>.cl, in registry order) and
+    :data:`KERNEL_FILES`."""
     families = dict.fromkeys(d.family for d in REGISTRY.values())
-    parts = ["prelude.cl", *(f"ops/{family}.cl" for family in families), "marble.cl", "lattice.cl"]
+    parts = ["prelude.cl", *(f"ops/{family}.cl" for family in families), *KERNEL_FILES]
     return "\n".join(kernel_source(name) for name in parts)
 
 
@@ -132,11 +128,6 @@ class Packed:
     def key(self) -> bytes:
         """The bytes that decide where every subsample lands (for reused maps)."""
         return self.params.tobytes() + b"|" + self.lists.tobytes()
-
-
-#: The type code of an op that is still this frame (:meth:`OpDef.still`): the
-#: walk skips it (no case of the loop walk's switch; a test in the unrolled one).
-STILL_CODE = -1
 
 
 def pack_params(spec: FrameSpec) -> Packed:
@@ -181,27 +172,6 @@ class Structure:
         """The structure of a FrameSpec or a Recipe (both have ops with a type,
         antialias and edges)."""
         return cls(tuple(op.type for op in spec.ops), spec.antialias, spec.edges, has_input)
-
-
-def walk_source(types: tuple[str, ...] | None) -> str:
-    """The generated header that bakes a recipe's structure into the program: WALK
-    calls every op's section, last op first, and INK resolves the ink ops' hits
-    (see kernels/marble.cl). ``types`` None is the loop walk, which serves every
-    recipe: both loop over the frame's ops (their number is the first float of
-    ``lists``) and switch on the type code, with one case per registered op type."""
-    if types is None:
-        cases = " ".join(f"case {d.code}: OP(i, {d.type}) break;" for d in REGISTRY.values())
-        ink = " || ".join(f"code_ == {d.code}" for d in REGISTRY.values() if d.ink)
-        return (
-            "#define NOPS ((int)lists[0])\n"
-            "#define WALK for (int i = NOPS - 1; i >= 0; i--) "
-            f"{{ switch ((int)PARAMS(i)[PSTRIDE - 1]) {{ {cases} }} }}\n"
-            "#define INK for (int i = 0; i < NOPS; i++) "
-            f"{{ const int code_ = (int)PARAMS(i)[PSTRIDE - 1]; if ({ink}) INK_COLOR(i) }}\n"
-        )
-    walk = " ".join(f"OP({i}, {op_def(t).type})" for i, t in reversed(list(enumerate(types))))
-    ink = " ".join(f"INK_COLOR({i})" for i, t in enumerate(types) if is_ink(t))
-    return f"#define WALK {walk}\n#define INK {ink}\n"
 
 
 @dataclass(frozen=True)
@@ -324,13 +294,12 @@ class Programs:
             f"-DROWS={rows}",
             f"-DNSAMPLES={nsamples}",
             f"-DHAS_INPUT={int(structure.has_input)}",
-            f"-DEDGES={EDGE_MODES.index(structure.edges)}",
+            f"-DEDGES={edges_macro(structure.edges)}",
             f"-DYLANES={self.yuv_lanes}",
-            f"-DPSTRIDE={PSTRIDE}",
-            f"-DCOLOR_SLOT={COLOR_SLOTS[0]}",
         ]
-        program = self.build_program(walk_source(structure.types) + self.source, options)
-        kernels = {name: self._cl.Kernel(program, name) for name in KERNEL_NAMES}
+        source = header_source() + walk_source(structure.types) + self.source
+        program = self.build_program(source, options)
+        kernels = {k.function_name: k for k in program.all_kernels()}
         built = self._built[structure] = Built(kernels, rows, chains)
         return built
 

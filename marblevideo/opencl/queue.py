@@ -24,7 +24,7 @@ CPU_GROUP = 128
 def geometry_args(geom) -> tuple:
     """A render's :class:`~marblevideo.recipe.frame.Geometry` as the kernels' two
     float4 arguments (output -> canvas, canvas -> input; no wider vector: see
-    marble.cl), and its 8 float32s."""
+    kernels/prelude.cl), and its 8 float32s."""
     geo = np.array([*geom.to_canvas, *geom.to_input], dtype=np.float32)
     return (float4(geo[:4]), float4(geo[4:])), geo
 

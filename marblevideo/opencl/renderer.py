@@ -64,6 +64,64 @@ def to_rgba(image: np.ndarray) -> np.ndarray:
     return np.ascontiguousarray(image)
 
 
+def rgba_io(queue: DeviceQueue, rgba: np.ndarray | None, out, wait: bool, errors):
+    """(put, fetch) of an RGBA frame for :meth:`Renderer._render`: the input
+    ``rgba`` (None: a blank sheet) up, the result into ``out`` (or a new array)."""
+
+    def put(built, padded, uploads: list) -> None:
+        uploads.append(queue.put_rgba(rgba, padded))
+
+    def fetch(built, dst, w: int, h: int, uploads: list):
+        result = np.empty((h, w, 4), np.uint8) if out is None else out
+        return queue.download(result, dst, wait, uploads, errors)
+
+    return put, fetch
+
+
+def i420_io(queue: DeviceQueue, yl: int, planes, matrices, out, wait: bool, errors):
+    """(put, fetch) of an I420 frame converted on the device for
+    :meth:`Renderer._render`: ``planes`` (Y, U, V; None: a blank sheet) up and
+    to RGBA through ``matrices[0]``, the result to I420 through ``matrices[1]``
+    (kernel matrices, :attr:`YuvMatrix.kernel_args`) into ``out``; ``yl``: the
+    I420 kernels' lanes."""
+    from pyopencl.cltypes import float16
+
+    to_rgb, to_yuv = matrices
+
+    def put(built, padded, uploads: list) -> None:
+        sh, sw = planes[0].shape
+        staged = queue.put_i420(planes, uploads)
+        k = built.kernels["marble_from_i420"]
+        first, row = np.int32(sw + 3), np.int32(sw + 2)  # pixel (0, 0) of the frame, a row
+        k.set_args(padded, first, row, staged, np.int32(sw), np.int32(sh), to_rgb.view(float16)[0])
+        queue.launch(k, -(-sw // yl) * (sh // 2))
+
+    def fetch(built, dst, w: int, h: int, uploads: list):
+        result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
+        staged = queue.buffer("i420_out", result.nbytes)
+        k = built.kernels["marble_to_i420"]
+        k.set_args(staged, dst, np.int32(w), np.int32(h), to_yuv.view(float16)[0])
+        queue.launch(k, -(-w // yl) * (h // 2))
+        return queue.download(result, staged, wait, uploads, errors)
+
+    return put, fetch
+
+
+def padded_input(queue: DeviceQueue, built: Built, size, put, background, uploads: list):
+    """The buffer of an input of ``size`` (w, h) that ``put`` writes, inside a
+    one-pixel border that marble_pad fills for the edges mode (``background``:
+    0..255 RGB); a blank sheet (None) gets a placeholder."""
+    if size is None:
+        return queue.buffer("padded", 4)
+    sw, sh = size
+    src = queue.buffer("padded", (sw + 2) * (sh + 2) * 4)
+    put(built, src, uploads)
+    k = built.kernels["marble_pad"]
+    k.set_args(src, np.int32(sw), np.int32(sh), np.uint32(packed_color(background)))
+    queue.launch(k, 2 * (sw + 2) + 2 * sh)
+    return src
+
+
 class Renderer:
     """Renders :class:`FrameSpec` s on one OpenCL device.
 
@@ -74,7 +132,7 @@ class Renderer:
     GPUs). ``lanes`` is 1, 4, 8 or 16.
     ``adaptive`` samples the full antialiasing pattern only where a pixel's
     neighbourhood shows an ink edge or a strongly curved map, one walk
-    elsewhere (see marble.cl); False evaluates the full pattern everywhere;
+    elsewhere (see kernels/adaptive.cl); False evaluates the full pattern everywhere;
     None (default) is adaptive on blank sheets only, where it halves the time,
     while over an input its four bilinear fetches per pixel stay and the
     centre pass measured slower than the full pattern (BENCHMARKS.md); and
@@ -84,7 +142,7 @@ class Renderer:
     ``reuse_maps``: over an input, when a frame's values, geometry and sizes
     equal the previous frame's (a static recipe over a video), where every
     subsample lands is recorded once and later frames only fetch and blend
-    (within one level of a fresh walk; see marble.cl). False walks every frame.
+    (within one level of a fresh walk; see kernels/tables.cl). False walks every frame.
     A render called with ``static=True`` (the caller knows that later frames
     repeat its values, as a static recipe over a video does) fills the table
     on its first frame already, instead of walking afresh and then again into
@@ -184,15 +242,7 @@ class Renderer:
         """
         rgba = None if image is None else to_rgba(image)
         size = None if rgba is None else (rgba.shape[1], rgba.shape[0])
-        queue = self.device_queue
-
-        def put(built, padded, uploads: list) -> None:
-            uploads.append(queue.put_rgba(rgba, padded))
-
-        def fetch(built, dst, w: int, h: int, uploads: list):
-            result = np.empty((h, w, 4), np.uint8) if out is None else out
-            return queue.download(result, dst, wait, uploads, self.errors)
-
+        put, fetch = rgba_io(self.device_queue, rgba, out, wait, self.errors)
         return self._render(spec, geom, size, put, fetch, static, lattice)
 
     def render_i420(
@@ -233,9 +283,8 @@ class Renderer:
         """
         if geom.out_w % 2 or geom.out_h % 2:
             raise ValueError(f"I420 output needs even sizes, got {geom.out_w}x{geom.out_h}")
-        queue, yl = self.device_queue, self.yuv_lanes
         self.adaptive_walk.last_full_pixels = None
-        size = None
+        size, to_rgb = None, None
         if planes is not None:
             planes = split_i420(planes)
             sh, sw = planes[0].shape
@@ -246,26 +295,15 @@ class Renderer:
                 )
                 return frame
             size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
-        to_yuv = dst_matrix.kernel_args[1]
-        float16 = self._cl.cltypes.float16
-
-        def put(built, padded, uploads: list) -> None:
-            staged = queue.put_i420(planes, uploads)
-            k = built.kernels["marble_from_i420"]
-            first, row = np.int32(sw + 3), np.int32(sw + 2)  # pixel (0, 0) of the frame, a row
-            k.set_args(
-                padded, first, row, staged, np.int32(sw), np.int32(sh), to_rgb.view(float16)[0]
-            )
-            queue.launch(k, -(-sw // yl) * (sh // 2))
-
-        def fetch(built, dst, w: int, h: int, uploads: list):
-            result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
-            staged = queue.buffer("i420_out", result.nbytes)
-            k = built.kernels["marble_to_i420"]
-            k.set_args(staged, dst, np.int32(w), np.int32(h), to_yuv.view(float16)[0])
-            queue.launch(k, -(-w // yl) * (h // 2))
-            return queue.download(result, staged, wait, uploads, self.errors)
-
+        put, fetch = i420_io(
+            self.device_queue,
+            self.yuv_lanes,
+            planes,
+            (to_rgb, dst_matrix.kernel_args[1]),
+            out,
+            wait,
+            self.errors,
+        )
         return self._render(spec, geom, size, put, fetch, static, lattice and planes is not None)
 
     def _render(
@@ -306,14 +344,7 @@ class Renderer:
         with self.errors():
             uploads: list = []
             pbuf, lbuf = queue.put_params(packed, uploads)
-            if has_input:  # inside a border that marble_pad fills for the edges mode
-                src = queue.buffer("padded", (sw + 2) * (sh + 2) * 4)
-                put(built, src, uploads)
-                k = built.kernels["marble_pad"]
-                k.set_args(src, np.int32(sw), np.int32(sh), np.uint32(packed_color(bg)))
-                queue.launch(k, 2 * (sw + 2) + 2 * sh)
-            else:
-                src = queue.buffer("padded", 4)
+            src = padded_input(queue, built, size, put, bg, uploads)
             dst = queue.buffer("dst", w * h * 4)
             samples = queue.samples(spec.antialias)
             common = (src, np.int32(sw), np.int32(sh), pbuf, samples, *maps, float4(bg + [255.0]))

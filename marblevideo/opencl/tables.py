@@ -1,7 +1,7 @@
 """Reused maps: over an input, a frame whose values, geometry and sizes equal the
 last frame's lands every subsample where it landed before (a static recipe over
 a video), so where every subsample lands is recorded once in a table and later
-frames only fetch and blend (within one level of a fresh walk; see marble.cl).
+frames only fetch and blend (within one level of a fresh walk; see kernels/tables.cl).
 
 A frame is drawn from the tables when its maps (its *key*: structure, packed
 values, geometry, sizes) equal the last frame's, or when the caller promises

@@ -1,7 +1,7 @@
 """Walked frames: every subsample walked afresh (:class:`FreshWalk`), or the full
 pattern only where a pixel needs it (:class:`AdaptiveWalk`).
 
-Adaptive antialiasing runs three passes (see marble.cl): one walk at every
+Adaptive antialiasing runs three passes (see kernels/adaptive.cl): one walk at every
 pixel centre of a grid one pixel larger than the output, a classification of
 each pixel's 3x3 neighbourhood (one ink all round: that ink; none: the
 background, or over a smooth map the pattern's samples interpolated from the

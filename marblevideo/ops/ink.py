@@ -24,20 +24,25 @@ def contains(v: Values, x: np.ndarray, y: np.ndarray) -> np.ndarray:
     return np.hypot(x - cx, y - cy) < v["radius"]
 
 
-def pack_circle(v: Values, lists: list) -> tuple[float, ...]:
-    """cx, cy, r^2, red, green, blue (the colour at COLOR_SLOTS)."""
-    return (*v["center"], v["radius"] ** 2, *v["color"])
+#: An ink circle's packed floats: its centre, r^2 and colour (at COLOR_SLOTS).
+CIRCLE_SLOTS = ("cx", "cy", "r2", "red", "green", "blue")
+#: A drop's: its circle, then the sum of r^2 of the drops with its centre walked
+#: just before it (a run of concentric drops), and 1 where it moves the point (the
+#: last drop of its run walked; 0 for the others).
+DROP_SLOTS = (*CIRCLE_SLOTS, "run_offset", "run_moves")
+RUN_OFFSET, RUN_MOVES = DROP_SLOTS.index("run_offset"), DROP_SLOTS.index("run_moves")
+R2 = CIRCLE_SLOTS.index("r2")
 
 
-#: A drop's slots after its circle: the sum of r^2 of the drops with its centre
-#: walked just before it (a run of concentric drops), and 1 where it moves the
-#: point (the last drop of its run walked; 0 for the others)
-RUN_OFFSET, RUN_MOVES = 6, 7
+def pack_circle(v: Values, lists: list) -> dict[str, float]:
+    """cx, cy, r^2, red, green, blue."""
+    (cx, cy), (red, green, blue) = v["center"], v["color"]
+    return {"cx": cx, "cy": cy, "r2": v["radius"] ** 2, "red": red, "green": green, "blue": blue}
 
 
-def pack_drop(v: Values, lists: list) -> tuple[float, ...]:
+def pack_drop(v: Values, lists: list) -> dict[str, float]:
     """:func:`pack_circle`, then a run of one (see :func:`link_concentric_drops`)."""
-    return (*pack_circle(v, lists), 0.0, 1.0)
+    return {**pack_circle(v, lists), "run_offset": 0.0, "run_moves": 1.0}
 
 
 def link_concentric_drops(ops, rows: np.ndarray, walked: list[int] | None = None) -> None:
@@ -69,7 +74,7 @@ def link_concentric_drops(ops, rows: np.ndarray, walked: list[int] | None = None
         offset = 0.0
         for k in reversed(order[m : n + 1]):  # walk order: i first
             rows[k, RUN_OFFSET], rows[k, RUN_MOVES] = offset, float(k == order[m])
-            offset += rows[k, 2]
+            offset += rows[k, R2]
         n = m - 1
 
 
@@ -114,6 +119,7 @@ DROP = OpDef(
     help="Ink drop: paint outside is pushed away, its area preserved.",
     params=(CENTER, RADIUS, COLOR),
     progress=(("radius", "sqrt"),),
+    slots=DROP_SLOTS,
     pack=pack_drop,
     inverse=drop_inverse,
     forward=drop_forward,
@@ -137,6 +143,7 @@ SPRAY = OpDef(
     help="A droplet of ink that does not deform the pattern.",
     params=(CENTER, RADIUS, COLOR),
     progress=(("radius", "sqrt"),),
+    slots=CIRCLE_SLOTS,
     pack=pack_circle,
     inverse=identity,
     forward=identity,

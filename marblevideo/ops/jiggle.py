@@ -64,13 +64,22 @@ def inverse(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
     return x - along * mx + across * my, y - along * my - across * mx
 
 
-def pack(v: Values, lists: list) -> tuple[float, ...]:
-    """mx, my, 1/wavelength, phase in turns, A, B, k A (the derivative's term), then
-    what float32 loses of the first four (the kernel adds them back in float64)."""
+#: A jiggle's packed floats: M, 1/wavelength, the phase in turns, A, B, k A (the
+#: derivative's term), then what float32 loses of the first four (``_lo``; the
+#: kernel adds them back in float64).
+EXACT_SLOTS = ("mx", "my", "inv_wavelength", "phase_turns")
+SLOTS = (*EXACT_SLOTS, "major", "minor", "ka", *(f"{name}_lo" for name in EXACT_SLOTS))
+
+
+def pack(v: Values, lists: list) -> dict[str, float]:
+    """:data:`SLOTS`: each exact value as its float32 part and the rest."""
     mx, my, k, _, a, b = _terms(v)
     exact = (mx, my, 1.0 / v["wavelength"], (v["phase"] / 360.0) % 1.0)
-    high = tuple(float(np.float32(c)) for c in exact)
-    return (*high, a, b, k * a, *(c - h for c, h in zip(exact, high, strict=True)))
+    row = {"major": a, "minor": b, "ka": k * a}
+    for name, value in zip(EXACT_SLOTS, exact, strict=True):
+        row[name] = high = float(np.float32(value))
+        row[f"{name}_lo"] = value - high
+    return row
 
 
 def check(op, tracks) -> list:
@@ -121,6 +130,7 @@ JIGGLE = OpDef(
         Param("minor", "number", "Amplitude B across the shake (canvas units).", "amplitude"),
     ),
     progress=(("major", "linear"), ("minor", "linear")),
+    slots=SLOTS,
     pack=pack,
     inverse=inverse,
     forward=forward,

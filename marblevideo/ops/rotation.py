@@ -23,7 +23,7 @@ from marblevideo.ops.base import (
     direction,
 )
 from marblevideo.ops.gestures import Tool
-from marblevideo.ops.series import pack_series
+from marblevideo.ops.series import SERIES_SLOTS, pack_series
 
 
 def _rotate(sign: float, circle: bool):
@@ -44,10 +44,16 @@ def _rotate(sign: float, circle: bool):
     return move
 
 
-def pack_rotation(v: Values, lists: list) -> tuple[float, ...]:
-    """cx, cy, r (0 for a vortex), alpha lambda / (2 pi), lambda: theta in turns."""
-    radius = v.get("radius", 0.0)
-    return (*v["center"], radius, v["alpha"] * v["lambda"] / (2 * math.pi), v["lambda"])
+#: A circle's and a vortex's packed floats (the kernel's op_vortex is op_circle):
+#: theta in turns = turns / ((|R - r| + lambda) R).
+ROTATION_SLOTS = ("cx", "cy", "radius", "turns", "lambda")
+
+
+def pack_rotation(v: Values, lists: list) -> dict[str, float]:
+    """cx, cy, r (0 for a vortex), alpha lambda / (2 pi), lambda."""
+    (cx, cy), lam = v["center"], v["lambda"]
+    turns = v["alpha"] * lam / (2 * math.pi)
+    return {"cx": cx, "cy": cy, "radius": v.get("radius", 0.0), "turns": turns, "lambda": lam}
 
 
 TURNS = ALPHA.but(help="Arc length of the motion; positive turns clockwise on screen.")
@@ -62,6 +68,7 @@ CIRCLE = OpDef(
         LAMBDA,
     ),
     progress=(("alpha", "linear"),),
+    slots=ROTATION_SLOTS,
     pack=pack_rotation,
     inverse=_rotate(-1.0, circle=True),
     forward=_rotate(1.0, circle=True),
@@ -85,6 +92,7 @@ VORTEX = OpDef(
     help="A swirl that winds tighter towards its centre.",
     params=(CENTER, TURNS, LAMBDA),
     progress=(("alpha", "linear"),),
+    slots=ROTATION_SLOTS,
     pack=pack_rotation,
     inverse=_rotate(-1.0, circle=False),
     forward=_rotate(1.0, circle=False),
@@ -115,9 +123,10 @@ def _turn(sign: float):
     return move
 
 
-def pack_turn(v: Values, lists: list) -> tuple[float, ...]:
+def pack_turn(v: Values, lists: list) -> dict[str, float]:
     """cx, cy, cos a, sin a."""
-    return (*v["center"], *direction(v["angle"]))
+    (cx, cy), (ca, sa) = v["center"], direction(v["angle"])
+    return {"cx": cx, "cy": cy, "cos": ca, "sin": sa}
 
 
 TURN = OpDef(
@@ -128,6 +137,7 @@ TURN = OpDef(
         ANGLE.but(help="Rotation in degrees; positive turns clockwise on screen."),
     ),
     progress=(("angle", "linear"),),
+    slots=("cx", "cy", "cos", "sin"),
     pack=pack_turn,
     inverse=_turn(-1.0),
     forward=_turn(1.0),
@@ -159,14 +169,19 @@ def _stir_theta(v: Values, big_r: np.ndarray) -> np.ndarray:
     return np.divide(arc, big_r, out=np.zeros_like(arc), where=big_r > 0)
 
 
-def pack_stir(v: Values, lists: list) -> tuple[float, ...]:
+#: A stir's packed floats: the centre, alpha / (2 pi), 1/falloff, then its rings.
+STIR_SLOTS = ("cx", "cy", "turns", "inv_falloff", *SERIES_SLOTS)
+
+
+def pack_stir(v: Values, lists: list) -> dict[str, float]:
     """cx, cy, alpha / (2 pi) (turns), 1/falloff, and the rings as a series of
     |r_i| with coefficients sign(r_i) (where their data start in ``lists``, how
     many, whether in closed form: :mod:`marblevideo.ops.series`)."""
     radii = [float(r) for r in v["radii"]]
     signs = [math.copysign(1.0, r) for r in radii]
     series = pack_series([abs(r) for r in radii], signs, v["falloff"], lists)
-    return (*v["center"], v["alpha"] / (2 * math.pi), 1.0 / v["falloff"], *series)
+    (cx, cy), turns = v["center"], v["alpha"] / (2 * math.pi)
+    return {"cx": cx, "cy": cy, "turns": turns, "inv_falloff": 1.0 / v["falloff"], **series}
 
 
 STIR = OpDef(
@@ -184,6 +199,7 @@ STIR = OpDef(
         FALLOFF,
     ),
     progress=(("alpha", "linear"),),
+    slots=STIR_SLOTS,
     pack=pack_stir,
     inverse=_rotate_by(_stir_theta, -1.0),
     forward=_rotate_by(_stir_theta, 1.0),
@@ -215,14 +231,20 @@ def _oseen_theta(v: Values, big_r: np.ndarray) -> np.ndarray:
     return g * ((4 * nu) ** 0.75 + (2 * math.pi * big_r**2 / t) ** 0.75) ** (-4.0 / 3.0)
 
 
-def pack_oseen(v: Values, lists: list) -> tuple[float, ...]:
-    """cx, cy, G / (2 pi) (turns; 0 when T = 0), (4 nu)^(3/4), (2 pi / T)^(3/4), so that
-    theta = G (a + c R^(3/2))^(-4/3)."""
-    t = v["time"]
+def pack_oseen(v: Values, lists: list) -> dict[str, float]:
+    """cx, cy, G / (2 pi) (turns; 0 when T = 0), a = (4 nu)^(3/4), c = (2 pi / T)^(3/4),
+    so that theta = G (a + c R^(3/2))^(-4/3)."""
+    (cx, cy), t = v["center"], v["time"]
     if t <= 0:
-        return (*v["center"], 0.0, 1.0, 0.0)
+        return {"cx": cx, "cy": cy, "turns": 0.0, "a": 1.0, "c": 0.0}
     g = v["circulation"] / (2 * math.pi)
-    return (*v["center"], g, (4 * v["viscosity"]) ** 0.75, (2 * math.pi / t) ** 0.75)
+    return {
+        "cx": cx,
+        "cy": cy,
+        "turns": g,
+        "a": (4 * v["viscosity"]) ** 0.75,
+        "c": (2 * math.pi / t) ** 0.75,
+    }
 
 
 OSEEN = OpDef(
@@ -240,6 +262,7 @@ OSEEN = OpDef(
         Param("time", "nonnegative", "Seconds the vortex has acted, T >= 0.", "time"),
     ),
     progress=(("time", "linear"),),
+    slots=("cx", "cy", "turns", "a", "c"),
     pack=pack_oseen,
     inverse=_rotate_by(_oseen_theta, -1.0),
     forward=_rotate_by(_oseen_theta, 1.0),

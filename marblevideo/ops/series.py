@@ -20,21 +20,26 @@ SERIES_MIN = 4
 MIN_RATIO = 0.05
 
 
+#: A series' packed floats (an op's last slots): where its data start in
+#: ``lists``, how many terms, 1.0 when in closed form else 0.0.
+SERIES_SLOTS = ("series_at", "series_n", "series_even")
+
+
 def pack_series(
     positions: list[float], coefficients: list[float], falloff: float, lists: list
-) -> tuple[int, int, float]:
-    """Append the sum's data to ``lists``; (where they start, n, 1.0 when in closed
-    form else 0.0). Closed form: o0, 1/s, s, s/L, 1/(1 - sigma q), c0, sigma,
-    sigma^(n-1), with q = e^(-s/L), for o_k = o0 + k s (sorted) and c_k = c0
-    sigma^k; term by term: the n positions, then the n coefficients."""
+) -> dict[str, float]:
+    """Append the sum's data to ``lists``; its :data:`SERIES_SLOTS`. Closed form:
+    o0, 1/s, s, s/L, 1/(1 - sigma q), c0, sigma, sigma^(n-1), with q = e^(-s/L),
+    for o_k = o0 + k s (sorted) and c_k = c0 sigma^k; term by term: the n
+    positions, then the n coefficients."""
     at, n = len(lists), len(positions)
     closed = _closed_form(positions, coefficients, falloff) if n >= SERIES_MIN else None
     if closed is not None:
         lists.extend(closed)
-        return at, n, 1.0
+        return {"series_at": at, "series_n": n, "series_even": 1.0}
     lists.extend(float(o) for o in positions)
     lists.extend(float(c) for c in coefficients)
-    return at, n, 0.0
+    return {"series_at": at, "series_n": n, "series_even": 0.0}
 
 
 def _closed_form(positions, coefficients, falloff: float) -> tuple[float, ...] | None:

@@ -23,7 +23,7 @@ from marblevideo.ops.base import (
     direction,
 )
 from marblevideo.ops.gestures import Tool
-from marblevideo.ops.series import pack_series
+from marblevideo.ops.series import SERIES_SLOTS, pack_series
 
 
 def _tine_shift(v: Values, x: np.ndarray, y: np.ndarray, comb: bool):
@@ -57,20 +57,41 @@ def _shear(shift, sign: float, comb: bool = False):
     return move
 
 
-def pack_tine(v: Values, lists: list) -> tuple[float, ...]:
-    """ax, ay, M, N, alpha lambda, lambda; for a comb then spacing, 1/spacing, spacing/2."""
+#: A line's packed floats: a point A on it, its direction M and normal N.
+LINE_SLOTS = ("ax", "ay", "mx", "my", "nx", "ny")
+TINE_SLOTS = (*LINE_SLOTS, "alpha_lambda", "lambda")
+#: A comb's: a tine's, then the spacing s, 1/s and s/2.
+COMB_SLOTS = (*TINE_SLOTS, "spacing", "inv_spacing", "half_spacing")
+WAVE_SLOTS = ("amplitude", "inv_wavelength", "phase_turns", "cos", "sin")
+
+
+def pack_line(v: Values) -> dict[str, float]:
+    """A, M = (cos a, sin a) and N = (-sin a, cos a)."""
     ca, sa = direction(v["angle"])
-    row = (*v["point"], ca, sa, -sa, ca, v["alpha"] * v["lambda"], v["lambda"])
+    (ax, ay) = v["point"]
+    return {"ax": ax, "ay": ay, "mx": ca, "my": sa, "nx": -sa, "ny": ca}
+
+
+def pack_tine(v: Values, lists: list) -> dict[str, float]:
+    """The line, alpha lambda, lambda; for a comb then spacing, 1/spacing, spacing/2."""
+    row = {**pack_line(v), "alpha_lambda": v["alpha"] * v["lambda"], "lambda": v["lambda"]}
     if "spacing" in v:
         s = v["spacing"]
-        row += (s, 1.0 / s, s / 2.0)
+        row.update(spacing=s, inv_spacing=1.0 / s, half_spacing=s / 2.0)
     return row
 
 
-def pack_wave(v: Values, lists: list) -> tuple[float, ...]:
+def pack_wave(v: Values, lists: list) -> dict[str, float]:
     """amplitude, 1/wavelength, phase in turns, cos t, sin t."""
     ct, st = direction(v["angle"])
-    return (v["amplitude"], 1.0 / v["wavelength"], v["phase"] / 360.0, ct, st)
+    inv_w, turns = 1.0 / v["wavelength"], v["phase"] / 360.0
+    return {
+        "amplitude": v["amplitude"],
+        "inv_wavelength": inv_w,
+        "phase_turns": turns,
+        "cos": ct,
+        "sin": st,
+    }
 
 
 SPACING = Param("spacing", "positive", "Distance between tines in canvas units, > 0.", "length")
@@ -80,6 +101,7 @@ TINE = OpDef(
     help="One tine drawn along a straight line.",
     params=(POINT, ANGLE, ALPHA, LAMBDA),
     progress=(("alpha", "linear"),),
+    slots=TINE_SLOTS,
     pack=pack_tine,
     inverse=_shear(_tine_shift, -1.0),
     forward=_shear(_tine_shift, 1.0),
@@ -103,6 +125,7 @@ COMB = OpDef(
     help="A rigid comb of parallel tines, `spacing` apart.",
     params=(POINT, ANGLE, SPACING, ALPHA, LAMBDA),
     progress=(("alpha", "linear"),),
+    slots=COMB_SLOTS,
     pack=pack_tine,
     inverse=_shear(_tine_shift, -1.0, comb=True),
     forward=_shear(_tine_shift, 1.0, comb=True),
@@ -140,6 +163,7 @@ WAVE = OpDef(
         ANGLE.but(help="Direction of the displacement in degrees: 0 is +x, 90 is +y (down)."),
     ),
     progress=(("amplitude", "linear"),),
+    slots=WAVE_SLOTS,
     pack=pack_wave,
     inverse=_shear(_wave_shift, -1.0),
     forward=_shear(_wave_shift, 1.0),
@@ -172,7 +196,8 @@ SHIFT = OpDef(
     help="The whole tank moved by `offset`.",
     params=(Param("offset", "point", "The motion [dx, dy] in canvas units.", handle=False),),
     progress=(("offset", "linear"),),
-    pack=lambda v, lists: tuple(v["offset"]),
+    slots=("dx", "dy"),
+    pack=lambda v, lists: dict(zip(("dx", "dy"), v["offset"], strict=True)),
     inverse=_offset(-1.0),
     forward=_offset(1.0),
     tools=(Tool("line", {"offset": {"round1": ["dx", "dy"]}}, label="offset"),),
@@ -200,13 +225,16 @@ def _rake_shift(v: Values, x: np.ndarray, y: np.ndarray, comb: bool = False):
     return v["alpha"] * total, mx, my
 
 
-def pack_rake(v: Values, lists: list) -> tuple[float, ...]:
-    """ax, ay, M, N, alpha, 1/falloff, and its tines as a series (where their data
+#: A rake's packed floats: the line, alpha, 1/falloff, then its tines as a series.
+RAKE_SLOTS = (*LINE_SLOTS, "alpha", "inv_falloff", *SERIES_SLOTS)
+
+
+def pack_rake(v: Values, lists: list) -> dict[str, float]:
+    """The line, alpha, 1/falloff, and its tines as a series (where their data
     start in ``lists``, how many, whether in closed form: :mod:`marblevideo.ops.series`)."""
-    ca, sa = direction(v["angle"])
     offsets = rake_offsets(v)
     series = pack_series(offsets, [1.0] * len(offsets), v["falloff"], lists)
-    return (*v["point"], ca, sa, -sa, ca, v["alpha"], 1.0 / v["falloff"], *series)
+    return {**pack_line(v), "alpha": v["alpha"], "inv_falloff": 1.0 / v["falloff"], **series}
 
 
 def check_rake(op, tracks) -> list:
@@ -246,6 +274,7 @@ RAKE = OpDef(
         ),
     ),
     progress=(("alpha", "linear"),),
+    slots=RAKE_SLOTS,
     pack=pack_rake,
     inverse=_shear(_rake_shift, -1.0),
     forward=_shear(_rake_shift, 1.0),

@@ -184,7 +184,11 @@ def _rows(flat, width: float, tines, drag: float, travel: float) -> tuple[tuple,
     return tuple(rows.ravel().tolist()), (*lo.tolist(), *hi.tolist())
 
 
-def pack(v: Values, lists: list) -> tuple[float, ...]:
+#: A stroke's packed floats (:func:`pack`).
+SLOTS = ("steps_at", "steps_n", "inv_w2", "reach2", "xmin", "ymin", "xmax", "ymax")
+
+
+def pack(v: Values, lists: list) -> dict[str, float]:
     """Where the steps start in ``lists``, how many, 1/w^2, (3w/2)^2 (a step's
     reach from its centre), and the bounding box xmin, ymin, xmax, ymax of every
     acting step's reach. Each step: cx, cy, hx, hy, theta e_k (radians, at most
@@ -195,7 +199,9 @@ def pack(v: Values, lists: list) -> tuple[float, ...]:
     )
     at = len(lists)
     lists.extend(rows)
-    return (at, len(rows) // STEP_FLOATS, 1.0 / (w * w), (1.5 * w) ** 2, *box)
+    steps = {"steps_at": at, "steps_n": len(rows) // STEP_FLOATS}
+    reach = {"inv_w2": 1.0 / (w * w), "reach2": (1.5 * w) ** 2}
+    return {**steps, **reach, **dict(zip(("xmin", "ymin", "xmax", "ymax"), box, strict=True))}
 
 
 def _drag_faults(track) -> list:
@@ -279,6 +285,7 @@ STROKE = OpDef(
         ),
     ),
     travels=True,
+    slots=SLOTS,
     tools=(
         Tool(
             "path", {"points": "path", "width": {"round1": "setting.width"}, "drag": "setting.drag"}
