@@ -14,7 +14,6 @@ from __future__ import annotations
 import copy
 import json
 import math
-import os
 import re
 import subprocess
 import sys
@@ -22,6 +21,7 @@ import warnings
 
 import numpy as np
 import pytest
+from helpers import subprocess_env
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from recipes import random_recipe
@@ -270,7 +270,6 @@ def test_mutations_through_the_command_line(tmp_path_factory, doc):
     """Exit 0 with a picture, or exit 2 with one line naming the file; never a traceback."""
     folder = tmp_path_factory.mktemp("cli")
     (folder / "r.json").write_text(json.dumps(doc))
-    from conftest import ROOT
 
     proc = subprocess.run(
         [sys.executable, "-m", "marblevideo", "--ops", "r.json", "-o", "o.png", "--size", "16x12"],
@@ -278,7 +277,7 @@ def test_mutations_through_the_command_line(tmp_path_factory, doc):
         capture_output=True,
         text=True,
         timeout=120,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        env=subprocess_env(),
     )
     assert "Traceback" not in proc.stderr
     left = sorted(p.name for p in folder.iterdir())

@@ -14,6 +14,7 @@ import time
 import av
 import numpy as np
 import pytest
+from helpers import ROOT
 
 from marblevideo.errors import UsageError
 from marblevideo.live.controls import Clock, sliders, with_overrides
@@ -21,7 +22,7 @@ from marblevideo.live.preview import PreviewServer
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import Latest, TestPattern
 from marblevideo.recipe import parse_recipe
-from tests.live_helpers import RECIPE, ROOT, LiveProcess
+from tests.live_helpers import RECIPE, LiveProcess
 
 SWIRL = ROOT / "samples" / "swirl.json"
 

@@ -12,10 +12,11 @@ import json
 import math
 
 import numpy as np
+from helpers import ROOT
 from test_design_browser import INK, drag, frames, settled, wait_for
 
 from marblevideo.recipe.frame import fit
-from tests.live_helpers import ROOT, LiveProcess, watched_page
+from tests.live_helpers import LiveProcess, watched_page
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
 #: The S drawn, in frame pixels: through the drop at (300, 200) at its middle.

@@ -7,6 +7,7 @@ import av
 import numpy as np
 import pytest
 from clips import picture, probe, write_clip
+from helpers import fresh_renderer
 from tolerances import (
     LOSSY_MEAN,
     PLANAR_DIFFERING,
@@ -20,7 +21,6 @@ from marblevideo.marbler import Marbler
 from marblevideo.media.pipeline import render_sheet, transcode
 from marblevideo.media.video import VideoOptions
 from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, packed_i420, split_i420
-from marblevideo.opencl.renderer import Renderer
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
@@ -232,7 +232,8 @@ def test_device_planar_frames_match_the_reference(lanes, case):
     """Same matrix in and out: the planes are warped on the device as render_planes
     does, on a fresh walk and then from the tables of reused maps."""
     antialias, edges, in_size, out_size = case
-    renderer = Renderer(lanes=lanes, chains=1 if lanes == 1 else None)
+    # fresh: the first frame walks, the next reuse its maps
+    renderer = fresh_renderer(lanes=lanes, chains=1 if lanes == 1 else None)
     recipe = parse_recipe({**RECIPE, "antialias": antialias, "edges": edges}, "t.json")
     spec, geom = recipe.at(0, in_size), geometry(in_size, out_size, in_size)
     planes = frame_of(photo_like(*in_size), MATRICES[2])
@@ -245,7 +246,7 @@ def test_device_planar_frames_match_the_reference(lanes, case):
         assert diff.max() <= PLANAR_MAX and (diff > 0).mean() < PLANAR_DIFFERING
         reused.append(renderer.last_reused)
     assert reused == [False, True, True]
-    static = Renderer(lanes=lanes, chains=1 if lanes == 1 else None)
+    static = fresh_renderer(lanes=lanes, chains=1 if lanes == 1 else None)
     ours = static.render_i420(spec, geom, planes, MATRICES[2], MATRICES[2], static=True)
     assert static.last_reused  # the tables from the first frame on
     assert np.abs(ours.astype(int) - expected).max() <= 1
@@ -254,7 +255,7 @@ def test_device_planar_frames_match_the_reference(lanes, case):
 def test_planar_frames_change_with_the_maps_and_the_picture():
     """A table holds one recipe's maps: new values or a new picture are never served
     stale, and switching between planar and converted frames keeps both right."""
-    renderer = Renderer()
+    renderer = fresh_renderer()  # fresh: which frames reuse maps is checked
     size = (96, 64)
     geom = geometry(size, size, size)
     a, b = (frame_of(photo_like(*size, seed=s), MATRICES[1]) for s in (1, 2))
@@ -289,13 +290,13 @@ def test_frames_in_flight_come_out_as_rendered_one_at_a_time(lanes, static):
     recipe = parse_recipe(RECIPE, "t.json")
     spec, geom = recipe.at(0, size), geometry(size, size, size)
     pictures = [frame_of(photo_like(*size, seed=s), MATRICES[1]) for s in range(4)]
-    one_by_one = Renderer(lanes=lanes, chains=chains)
+    one_by_one = fresh_renderer(lanes=lanes, chains=chains)
     want = [
         one_by_one.render_i420(spec, geom, p, MATRICES[1], MATRICES[1], static=static)
         for p in pictures
     ]
     assert not all(np.array_equal(want[0], w) for w in want[1:])
-    renderer = Renderer(lanes=lanes, chains=chains)
+    renderer = fresh_renderer(lanes=lanes, chains=chains)  # fresh: its buffers are shared
     started = [
         renderer.render_i420(spec, geom, p, MATRICES[1], MATRICES[1], static=static, wait=False)
         for p in pictures
