@@ -1,14 +1,20 @@
 """The tests' own shape: conftest.py holds fixtures only and no module imports it;
 renderers are made by one helper (on the test device); subprocesses get the
-checkout's PYTHONPATH from one helper."""
+checkout's PYTHONPATH from one helper; random recipes cover every registered op
+type (a new op is covered by adding its definition, or named here)."""
 
 from __future__ import annotations
 
 import ast
 import re
+from dataclasses import replace
 
 import pytest
 from helpers import ROOT
+from recipes import GENERATORS, NOT_RANDOM, OPS, random_recipe
+
+from marblevideo.ops import REGISTRY
+from marblevideo.recipe import parse_recipe
 
 TESTS = ROOT / "tests"
 #: The folders whose modules may be tempted to import the tests' conftest.
@@ -89,3 +95,33 @@ def test_subprocesses_take_pythonpath_from_the_helper(path):
     assert not bad, (
         f"{path.name}: PYTHONPATH set by hand on lines {bad}: use helpers.subprocess_env"
     )
+
+
+def uncovered(registry, generators, excluded) -> list[str]:
+    """Registered op types with neither a random generator nor a reason to have none."""
+    return [t for t in registry if t not in generators and t not in excluded]
+
+
+def test_random_recipes_cover_every_registered_type():
+    """A new op is random-generated once listed in recipes.GENERATORS (or left out,
+    with the reason, in recipes.NOT_RANDOM); nothing listed is unregistered."""
+    missing = uncovered(REGISTRY, GENERATORS, NOT_RANDOM)
+    assert not missing, f"no random generator in tests/recipes.py GENERATORS: {missing}"
+    assert set(GENERATORS).isdisjoint(NOT_RANDOM)
+    assert set(GENERATORS) | set(NOT_RANDOM) <= set(REGISTRY)
+    assert all(reason.strip() for reason in NOT_RANDOM.values())
+    assert tuple(t for t in REGISTRY if t not in NOT_RANDOM) == OPS
+
+
+def test_a_new_op_type_is_named_until_it_has_a_generator():
+    whirl = replace(REGISTRY["vortex"], type="whirl")
+    registry = {**REGISTRY, "whirl": whirl, "swirl": replace(whirl, type="swirl")}
+    assert uncovered(registry, GENERATORS, NOT_RANDOM) == ["whirl", "swirl"]
+    assert uncovered(registry, {**GENERATORS, "whirl": None}, {**NOT_RANDOM, "swirl": "why"}) == []
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_recipe_of_as_many_ops_as_types_holds_every_type(seed):
+    recipe = random_recipe(seed, n_ops=len(OPS))
+    assert sorted(op["type"] for op in recipe["ops"]) == sorted(OPS)
+    parse_recipe(recipe, "random.json")
