@@ -23,28 +23,58 @@ SOURCES = sorted(
     for folder in ("tests", "benchmarks", "scripts", "samples")
     for p in (ROOT / folder).rglob("*.py")
 )
-IDS = [str(p.relative_to(ROOT)) for p in SOURCES]
+#: The tests' own modules, the helpers' module (where renderers and PYTHONPATH are made) aside.
+TEST_MODULES = sorted(p for p in TESTS.glob("*.py") if p.name != "helpers.py")
+IMPORTS_CONFTEST = re.compile(
+    r"^\s*(from\s+(tests\.)?conftest\s+import|import\s+(tests\.)?conftest)\b", re.M
+)
 
 
-def tree(path) -> ast.Module:
-    return ast.parse(path.read_text(), str(path))
+def conftest_imports(text: str) -> list[str]:
+    return [m.group(0).strip() for m in IMPORTS_CONFTEST.finditer(text)]
 
 
-@pytest.mark.parametrize("path", SOURCES, ids=IDS)
-def test_nothing_imports_conftest(path):
+def renderers_made(text: str) -> list[int]:
+    """Lines of ``Renderer(...)`` calls (code in strings, run in a subprocess, aside)."""
+    found = []
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.Call):
+            func = node.func
+            called = func.id if isinstance(func, ast.Name) else getattr(func, "attr", None)
+            if called == "Renderer":
+                found.append(node.lineno)
+    return found
+
+
+def pythonpaths_by_hand(text: str) -> list[int]:
+    """Lines setting PYTHONPATH (a dict key or a keyword) to anything but pythonpath()."""
+    found = []
+    for node in ast.walk(ast.parse(text)):
+        pairs = []
+        if isinstance(node, ast.Dict):
+            items = zip(node.keys, node.values, strict=True)
+            pairs = [(k.value, v) for k, v in items if isinstance(k, ast.Constant)]
+        elif isinstance(node, ast.keyword):
+            pairs = [(node.arg, node.value)]
+        by_hand = [v for k, v in pairs if k == "PYTHONPATH" and ast.unparse(v) != "pythonpath()"]
+        found += [v.lineno for v in by_hand]
+    return found
+
+
+def offenders(paths, check) -> dict[str, object]:
+    found = {str(p.relative_to(ROOT)): check(p.read_text()) for p in paths}
+    return {name: what for name, what in found.items() if what}
+
+
+def test_nothing_imports_conftest():
     """Helpers live in modules (helpers.py, recipes.py...): pytest loads conftest.py
     itself, and a second import of it runs it twice under another name."""
-    found = re.findall(
-        r"^\s*(?:from\s+(?:tests\.)?conftest\s+import|import\s+(?:tests\.)?conftest)\b",
-        path.read_text(),
-        re.M,
-    )
-    assert not found, found
+    assert not offenders(SOURCES, conftest_imports)
 
 
 def test_conftest_defines_fixtures_and_hooks_only():
     names = []
-    for node in tree(TESTS / "conftest.py").body:
+    for node in ast.parse((TESTS / "conftest.py").read_text()).body:
         if isinstance(node, ast.FunctionDef | ast.ClassDef):
             fixture = any("fixture" in ast.unparse(d) for d in node.decorator_list)
             if not fixture and not node.name.startswith("pytest_"):
@@ -52,49 +82,30 @@ def test_conftest_defines_fixtures_and_hooks_only():
     assert not names, f"helpers belong in tests/helpers.py: {names}"
 
 
-def calls(path, name: str):
-    for node in ast.walk(tree(path)):
-        if isinstance(node, ast.Call):
-            func = node.func
-            called = func.id if isinstance(func, ast.Name) else getattr(func, "attr", None)
-            if called == name:
-                yield node
-
-
-@pytest.mark.parametrize("path", sorted(TESTS.glob("*.py")), ids=lambda p: p.name)
-def test_renderers_are_made_by_fresh_renderer(path):
+def test_renderers_are_made_by_fresh_renderer():
     """Tests take the session's ``renderer`` fixture, or ``fresh_renderer()`` where
-    they need a renderer of their own: both run on MARBLEVIDEO_TEST_DEVICE
-    (code in strings, run in a subprocess, is not looked at)."""
-    if path.name == "helpers.py":
-        return
-    made = [node.lineno for node in calls(path, "Renderer")]
-    assert not made, f"{path.name}: Renderer(...) on lines {made}: use helpers.fresh_renderer"
+    they need a renderer of their own: both run on MARBLEVIDEO_TEST_DEVICE."""
+    made = offenders(TEST_MODULES, renderers_made)
+    assert not made, f"Renderer(...) made by hand (use helpers.fresh_renderer): {made}"
 
 
-@pytest.mark.parametrize("path", sorted(TESTS.glob("*.py")), ids=lambda p: p.name)
-def test_subprocesses_take_pythonpath_from_the_helper(path):
+def test_subprocesses_take_pythonpath_from_the_helper():
     """PYTHONPATH is set only to helpers.pythonpath() (the checkout, then the
     caller's), never to the checkout alone."""
-    if path.name == "helpers.py":
-        return
-    bad = []
-    for node in ast.walk(tree(path)):
-        pairs = []
-        if isinstance(node, ast.Dict):
-            pairs = [
-                (k.value, v)
-                for k, v in zip(node.keys, node.values, strict=True)
-                if isinstance(k, ast.Constant)
-            ]
-        elif isinstance(node, ast.keyword):
-            pairs = [(node.arg, node.value)]
-        for key, value in pairs:
-            if key == "PYTHONPATH" and ast.unparse(value) != "pythonpath()":
-                bad.append(node.lineno if hasattr(node, "lineno") else value.lineno)
-    assert not bad, (
-        f"{path.name}: PYTHONPATH set by hand on lines {bad}: use helpers.subprocess_env"
+    bad = offenders(TEST_MODULES, pythonpaths_by_hand)
+    assert not bad, f"PYTHONPATH set by hand (use helpers.subprocess_env): {bad}"
+
+
+def test_the_layout_checks_find_what_they_look_for():
+    code = (
+        "from conftest import ROOT\nimport tests.conftest\n"
+        "r = Renderer(lanes=1)\nenv = {'PYTHONPATH': str(ROOT)}\n"
+        "run(env=dict(PYTHONPATH=ROOT))\nok = {'PYTHONPATH': pythonpath()}\n"
+        "script = 'Renderer()'\n"
     )
+    assert conftest_imports(code) == ["from conftest import", "import tests.conftest"]
+    assert renderers_made(code) == [3]
+    assert pythonpaths_by_hand(code) == [4, 5]
 
 
 def uncovered(registry, generators, excluded) -> list[str]:
