@@ -53,7 +53,7 @@ def _recording(path):
         ]
 
 
-def test_a_take_driven_by_osc_renders_again_from_its_automation(tmp_path):
+def test_a_take_driven_by_osc_renders_again_from_its_automation(tmp_path, renderer):
     recipe, take, auto = tmp_path / "r.json", tmp_path / "take.mkv", tmp_path / "take.json"
     recipe.write_text(json.dumps(RECIPE))
     live = LiveProcess(
@@ -86,7 +86,7 @@ def test_a_take_driven_by_osc_renders_again_from_its_automation(tmp_path):
     assert [k.get("ease") for k in keys] == ["hold", "hold", None]
     changes = [k["t"] for k in keys[1:]]
 
-    marbler = Marbler(parse_recipe(doc))
+    marbler = Marbler(parse_recipe(doc), renderer)
     photo = _photo()
     frames = _recording(take)
     checked = 0

@@ -35,13 +35,16 @@ def conftest_imports(text: str) -> list[str]:
 
 
 def renderers_made(text: str) -> list[int]:
-    """Lines of ``Renderer(...)`` calls (code in strings, run in a subprocess, aside)."""
+    """Lines of ``Renderer(...)`` calls and of ``Marbler(recipe)`` ones (which make
+    their own renderer on the default device); code in strings, run in a
+    subprocess, aside."""
     found = []
     for node in ast.walk(ast.parse(text)):
         if isinstance(node, ast.Call):
             func = node.func
             called = func.id if isinstance(func, ast.Name) else getattr(func, "attr", None)
-            if called == "Renderer":
+            given = len(node.args) > 1 or {k.arg for k in node.keywords} & {"renderer", "device"}
+            if called == "Renderer" or (called == "Marbler" and not given):
                 found.append(node.lineno)
     return found
 
@@ -101,10 +104,10 @@ def test_the_layout_checks_find_what_they_look_for():
         "from conftest import ROOT\nimport tests.conftest\n"
         "r = Renderer(lanes=1)\nenv = {'PYTHONPATH': str(ROOT)}\n"
         "run(env=dict(PYTHONPATH=ROOT))\nok = {'PYTHONPATH': pythonpath()}\n"
-        "script = 'Renderer()'\n"
+        "script = 'Renderer()'\nm = Marbler(recipe)\nok = Marbler(recipe, renderer)\n"
     )
     assert conftest_imports(code) == ["from conftest import", "import tests.conftest"]
-    assert renderers_made(code) == [3]
+    assert renderers_made(code) == [3, 8]
     assert pythonpaths_by_hand(code) == [4, 5]
 
 

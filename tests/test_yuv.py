@@ -350,11 +350,11 @@ def _planes(path) -> list[np.ndarray]:
         return [frame.to_ndarray() for frame in container.decode(video=0)]
 
 
-def test_pipeline_marbles_i420_frames_plane_by_plane(tmp_path):
+def test_pipeline_marbles_i420_frames_plane_by_plane(tmp_path, renderer):
     """A yuv420p clip is warped plane by plane (render_planes on each decoded frame,
     exactly through lossless x264), with the RGBA path's luma and timing."""
     clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=6, audio=True)
-    transform = Marbler(RECIPE).transform()
+    transform = Marbler(RECIPE, renderer).transform()
     fast = transcode(clip, tmp_path / "fast.mp4", transform, _lossless())
     slow = transcode(clip, tmp_path / "slow.mp4", RgbaOnly(transform), _lossless())
     assert fast.i420_frames == fast.frames == 6 and slow.i420_frames == 0
@@ -412,7 +412,7 @@ class PlanesBack:
 
 
 @pytest.mark.parametrize("size", [(128, 64), (90, 34)], ids=["packed-rows", "padded-rows"])
-def test_i420_frames_cross_the_pipeline_exactly(tmp_path, size):
+def test_i420_frames_cross_the_pipeline_exactly(tmp_path, size, renderer):
     """Decoded planes go to the device as they are (rows padded to the decoder's
     line size at 90 wide) and a frame is encoded on the result's own memory (PyAV
     misreads a yuv420p height that is not a multiple of 4, 34 here, so that one is
@@ -423,7 +423,8 @@ def test_i420_frames_cross_the_pipeline_exactly(tmp_path, size):
         padded = any(plane.line_size > plane.width for plane in first.planes)
         assert padded == (size[0] == 90)
     identity = parse_recipe({"marblevideo": 1, "antialias": "none", "ops": []}, "t.json")
-    for name, transform in (("marbled", Marbler(identity).transform()), ("planes", PlanesBack())):
+    marbled = Marbler(identity, renderer).transform()
+    for name, transform in (("marbled", marbled), ("planes", PlanesBack())):
         stats = transcode(clip, tmp_path / f"{name}.mkv", transform, _lossless())
         assert stats.i420_frames == 3
         for a, b in zip(_planes(clip), _planes(tmp_path / f"{name}.mkv"), strict=True):
@@ -534,10 +535,11 @@ def test_a_start_that_returns_no_function_is_refused(tmp_path, kind):
     assert not (tmp_path / "out.mp4").exists()
 
 
-def test_pipeline_keeps_full_range_on_the_i420_path(tmp_path):
+def test_pipeline_keeps_full_range_on_the_i420_path(tmp_path, renderer):
     clip = write_clip(tmp_path / "full.mkv", color_range=2, audio=False, frames=3)
     identity = parse_recipe({"marblevideo": 1, "antialias": "none", "ops": []}, "t.json")
-    stats = transcode(clip, tmp_path / "out.mkv", Marbler(identity).transform(), _lossless())
+    transform = Marbler(identity, renderer).transform()
+    stats = transcode(clip, tmp_path / "out.mkv", transform, _lossless())
     assert stats.i420_frames == 3
     out = probe(tmp_path / "out.mkv")
     assert out.color_range == 2
@@ -548,7 +550,7 @@ def test_pipeline_keeps_full_range_on_the_i420_path(tmp_path):
     "case",
     ["rotated", "odd-size", "yuv444p-output", "odd-output-size"],
 )
-def test_pipeline_falls_back_to_rgba_where_i420_cannot_go(tmp_path, case):
+def test_pipeline_falls_back_to_rgba_where_i420_cannot_go(tmp_path, case, renderer):
     size, options, clip_args = (96, 64), {}, {}
     if case == "rotated":
         clip_args["rotation"] = 90
@@ -559,13 +561,13 @@ def test_pipeline_falls_back_to_rgba_where_i420_cannot_go(tmp_path, case):
     else:
         options["size"] = (81, 60)
     clip = write_clip(tmp_path / "in.mkv", size=size, frames=3, audio=False, **clip_args)
-    transform = Marbler(RECIPE).transform(options.get("size"))
+    transform = Marbler(RECIPE, renderer).transform(options.get("size"))
     stats = transcode(clip, tmp_path / "out.mp4", transform, _lossless(**options))
     assert stats.frames == 3 and stats.i420_frames == 0
 
 
 @pytest.mark.parametrize("size, planar", [((96, 64), True), ((95, 64), False)])
-def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, planar):
+def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, planar, renderer):
     from marblevideo.api import render_video
 
     recipe = parse_recipe({**RECIPE, "canvas": [96, 64]}, "t.json")
@@ -573,7 +575,7 @@ def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, plan
     stats = render_video(None, recipe, dst, duration=0.3, fps=10, size=size, **_LOSSLESS)
     assert stats.frames == 3 and stats.i420_frames == (3 if planar else 0)
     if planar:
-        marbler = Marbler(recipe)
+        marbler = Marbler(recipe, renderer)
         with av.open(str(dst)) as container:
             for i, frame in enumerate(container.decode(video=0)):
                 want = rgba_to_i420(marbler.render(None, i / 10, size), MATRICES[0])
