@@ -1,8 +1,9 @@
 """Mathematical properties of the reference's op maps (float64).
 
-Round trips (forward then inverse and back), incompressibility (Jacobian
-determinant 1), the drop's area and annulus laws, directions and hand-computed
-values of the contract's formulas. Randomness is seeded.
+Round trips (forward then inverse and back) and incompressibility (Jacobian
+determinant 1) of every registered op type, the drop's area and annulus laws,
+directions and hand-computed values of the contract's formulas. Randomness is
+seeded.
 """
 
 from __future__ import annotations
