@@ -1,4 +1,4 @@
-"""bench.py's ``cluster`` part: a 720p clip rendered whole, in segments one after
+"""The benchmarks' ``cluster`` part: a 720p clip rendered whole, in segments one after
 another in this process (each phase timed: plan, segments, join), and in
 segments on a local Ray with 1 and 2 workers (the whole call: workers started,
 programs built, segments rendered, joined)."""
@@ -85,33 +85,41 @@ def cluster_part(device: str | None, make_clip, animated, seconds: int = 16) -> 
         start, started = clocked(lambda: connect(ray))
         print(f"local Ray started:                  {start:6.2f} s")
         try:
-            for jobs in (1, 2):
-                up, pool = clocked(lambda: RayPool(jobs, device))  # noqa: B023
-                up += clocked(pool.where)[0]
-                pool.close()
-                runs = [
-                    clocked(
-                        lambda: render_split(
-                            clip,
-                            recipe,
-                            out,
-                            cluster="ray",
-                            jobs=jobs,  # noqa: B023
-                            segments=segments,
-                            overwrite=True,
-                            quiet=True,
-                            device=device,
-                            **ENCODER,
-                        )
-                    )[0]  # fmt: skip
-                    for _ in range(rounds)
-                ]
-                r = statistics.median(runs)
-                print(
-                    f"Ray, {jobs} worker(s) x {2 // jobs} PoCL thread(s): {r:6.2f} s "
-                    f"({n / r:5.1f} fps; {s / r:.2f}x the single render), of which "
-                    f"workers up {up:.2f} s"
-                )
+            _ray_rows((clip, recipe, out), device, segments, rounds, (n, s))
         finally:
             if started:
                 ray.shutdown()
+
+
+def _ray_rows(job: tuple, device, segments: int, rounds: int, single: tuple) -> None:
+    """cluster_part's rows for a local Ray (started) with 1 and 2 workers; ``job``:
+    (clip, recipe, out); ``single``: (frames, the single render's seconds)."""
+    clip, recipe, out = job
+    n, s = single
+    for jobs in (1, 2):
+        up, pool = clocked(lambda: RayPool(jobs, device))  # noqa: B023
+        up += clocked(pool.where)[0]
+        pool.close()
+        runs = [
+            clocked(
+                lambda: render_split(
+                    clip,
+                    recipe,
+                    out,
+                    cluster="ray",
+                    jobs=jobs,  # noqa: B023
+                    segments=segments,
+                    overwrite=True,
+                    quiet=True,
+                    device=device,
+                    **ENCODER,
+                )
+            )[0]  # fmt: skip
+            for _ in range(rounds)
+        ]
+        r = statistics.median(runs)
+        print(
+            f"Ray, {jobs} worker(s) x {2 // jobs} PoCL thread(s): {r:6.2f} s "
+            f"({n / r:5.1f} fps; {s / r:.2f}x the single render), of which "
+            f"workers up {up:.2f} s"
+        )

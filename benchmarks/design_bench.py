@@ -16,7 +16,7 @@ nonpareil scaled to the sheet, 140 drops and 3 rakes), and measures in the page
   point moved (the program stays) or with a drop added (a new program: PoCL
   builds it), then GET /api/frame.png (exact, 1024x768).
 
-    python benchmarks/design_bench.py [--repeat 15] [--design light nonpareil]
+    python -m benchmarks.design_bench [--repeat 15] [--design light nonpareil]
 
 Not a test: numbers depend on the machine (see BENCHMARKS.md).
 """
@@ -37,10 +37,7 @@ import time
 import urllib.request
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
-sys.path.insert(0, str(ROOT))
-
-from bench import cpu_summary  # noqa: E402
+from .common import ENV, ROOT, cpu_summary
 
 SIZE = (1024, 768)
 LIGHT = [
@@ -102,7 +99,7 @@ def start(tmp: Path, ops: list[dict]):
     proc = subprocess.Popen(
         [sys.executable, "-m", "marblevideo", "design", "--ops", str(recipe), "--no-browser",
          "--port", "0", "-q"],
-        cwd=tmp, env={**os.environ, "PYTHONPATH": str(ROOT)}, stdout=subprocess.PIPE, text=True,
+        cwd=tmp, env=ENV, stdout=subprocess.PIPE, text=True,
     )  # fmt: skip
     url = proc.stdout.readline().split(" ", 1)[1].strip()
     return proc, url, recipe

@@ -1,8 +1,8 @@
 """The interpolated inverse map (issue 35) against the exact walk: quality and time.
 
-    python benchmarks/bench.py lattice          # quality and kernel time
-    python benchmarks/bench.py live1080         # marblevideo live at 1080p, lattice and exact
-    python benchmarks/bench.py lattice e2e live1080 --seconds 10   # the issue's one run
+    python -m benchmarks lattice          # quality and kernel time
+    python -m benchmarks live1080         # marblevideo live at 1080p, lattice and exact
+    python -m benchmarks lattice e2e live1080 --seconds 10   # the issue's one run
 
 - lattice: frames over the e2e clip's picture (1280x720: two ramps and a
   40-pixel checker that moves per frame) of the animated 12-op recipe at
@@ -16,7 +16,7 @@
   frame costs walked and interpolated by how much there is to walk (one keyed
   turn, three smooth ops, the 12-op recipe, nonpareil; best of 31, which
   MIN_WALKED_OPS rests on).
-- live1080: benchmarks/live_bench.py at 1920x1080 with the animated 12-op
+- live1080: benchmarks.live_bench at 1920x1080 with the animated 12-op
   recipe, with the lattice (the default) and with --exact-walk, alternating,
   two rounds each (fps, latency median and p95, render median).
 """
@@ -28,7 +28,6 @@ import statistics
 import subprocess
 import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
@@ -38,7 +37,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference.yuv import rgba_to_i420
 
-ROOT = Path(__file__).resolve().parent.parent
+from .common import ENV, ROOT
+
 BUSY = ("nonpareil", "bouquet", "chevron")
 #: more samples over the clip, halfway through: where the lattice pays and where not
 OTHERS = ("figure6", "swirl", "comb-wave", "spanish-wave", "stone-sprays")
@@ -122,15 +122,24 @@ def lattice_part(device: str | None, animated12) -> None:
 
 def live1080_part(device: str | None) -> None:
     """See the module: live_bench at 1920x1080, lattice against exact, alternating."""
-    script = Path(__file__).resolve().parent / "live_bench.py"
-    base = [sys.executable, str(script), "--size", "1920x1080", "--twelve", "--seconds", "10"]
+    base = [
+        sys.executable,
+        "-m",
+        "benchmarks.live_bench",
+        "--size",
+        "1920x1080",
+        "--twelve",
+        "--seconds",
+        "10",
+    ]
     base += ["--device", device] if device else []
     print("\n## Live at 1920x1080, animated 12 ops RGSS (live_bench.py --twelve), 2 rounds each")
     print("| walk | fps | latency median / p95 ms | render median ms |")
     print("|---|---|---|---|")
     for _ in range(2):
         for name, extra in (("lattice", []), ("exact (--exact-walk)", ["--exact-walk"])):
-            out = subprocess.run(base + extra, check=True, capture_output=True, text=True).stdout
+            run = {"cwd": ROOT, "env": ENV, "capture_output": True, "text": True}
+            out = subprocess.run(base + extra, check=True, **run).stdout
             r = json.loads(out.strip().splitlines()[-1])
             print(
                 f"| {name} | {r['fps']} | {r['latency_median_ms']} / {r['latency_p95_ms']} | "

@@ -5,7 +5,7 @@ by default) -> a 6-op animated recipe with RGSS antialiasing -> JPEG (quality 80
 -> the preview server, with one HTTP client reading the MJPEG stream. Latency is
 the time from a frame's capture timestamp to its JPEG being ready to send.
 
-    python benchmarks/live_bench.py [--size 1280x720] [--seconds 10]
+    python -m benchmarks.live_bench [--size 1280x720] [--seconds 10]
         [--preview-width 640] [--record out.mp4] [--device P:D]
 
 Not a test: numbers depend on the machine (see BENCHMARKS.md).
@@ -16,14 +16,11 @@ from __future__ import annotations
 import argparse
 import json
 import platform
-import sys
 import tempfile
 import threading
 import time
 import urllib.request
 from pathlib import Path
-
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run from a checkout
 
 RECIPE = {
     "marblevideo": 1,
@@ -154,7 +151,7 @@ def main() -> None:
     p.add_argument(
         "--twelve",
         action="store_true",
-        help="the end-to-end runs' animated 12-op recipe (bench.py animated12) instead",
+        help="the end-to-end runs' animated 12-op recipe (common.animated12) instead",
     )
     p.add_argument(
         "--exact-walk", action="store_true", help="walk every subsample (no lattice; issue 35)"
@@ -162,7 +159,7 @@ def main() -> None:
     args = p.parse_args()
     recipe = RECIPE
     if args.twelve:
-        from bench import animated12
+        from .common import animated12
 
         recipe = animated12(args.seconds + args.warmup)
     result = bench(

@@ -14,7 +14,7 @@ The session's own capture -> JPEG latency of the same run is printed beside it:
 the OSC latency is that plus the wait for the next frame (up to one frame
 period) and the UDP hop.
 
-    python benchmarks/osc_bench.py [--size 1280x720] [--rounds 40] [--fps 30]
+    python -m benchmarks.osc_bench [--size 1280x720] [--rounds 40] [--fps 30]
 
 Not a test: numbers depend on the machine (see BENCHMARKS.md).
 """
@@ -27,7 +27,6 @@ import json
 import platform
 import random
 import statistics
-import sys
 import tempfile
 import threading
 import time
@@ -36,12 +35,9 @@ from pathlib import Path
 import cv2
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent.parent))  # run from a checkout
-sys.path.insert(0, str(Path(__file__).resolve().parent))
+from marblevideo.live.sources import Source, TestPattern
 
-from live_bench import RECIPE  # noqa: E402
-
-from marblevideo.live.sources import Source, TestPattern  # noqa: E402
+from .live_bench import RECIPE
 
 
 class StillSource(Source):

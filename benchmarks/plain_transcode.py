@@ -3,7 +3,7 @@
     python benchmarks/plain_transcode.py SRC DST
 
 does what ``ffmpeg -i SRC -c:v libx264 -preset veryfast -crf 23 -c:a copy DST``
-does; bench.py times it in its own process (imports only PyAV) beside the
+does; the e2e part times it in its own process (imports only PyAV) beside the
 marblevideo command, and in-process for the per-frame figures.
 """
 

@@ -5,7 +5,7 @@ Writes a WAV of MINUTES minutes of 48 kHz stereo noise with a beat (in a
 temporary folder), then, in alternating rounds, times both and measures the
 peak of what NumPy and Python allocate (tracemalloc) during each. Both give the
 same levels (checked). Run from the repository root:
-``python benchmarks/signals_bench.py [MINUTES] [ROUNDS]``.
+``python -m benchmarks.signals_bench [MINUTES] [ROUNDS]``.
 """
 
 from __future__ import annotations

@@ -17,7 +17,7 @@ last minus first sample and as the slope of a least-squares line, the reloads
 the session and the page took against the edits made, and the recording's
 duration and frame count (PyAV) against the session's.
 
-    python benchmarks/soak_bench.py [--minutes 10] [--size 1280x720]
+    python -m benchmarks.soak_bench [--minutes 10] [--size 1280x720]
         [--edit-every 15] [--out soak.json] [--trace]
 
 ``--trace`` runs the same session in this process with a client thread in
@@ -42,11 +42,8 @@ import tempfile
 import time
 from pathlib import Path
 
-HERE = Path(__file__).resolve().parent
-sys.path.insert(0, str(HERE))  # live_bench's recipe
-sys.path.insert(0, str(HERE.parent))  # run from a checkout
-
-from live_bench import RECIPE  # noqa: E402
+from .common import ENV
+from .live_bench import RECIPE
 
 SAMPLE = 5.0
 WARMUP = 60.0
@@ -83,7 +80,7 @@ def start_live(folder: Path, size: str, seconds: float) -> tuple[subprocess.Pope
         "--ops", str(recipe), "--preview", "--port", "0", "-o", str(folder / "soak.mp4"),
         "--duration", str(seconds),
     ]  # fmt: skip
-    env = {**os.environ, "PYTHONPATH": str(HERE.parent)}
+    env = ENV
     log = (folder / "live.stderr").open("w")  # noqa: SIM115 - the child writes it to the end
     proc = subprocess.Popen(cmd, cwd=folder, env=env, stdout=subprocess.PIPE, stderr=log)
     line = proc.stdout.readline().decode()

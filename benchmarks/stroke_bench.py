@@ -1,4 +1,4 @@
-"""The ``strokes`` part of bench.py (issue 32): free-hand strokes against their
+"""The ``strokes`` part of the benchmarks (issue 32): free-hand strokes against their
 baselines, in one run on one renderer.
 
 - the ``tulip`` preset at 1024x768 with RGSS (the bar: under 1 s), adaptive
@@ -9,14 +9,13 @@ baselines, in one run on one renderer.
 - the host's packing of a 200000-step stroke per frame: static (laid out once,
   cached) and travelling (its acting steps packed afresh every frame).
 
-    python benchmarks/bench.py strokes
+    python -m benchmarks strokes
 """
 
 from __future__ import annotations
 
 from functools import partial
 
-import bench
 import numpy as np
 
 from marblevideo import load_recipe
@@ -26,11 +25,13 @@ from marblevideo.ops.stroke import layout
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 
+from . import common
+
 SIZE = (1024, 768)
 
 
-#: bench.py's timer, at this part's counts (best and median of 11 after 2 warm-ups)
-timings = partial(bench.timings, repeat=11, warmup=2)
+#: the benchmarks' timer, at this part's counts (best and median of 11 after 2 warm-ups)
+timings = partial(common.timings, repeat=11, warmup=2)
 
 
 def _ms(pair: tuple[float, float]) -> str:

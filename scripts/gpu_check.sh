@@ -26,4 +26,4 @@ timeout 300 python3 -m pytest -q -p no:cacheprovider -n "$(nproc)" -rf \
     tests/test_yuv.py tests/test_stroke.py tests/test_presets.py tests/test_reference.py \
     tests/test_vocabulary.py tests/test_zoom.py tests/test_tiling.py tests/test_op_registry.py \
     2>&1 | tee "$out/gpu-tests.txt" | tail -15
-timeout 400 python3 benchmarks/bench.py table1 lattice live1080 e2e --seconds 30 2>&1 | tee "$out/gpu-bench.txt"
+timeout 400 python3 -m benchmarks table1 lattice live1080 e2e --seconds 30 2>&1 | tee "$out/gpu-bench.txt"

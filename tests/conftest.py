@@ -1,4 +1,5 @@
-"""Shared fixtures: one OpenCL renderer per session on the real device.
+"""Shared fixtures (fixtures only: helpers that tests import live in helpers.py):
+one OpenCL renderer per session on the real device.
 
 The device comes from MARBLEVIDEO_TEST_DEVICE (a --device choice) or the
 default choice (PoCL on a machine without a GPU). Nothing is mocked.
@@ -10,12 +11,10 @@ import os
 import shutil
 import subprocess
 import sys
-from pathlib import Path
 
 import pytest
+from helpers import ROOT, fresh_renderer, subprocess_env
 from hypothesis import settings
-
-ROOT = Path(__file__).resolve().parent.parent
 
 # CI sees the same examples on every run, and no wall-clock deadline (a shared
 # 2-core machine); locally, `HYPOTHESIS_PROFILE=dev` explores afresh.
@@ -65,9 +64,16 @@ def pytest_collection_modifyitems(items):
 
 @pytest.fixture(scope="session")
 def renderer():
-    from marblevideo.opencl.renderer import Renderer
+    """The session's renderer on the test device (MARBLEVIDEO_TEST_DEVICE); tests
+    of what a renderer keeps, or of other options, take ``fresh_renderer()``."""
+    return fresh_renderer()
 
-    return Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+
+@pytest.fixture(scope="session")
+def one_pixel_renderer():
+    """The session's renderer of the one-pixel code (lanes=1, chains=1: a GPU's)
+    on the test device, for kernel tests that need no fresh renderer."""
+    return fresh_renderer(lanes=1, chains=1)
 
 
 @pytest.fixture(scope="module")
@@ -85,11 +91,6 @@ def browser():
         b.close()
 
 
-def _pythonpath() -> str:
-    """The checkout first, then the caller's PYTHONPATH (packages installed with --target)."""
-    return os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
-
-
 @pytest.fixture
 def cli(tmp_path):
     """Run the real command line in a subprocess; returns CompletedProcess."""
@@ -104,24 +105,10 @@ def cli(tmp_path):
             capture_output=True,
             text=input is None,
             timeout=timeout,
-            env={**os.environ, "PYTHONPATH": _pythonpath(), **(env or {})},
+            env=subprocess_env(**(env or {})),
         )
 
     return run
-
-
-def one_line(proc) -> str:
-    """The single stderr line of a failed run (``marblevideo: ...``); no traceback."""
-    assert "Traceback" not in proc.stderr, proc.stderr
-    lines = proc.stderr.splitlines()
-    assert len(lines) == 1, proc.stderr
-    assert lines[0].startswith("marblevideo: ")
-    return lines[0]
-
-
-def files(folder: Path) -> list[str]:
-    """The names in ``folder``, sorted."""
-    return sorted(p.name for p in folder.iterdir())
 
 
 @pytest.fixture

@@ -3,14 +3,13 @@
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 import time
 import urllib.request
 from pathlib import Path
 
-ROOT = Path(__file__).resolve().parent.parent
+from helpers import subprocess_env
 
 # A still-image input with constant (adjustable) and keyframed (animated) parameters.
 RECIPE = {
@@ -38,7 +37,7 @@ class LiveProcess:
         self, *args, cwd: Path, preview: bool = True, timeout: float = 60.0, command="live"
     ):
         cmd = [sys.executable, "-m", "marblevideo", command, *map(str, args)]
-        env = {**os.environ, "PYTHONPATH": str(ROOT), "PYTHONUNBUFFERED": "1"}
+        env = subprocess_env(PYTHONUNBUFFERED="1")
         self.stderr_path = cwd / f"{command}.stderr"
         self.stderr_file = self.stderr_path.open("w")
         self.proc = subprocess.Popen(

@@ -4,7 +4,6 @@ and on a local process pool; resuming from the manifest; usage errors."""
 from __future__ import annotations
 
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -13,7 +12,7 @@ import cv2
 import numpy as np
 import pytest
 from clips import probe, write_clip
-from conftest import ROOT, files, one_line
+from helpers import files, one_line, subprocess_env
 from interrupts import interrupt, wait_until
 
 from marblevideo import api
@@ -166,7 +165,7 @@ def test_interrupting_a_batch_on_workers(tmp_path, sig, code):
         cwd=tmp_path,
         stderr=subprocess.PIPE,
         text=True,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        env=subprocess_env(),
     )
     manifest = tmp_path / "out" / MANIFEST_NAME
     wait_until(proc, manifest.exists, 180)

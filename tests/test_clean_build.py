@@ -16,12 +16,11 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import ROOT, fresh_renderer, pythonpath
 
 from marblevideo.errors import DeviceError, UsageError
 from marblevideo.opencl.program import LANES_VARIABLE, cpu_lanes
-from marblevideo.opencl.renderer import Renderer
 
-ROOT = Path(__file__).resolve().parent.parent
 SAMPLES = ROOT / "samples"
 
 
@@ -50,7 +49,7 @@ def _cold_env(tmp_path, **extra) -> dict:
     env.update(
         POCL_CACHE_DIR=str(cache / "pocl"),
         XDG_CACHE_HOME=str(cache),
-        PYTHONPATH=str(ROOT),
+        PYTHONPATH=pythonpath(),
         **extra,
     )
     return env
@@ -75,7 +74,7 @@ def test_the_renderer_takes_the_devices_width(renderer):
         assert renderer.lanes == cpu_lanes(native)
     assert renderer.yuv_lanes == renderer.lanes <= max(native, 4)
     with pytest.raises(UsageError, match="lanes must be"):
-        Renderer(lanes=3)
+        fresh_renderer(lanes=3)
 
 
 BUILD_EVERY_KIND = """

@@ -20,7 +20,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from conftest import ROOT, files, one_line
+from helpers import ROOT, files, one_line, subprocess_env
 
 RECIPE = {
     "canvas": [64, 48],
@@ -352,7 +352,7 @@ def test_python_dash_m_and_main_entry_agree(cli, tmp_path):
         capture_output=True,
         text=True,
         timeout=60,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        env=subprocess_env(),
     )
     assert by_module.returncode == by_main.returncode == 2
     assert by_module.stderr == by_main.stderr

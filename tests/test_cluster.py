@@ -11,7 +11,7 @@ import cv2
 import numpy as np
 import pytest
 from clips import probe, write_vfr_clip
-from conftest import ROOT, files, one_line
+from helpers import ROOT, files, one_line
 from recipes import BRIEF
 
 from marblevideo import api

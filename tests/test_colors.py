@@ -10,7 +10,7 @@ import os
 import cv2
 import pytest
 import webcolors
-from conftest import one_line
+from helpers import one_line
 from jsonschema import Draft202012Validator
 
 from marblevideo import RecipeError, parse_recipe, render_image

@@ -13,11 +13,11 @@ import urllib.request
 import cv2
 import numpy as np
 import pytest
+from helpers import ROOT, one_line
 
 from marblevideo import render_image
 from marblevideo.recipe.frame import fit
-from tests.conftest import one_line
-from tests.live_helpers import ROOT, LiveProcess
+from tests.live_helpers import LiveProcess
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
 DROPS = {

@@ -12,8 +12,9 @@ import time
 
 import cv2
 import numpy as np
+from helpers import ROOT
 
-from tests.live_helpers import ROOT, LiveProcess, watched_page
+from tests.live_helpers import LiveProcess, watched_page
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
 INK = "#1d3557"  # the page's first colour

@@ -17,7 +17,7 @@ from pathlib import Path
 import av
 import pytest
 from clips import write_clip
-from conftest import files, one_line
+from helpers import files, one_line
 
 from marblevideo.errors import UsageError
 from marblevideo.media.encode import plan_output

@@ -14,7 +14,6 @@ from __future__ import annotations
 import copy
 import json
 import math
-import os
 import re
 import subprocess
 import sys
@@ -22,12 +21,14 @@ import warnings
 
 import numpy as np
 import pytest
+from helpers import subprocess_env
 from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 from recipes import random_recipe
 
 from marblevideo.errors import RecipeError
 from marblevideo.marbler import Marbler
+from marblevideo.ops import REGISTRY
 from marblevideo.recipe import load_recipe, parse_recipe
 
 SOURCE = "fuzz.json"
@@ -151,18 +152,27 @@ def mutated_recipes(draw):
 @st.composite
 def scaled_recipes(draw):
     """A valid recipe whose numbers are scaled to extremes that stay valid: every
-    number but colors, eases and times multiplied by a positive factor from 1e-12 to 1e24
-    (signs kept)."""
+    number but colors, eases, times, counts and shares multiplied by a positive factor from
+    1e-12 to 1e24 (signs kept). Ops whose own check bounds their parameters together
+    or against defaults (jiggle's |2 pi major / wavelength| < 1, rake's, a stroke's
+    steps) keep their values."""
     doc = copy.deepcopy(draw(st.sampled_from(BASES)))
     factors = st.sampled_from([1e-12, 1e-6, 1e-3, 1.0, 1e3, 1e6, 1e12, 1e24])
-    for path, value in list(_nodes(doc)):
-        if not path or path[0] != "ops" or set(path) & {"color", "ease", "t", "start", "end"}:
+    fixed = {"color", "ease", "t", "start", "end"}
+    for index, op in enumerate(doc["ops"]):
+        definition = REGISTRY[op["type"]]
+        # counts and bounded shares (a stroke's drag in -4..4) are no sizes to scale
+        counts = {p.name for p in definition.params if p.kind == "count" or p.slider == "share"}
+        if definition.check:
             continue
-        if isinstance(value, (int, float)) and not isinstance(value, bool):
-            parent = doc
-            for step in path[:-1]:
-                parent = parent[step]
-            parent[path[-1]] = value * draw(factors)
+        for path, value in list(_nodes(op)):
+            if not path or set(path) & (fixed | counts):
+                continue
+            if isinstance(value, (int, float)) and not isinstance(value, bool):
+                parent = doc["ops"][index]
+                for step in path[:-1]:
+                    parent = parent[step]
+                parent[path[-1]] = value * draw(factors)
     return doc
 
 
@@ -270,7 +280,6 @@ def test_mutations_through_the_command_line(tmp_path_factory, doc):
     """Exit 0 with a picture, or exit 2 with one line naming the file; never a traceback."""
     folder = tmp_path_factory.mktemp("cli")
     (folder / "r.json").write_text(json.dumps(doc))
-    from conftest import ROOT
 
     proc = subprocess.run(
         [sys.executable, "-m", "marblevideo", "--ops", "r.json", "-o", "o.png", "--size", "16x12"],
@@ -278,7 +287,7 @@ def test_mutations_through_the_command_line(tmp_path_factory, doc):
         capture_output=True,
         text=True,
         timeout=120,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        env=subprocess_env(),
     )
     assert "Traceback" not in proc.stderr
     left = sorted(p.name for p in folder.iterdir())

@@ -5,14 +5,13 @@ and the command line fails in one line."""
 from __future__ import annotations
 
 import json
-import os
 import subprocess
 import sys
 
 import cv2
 import numpy as np
 import pytest
-from conftest import ROOT
+from helpers import ROOT, subprocess_env
 
 from marblevideo import load_recipe, parse_recipe, samples_path
 from marblevideo.gallery import stages, strip, upto
@@ -109,7 +108,7 @@ def gallery(*args, cwd):
         capture_output=True,
         text=True,
         timeout=120,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        env=subprocess_env(),
     )
 
 

@@ -27,14 +27,14 @@ import cv2
 import numpy as np
 import pytest
 from clips import write_clip
-from conftest import ROOT, one_line
+from helpers import ROOT, fresh_renderer, one_line, subprocess_env
 from interrupts import interrupt
 from recipes import make_image
 
 from marblevideo.errors import DeviceError
 from marblevideo.media.images import MAX_PIXELS
 from marblevideo.opencl.program import Structure
-from marblevideo.opencl.renderer import MAX_SIDE, Renderer
+from marblevideo.opencl.renderer import MAX_SIDE
 from marblevideo.opencl.selfcheck import agreement
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
@@ -218,7 +218,7 @@ def test_image_claiming_100000_squared_pixels_is_refused_from_its_header(tmp_pat
         capture_output=True,
         text=True,
         timeout=60,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        env=subprocess_env(),
     )
     assert time.monotonic() - began < 20
     *message, peak_kb = proc.stderr.splitlines()
@@ -443,7 +443,7 @@ def _interrupt(tmp_path: Path, args: list[str], sig: int) -> subprocess.Complete
         stderr=subprocess.PIPE,
         stdout=subprocess.DEVNULL,
         text=True,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        env=subprocess_env(),
     )
     first = proc.stderr.readline()
     assert first.startswith('{"frame"'), first
@@ -506,7 +506,7 @@ def test_no_opencl_platform(cli, tmp_path, blank):
 def test_kernel_build_failure_is_one_line():
     """The real build path with a source that does not compile (the renderer's
     source attribute replaced on a fresh instance, nothing else)."""
-    renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+    renderer = fresh_renderer()  # fresh: its source is replaced
     renderer.programs.source = "__kernel void marble(__global uint *dst) { this is not C; }\n"
     with pytest.raises(DeviceError, match="OpenCL build failed") as info:
         renderer.kernel_for(Structure(("drop",), "none", "clamp", False))
@@ -514,7 +514,7 @@ def test_kernel_build_failure_is_one_line():
 
 
 def test_a_failed_prebuild_is_reported_by_the_render():
-    renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+    renderer = fresh_renderer()  # fresh: its source is replaced
     renderer.programs.source = "__kernel void marble(__global uint *dst) { this is not C; }\n"
     structure = Structure(("drop",), "none", "clamp", False)
     renderer.prebuild(structure)  # fails in its thread, silently

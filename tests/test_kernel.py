@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import os
 import threading
 
 import numpy as np
 import pytest
+from helpers import fresh_renderer
 from recipes import EDGES, PATTERNS, make_image, random_recipe
 from tolerances import KERNEL_SHARE
 
@@ -67,9 +67,8 @@ def test_the_loop_walk_serves_every_recipe_with_one_program():
     """Renderer(loop_walk=True), as the designer uses: recipes of other ops, other
     counts (none included) and the long one all match the reference, built once."""
     from marblevideo.opencl.program import UNROLL_LIMIT
-    from marblevideo.opencl.renderer import Renderer
 
-    renderer = Renderer(loop_walk=True)
+    renderer = fresh_renderer(loop_walk=True)  # fresh: counts the programs it builds
     image = make_image(80, 60, 3)
     fixed = {"antialias": "rgss", "edges": "clamp"}
     for seed, n_ops in ((1, None), (2, 3), (3, 1), (4, 0), (7, UNROLL_LIMIT + 2)):
@@ -88,9 +87,8 @@ def test_a_prebuilt_program_is_built_once_and_renders_as_ever():
     """prebuild builds in a thread; a render asking meanwhile waits for that build
     instead of starting its own, and the result matches the reference."""
     from marblevideo.opencl.program import Structure
-    from marblevideo.opencl.renderer import Renderer
 
-    renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+    renderer = fresh_renderer()  # fresh: nothing built yet, its build is watched
     builds = []
     build = renderer.programs.build
     renderer.programs.build = lambda st: (
@@ -106,16 +104,12 @@ def test_a_prebuilt_program_is_built_once_and_renders_as_ever():
 
 @pytest.mark.parametrize("seed", [0, 5, 14, 23])
 def test_adaptive_over_an_input_matches_reference(seed):
-    from marblevideo.opencl.renderer import Renderer
-
-    check(Renderer(adaptive=True), random_recipe(seed), (101, 77), make_image(90, 66, seed))
+    check(fresh_renderer(adaptive=True), random_recipe(seed), (101, 77), make_image(90, 66, seed))
 
 
 @pytest.mark.parametrize("lanes", [1, 4, 8])
 def test_every_lane_width_agrees(lanes):
-    from marblevideo.opencl.renderer import Renderer
-
-    narrow = Renderer(lanes=lanes, chains=1 if lanes == 1 else 2)
+    narrow = fresh_renderer(lanes=lanes, chains=1 if lanes == 1 else 2)
     check(narrow, random_recipe(3), (61, 47), make_image(50, 40, 1))
     check(narrow, random_recipe(4, blank=True), (61, 47))
 
@@ -133,9 +127,7 @@ def test_parameter_change_does_not_rebuild(renderer):
 
 @pytest.fixture(scope="module")
 def full_pattern():
-    from marblevideo.opencl.renderer import Renderer
-
-    return Renderer(adaptive=False)
+    return fresh_renderer(adaptive=False)
 
 
 @pytest.mark.parametrize("seed", [1, 8, 13, 101])
@@ -147,9 +139,7 @@ def test_full_pattern_path_matches_reference(full_pattern, seed):
 @pytest.mark.parametrize("seed", [2, 9, 104])
 def test_adaptive_stays_within_tolerance_of_full_pattern_on_noise(full_pattern, seed):
     """Noise is the hardest input for adaptive sampling: any position error shows."""
-    from marblevideo.opencl.renderer import Renderer
-
-    renderer = Renderer(adaptive=True)
+    renderer = fresh_renderer(adaptive=True)  # fresh: no busy frame seen before
     rng = np.random.default_rng(seed)
     noise = rng.integers(0, 256, (80, 100, 4), dtype=np.uint8)
     recipe = parse_recipe(random_recipe(seed) | {"antialias": "grid4"}, "noise.json")
@@ -182,14 +172,13 @@ def test_busy_designs_take_the_full_pattern_after_a_busy_frame(full_pattern):
     adaptive again, and a new job starts adaptive."""
     from pathlib import Path
 
-    from marblevideo.opencl.renderer import Renderer
     from marblevideo.opencl.walks import BUSY_SHARE, PROBE_EVERY
     from marblevideo.recipe import load_recipe
 
     recipe = load_recipe(Path(__file__).parent.parent / "samples" / "nonpareil.json")
     spec, geom = recipe.at(recipe.end_time()), geometry(recipe.canvas, (240, 160))
     full = full_pattern.render(spec, geom)
-    renderer = Renderer(os.environ.get("MARBLEVIDEO_TEST_DEVICE"))
+    renderer = fresh_renderer()  # fresh: the busy-frame counts start from a new job
     listed = []
     for _ in range(2 * PROBE_EVERY + 1):
         out = renderer.render(spec, geom)
@@ -280,7 +269,6 @@ def test_ops_not_started_are_skipped_as_if_absent(full_pattern):
     frame equals, pixel for pixel, the render of the recipe without them, in the
     unrolled and the loop walk, a still drop at the head of a concentric run
     included (the run is linked over the drops walked)."""
-    from marblevideo.opencl.renderer import Renderer
 
     later = {"start": 5.0, "end": 6.0}
     drops = [
@@ -303,7 +291,7 @@ def test_ops_not_started_are_skipped_as_if_absent(full_pattern):
     without = {"canvas": [120, 90], "ops": [*drops, wave]}
     geom = geometry((120, 90), (120, 90))
     image = make_image(100, 80, 5)
-    for renderer in (full_pattern, Renderer(adaptive=False, loop_walk=True)):
+    for renderer in (full_pattern, fresh_renderer(adaptive=False, loop_walk=True)):
         for source in (None, image):
             a = renderer.render(parse_recipe(with_still, "s.json").at(1.0), geom, source)
             b = renderer.render(parse_recipe(without, "w.json").at(1.0), geom, source)

@@ -13,6 +13,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 from clips import probe
+from helpers import fresh_renderer
 from recipes import random_registry_op
 
 from marblevideo.errors import RecipeError
@@ -76,7 +77,7 @@ def diff(a: np.ndarray, b: np.ndarray) -> np.ndarray:
 def lattice_renderer(**options) -> Renderer:
     """A renderer whose lattice takes frames of any number of ops (the scenes
     have one or two; by default such frames are walked: MIN_WALKED_OPS)."""
-    renderer = Renderer(**options)
+    renderer = fresh_renderer(**options)
     renderer.lattice_walk.min_ops = 1
     return renderer
 
@@ -154,7 +155,7 @@ def test_planes_interpolate_from_one_lattice(walker):
 
 
 def test_frames_of_few_ops_are_walked_exactly():
-    renderer = Renderer(reuse_maps=False)
+    renderer = fresh_renderer(reuse_maps=False)  # fresh: counts its lattice frames
     frames(renderer, SCENES["thin filament"][0])  # two ops
     assert renderer.lattice_walk.frames == 0
     frames(renderer, [*SCENES["thin filament"][0], SCENES["sharp vortex core"][0][0]])
@@ -164,7 +165,7 @@ def test_frames_of_few_ops_are_walked_exactly():
 def test_a_gpu_walks_every_frame_exactly():
     """A GPU walks faster than it interpolates (BENCHMARKS.md, session 14): its
     lattice takes no frame by default, whatever the number of ops."""
-    renderer = Renderer(reuse_maps=False)
+    renderer = fresh_renderer(reuse_maps=False)  # fresh: its lattice is replaced
     renderer.lattice_walk = LatticeWalk(renderer.device_queue, renderer.lanes, gpu=True)
     frames(renderer, [*SCENES["thin filament"][0], SCENES["sharp vortex core"][0][0]])
     assert renderer.lattice_walk.frames == 0
@@ -211,7 +212,7 @@ def test_stills_walk_every_subsample():
 def test_the_recipe_field_must_be_a_boolean(cli, tmp_path):
     import json
 
-    from conftest import one_line
+    from helpers import one_line
 
     recipe = tmp_path / "r.json"
     recipe.write_text(json.dumps(animated(lattice="no")))
@@ -223,7 +224,7 @@ def test_the_recipe_field_must_be_a_boolean(cli, tmp_path):
 def test_exact_walk_applies_to_video_outputs(cli, tmp_path):
     import json
 
-    from conftest import one_line
+    from helpers import one_line
 
     recipe = tmp_path / "r.json"
     recipe.write_text(json.dumps(animated()))

@@ -4,17 +4,16 @@ from __future__ import annotations
 
 import math
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import ROOT
 
 from marblevideo.errors import RecipeError
 from marblevideo.ops import LAYOUTS, REGISTRY
 from marblevideo.ops.layouts import MASK64, expand, splitmix64
 from marblevideo.recipe import parse_recipe
 
-ROOT = Path(__file__).resolve().parent.parent
 CANVAS = {"canvas": [200, 150]}
 
 

@@ -14,13 +14,14 @@ import time
 import av
 import numpy as np
 import pytest
+from helpers import ROOT
 
 from marblevideo.errors import UsageError
 from marblevideo.live.playback import Clock
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import Latest, TestPattern
 from marblevideo.server import Server
-from tests.live_helpers import RECIPE, ROOT, LiveProcess
+from tests.live_helpers import RECIPE, LiveProcess
 
 SWIRL = ROOT / "samples" / "swirl.json"
 

@@ -14,9 +14,10 @@ import json
 
 import cv2
 import numpy as np
+from helpers import ROOT
 
 from marblevideo.ops import op_def, slider_range
-from tests.live_helpers import RECIPE, ROOT, LiveProcess, watched_page
+from tests.live_helpers import RECIPE, LiveProcess, watched_page
 from tests.test_design_browser import REFUSED, drag, wait_for
 
 BROKEN = "Failed to load resource: the server responded with a status of 409 (Conflict)"

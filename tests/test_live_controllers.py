@@ -14,12 +14,13 @@ import time
 import av
 import numpy as np
 import pytest
+from helpers import ROOT
 from pythonosc.udp_client import SimpleUDPClient
 
 from marblevideo.marbler import Marbler
 from marblevideo.media.decode import upright
 from marblevideo.recipe import parse_recipe
-from tests.live_helpers import ROOT, LiveProcess
+from tests.live_helpers import LiveProcess
 
 PHOTO = ROOT / "samples" / "coffee.jpg"  # 600x400
 RECIPE = {
@@ -52,7 +53,7 @@ def _recording(path):
         ]
 
 
-def test_a_take_driven_by_osc_renders_again_from_its_automation(tmp_path):
+def test_a_take_driven_by_osc_renders_again_from_its_automation(tmp_path, renderer):
     recipe, take, auto = tmp_path / "r.json", tmp_path / "take.mkv", tmp_path / "take.json"
     recipe.write_text(json.dumps(RECIPE))
     live = LiveProcess(
@@ -85,7 +86,7 @@ def test_a_take_driven_by_osc_renders_again_from_its_automation(tmp_path):
     assert [k.get("ease") for k in keys] == ["hold", "hold", None]
     changes = [k["t"] for k in keys[1:]]
 
-    marbler = Marbler(parse_recipe(doc))
+    marbler = Marbler(parse_recipe(doc), renderer)
     photo = _photo()
     frames = _recording(take)
     checked = 0

@@ -9,9 +9,10 @@ import json
 
 import cv2
 import numpy as np
+from helpers import ROOT
 from pythonosc.udp_client import SimpleUDPClient
 
-from tests.live_helpers import ROOT, LiveProcess, watched_page
+from tests.live_helpers import LiveProcess, watched_page
 from tests.test_design_browser import wait_for
 from tests.test_live_browser import _diff, _settled
 

@@ -17,7 +17,7 @@ import cv2
 import numpy as np
 import pytest
 from clips import probe, write_clip
-from conftest import ROOT, files, one_line
+from helpers import ROOT, files, one_line
 from PIL import Image
 from tolerances import KERNEL_LEVELS, KERNEL_SHARE
 

@@ -5,10 +5,10 @@ on the device as the reference does. Adding an op without one of them fails here
 from __future__ import annotations
 
 import re
-from pathlib import Path
 
 import numpy as np
 import pytest
+from helpers import ROOT
 from tolerances import KERNEL_LEVELS, KERNEL_SHARE, ROUND_TRIP, SVG_SHARE
 
 from marblevideo.opencl.program import UNROLL_LIMIT, kernel_source, pack_params, walk_source
@@ -19,7 +19,6 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
-ROOT = Path(__file__).resolve().parent.parent
 OPS = list(REGISTRY.values())
 IDS = [d.type for d in OPS]
 SECTION = re.compile(r"^inline void (op_\w+)\(OP_ARGS\)", re.M)

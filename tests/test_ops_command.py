@@ -7,7 +7,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from conftest import one_line
+from helpers import one_line
 
 from marblevideo import parse_recipe
 from marblevideo.cli.catalog import KIND_LABELS

@@ -12,7 +12,7 @@ import re
 import cv2
 import numpy as np
 import pytest
-from conftest import ROOT, one_line
+from helpers import ROOT, one_line
 
 from marblevideo import RecipeError, UsageError, load_recipe, parse_recipe, render_image
 from marblevideo.bundled import presets

@@ -13,11 +13,10 @@ import sys
 from pathlib import Path
 
 import pytest
+from helpers import ROOT, subprocess_env
 
 from marblevideo import load_recipe
 from tests.live_helpers import LiveProcess
-
-ROOT = Path(__file__).resolve().parent.parent
 
 
 def test_readme_python_example_runs(monkeypatch, capsys):
@@ -161,7 +160,7 @@ def test_readme_command_runs(command, tmp_path):
         input=(tmp_path / source).read_bytes() if source else None,
         capture_output=True,
         timeout=120,
-        env={**os.environ, "PYTHONPATH": str(ROOT)},
+        env=subprocess_env(),
     )
     stderr = proc.stderr.decode(errors="replace")
     assert proc.returncode == 0, f"{shlex.join(argv[2:])}: {stderr}"

@@ -8,10 +8,10 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from helpers import fresh_renderer
 from recipes import EDGES, PATTERNS, make_image, random_recipe
 from tolerances import KERNEL_SHARE
 
-from marblevideo.opencl.renderer import Renderer
 from marblevideo.opencl.selfcheck import agreement
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
@@ -20,7 +20,7 @@ from marblevideo.reference import render as reference_render
 
 @pytest.fixture(scope="module")
 def fresh():
-    return Renderer(reuse_maps=False)
+    return fresh_renderer(reuse_maps=False)
 
 
 def frame(seed: int, size=(113, 89), t: float = 10.0):
@@ -38,7 +38,7 @@ def max_diff(a: np.ndarray, b: np.ndarray) -> int:
 def test_repeated_frame_comes_from_the_table_within_one_level(fresh, seed):
     spec, geom, image = frame(seed)
     assert (spec.antialias, spec.edges) == (PATTERNS[seed % 6], EDGES[seed // 6 % 4])
-    renderer = Renderer()
+    renderer = fresh_renderer()  # fresh (as in every test here): no table filled yet
     first = renderer.render(spec, geom, image)
     assert not renderer.last_reused
     again = renderer.render(spec, geom, image)
@@ -51,7 +51,7 @@ def test_repeated_frame_comes_from_the_table_within_one_level(fresh, seed):
 
 @pytest.mark.parametrize("lanes", [1, 4, 8])
 def test_every_lane_width_reuses_maps_alike(fresh, lanes):
-    renderer = Renderer(lanes=lanes, chains=1 if lanes == 1 else 2)
+    renderer = fresh_renderer(lanes=lanes, chains=1 if lanes == 1 else 2)
     for seed in (3, 10, 17):
         spec, geom, image = frame(seed, (61, 47))
         renderer.render(spec, geom, image)
@@ -63,7 +63,7 @@ def test_every_lane_width_reuses_maps_alike(fresh, lanes):
 def test_new_pictures_through_one_table(fresh):
     """A static recipe over a video: the table stays, the pictures change."""
     spec, geom, _ = frame(5, (90, 70))
-    renderer = Renderer()
+    renderer = fresh_renderer()
     pictures = [make_image(97, 72, s, alpha=True) for s in range(4)]
     outs = [renderer.render(spec, geom, p) for p in pictures]
     assert renderer.last_reused
@@ -76,7 +76,7 @@ def test_any_change_walks_afresh(fresh):
     recipe = parse_recipe(random_recipe(11), "animated.json")
     image = make_image(64, 48, 2)
     geom = geometry(recipe.canvas, (64, 48), (64, 48))
-    renderer = Renderer()
+    renderer = fresh_renderer()
     renderer.render(recipe.at(10.0), geom, image)
     renderer.render(recipe.at(10.0), geom, image)
     assert renderer.last_reused
@@ -100,7 +100,7 @@ def test_static_frames_come_from_the_table_from_the_first(fresh):
     table again rather than serving stale maps."""
     spec, geom, image = frame(7)
     other, _, _ = frame(8)
-    renderer = Renderer()
+    renderer = fresh_renderer()
     for values in (spec, spec, other, other):
         out = renderer.render(values, geom, image, static=True)
         assert renderer.last_reused
@@ -114,7 +114,7 @@ def test_identity_through_the_table_is_exact():
         {"marblevideo": 1, "canvas": [67, 41], "antialias": "none", "ops": []}, "id.json"
     )
     geom = geometry(recipe.canvas, (67, 41), (67, 41))
-    renderer = Renderer()
+    renderer = fresh_renderer()
     renderer.render(recipe.at(0), geom, image)
     assert np.array_equal(renderer.render(recipe.at(0), geom, image), image)
     assert renderer.last_reused
@@ -122,9 +122,9 @@ def test_identity_through_the_table_is_exact():
 
 def test_table_over_the_limit_or_switched_off_walks_every_frame():
     spec, geom, image = frame(4)
-    big = Renderer()
+    big = fresh_renderer()
     big.tables.limit = 1024  # this frame's table needs 4 * 89 * 128 * 4 bytes
-    off = Renderer(reuse_maps=False)
+    off = fresh_renderer(reuse_maps=False)
     for renderer in (big, off):
         first = renderer.render(spec, geom, image)
         assert np.array_equal(renderer.render(spec, geom, image), first)

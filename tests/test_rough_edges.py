@@ -7,7 +7,6 @@ another aspect than its canvas. Each through the real command in a subprocess
 from __future__ import annotations
 
 import json
-import os
 import signal
 import subprocess
 import sys
@@ -16,7 +15,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from conftest import ROOT, files, one_line
+from helpers import files, one_line, subprocess_env
 from interrupts import interrupt, wait_until
 from recipes import make_image
 from tolerances import KERNEL_SHARE
@@ -68,7 +67,7 @@ def _interrupt_banded(tmp_path: Path, name: str, sig: int) -> subprocess.Complet
         cwd=tmp_path,
         stderr=subprocess.PIPE,
         text=True,
-        env={**os.environ, "PYTHONPATH": str(ROOT), "MARBLEVIDEO_BAND_PIXELS": "65536"},
+        env=subprocess_env(MARBLEVIDEO_BAND_PIXELS="65536"),
     )
 
     def writing() -> bool:

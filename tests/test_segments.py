@@ -4,7 +4,6 @@ of a clip with B-frames at a variable frame rate. The Ray executor: test_cluster
 
 from __future__ import annotations
 
-import os
 import subprocess
 import sys
 
@@ -12,7 +11,7 @@ import av
 import numpy as np
 import pytest
 from clips import probe, write_clip, write_vfr_clip
-from conftest import ROOT, files, one_line
+from helpers import files, one_line, subprocess_env
 from recipes import BRIEF
 
 from marblevideo import api
@@ -128,7 +127,7 @@ def test_without_ray_the_cluster_asks_for_the_extra(tmp_path):
             cwd=tmp_path,
             capture_output=True,
             text=True,
-            env={**os.environ, "PYTHONPATH": str(ROOT)},
+            env=subprocess_env(),
             timeout=120,
         )
         assert proc.returncode == 2, proc.stderr
@@ -142,5 +141,5 @@ def test_the_core_never_imports_ray():
         "print('ray' in sys.modules)"
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,
-                          env={**os.environ, "PYTHONPATH": str(ROOT)}, timeout=60)  # fmt: skip
+                          env=subprocess_env(), timeout=60)  # fmt: skip
     assert proc.stdout.strip() == "False", proc.stderr

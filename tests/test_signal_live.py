@@ -7,7 +7,7 @@ from __future__ import annotations
 import av
 import numpy as np
 import pytest
-from conftest import one_line
+from helpers import one_line
 from sound import write_video_with_sound
 from test_signal_render import PULSE, RATE, beat_samples, coral_radius, expected_radius
 

@@ -8,12 +8,11 @@ import importlib.util
 import json
 import math
 from fractions import Fraction
-from pathlib import Path
 
 import av
 import numpy as np
 import pytest
-from conftest import one_line
+from helpers import ROOT, one_line
 from sound import pcm16, write_video_with_sound, write_wav
 
 from marblevideo.marbler import Marbler
@@ -23,7 +22,6 @@ from marblevideo.segmented import render_split
 from marblevideo.signals import AudioSignals, analyse
 from marblevideo.signals.follow import follow
 
-ROOT = Path(__file__).resolve().parent.parent
 PULSE = ROOT / "samples" / "pulse.json"
 RATE = 22050
 CORAL = (231, 111, 81)  # the inner breathing drop of pulse.json, radius 40..120

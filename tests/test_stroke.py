@@ -10,12 +10,11 @@ import json
 
 import numpy as np
 import pytest
-from conftest import files, one_line
+from helpers import files, one_line
 from op_probe import run_op
 from tolerances import KERNEL_SHARE, SVG_SHARE
 
 from marblevideo.opencl.program import STILL_CODE, pack_params
-from marblevideo.opencl.renderer import Renderer
 from marblevideo.opencl.selfcheck import agreement
 from marblevideo.ops import op_def
 from marblevideo.ops.stroke import STEP_FLOATS, _rows, angles, layout
@@ -101,8 +100,10 @@ def test_nothing_farther_than_width_from_the_steps_moves(case):
 @pytest.mark.parametrize("case", IDS)
 @pytest.mark.parametrize("lanes", [None, 1], ids=["vectors", "one-pixel"])
 @pytest.mark.parametrize("travel", [1.0, 0.5])
-def test_the_kernel_section_is_the_float64_inverse(renderer, case, lanes, travel):
-    device = renderer if lanes is None else Renderer(lanes=lanes, chains=1)
+def test_the_kernel_section_is_the_float64_inverse(
+    renderer, one_pixel_renderer, case, lanes, travel
+):
+    device = renderer if lanes is None else one_pixel_renderer
     op = OpState("stroke", values(case, travel))
     rng = np.random.default_rng(len(case))
     x = rng.uniform(-20, 280, 8192).astype(np.float32)
@@ -269,7 +270,7 @@ def test_a_stroke_preset_renders_on_the_device_as_the_reference_does(renderer, n
 def test_the_stroke_presets_are_what_their_script_writes(cli, tmp_path):
     import importlib.util
 
-    from conftest import ROOT
+    from helpers import ROOT
 
     path = ROOT / "samples" / "make_stroke_presets.py"
     spec = importlib.util.spec_from_file_location("make_stroke_presets", path)
@@ -285,7 +286,7 @@ def test_the_stroke_presets_are_what_their_script_writes(cli, tmp_path):
 
 
 def test_the_readme_states_the_stroke_limits():
-    from conftest import ROOT
+    from helpers import ROOT
 
     from marblevideo.ops.stroke import MAX_POINTS, MAX_STEPS, MAX_TINES
 

@@ -4,16 +4,14 @@ is periodic over the canvas, a 2 x 2 tiling of the render has no seam."""
 from __future__ import annotations
 
 import json
-from pathlib import Path
 
 import cv2
 import numpy as np
 import pytest
+from helpers import ROOT
 
 from marblevideo.marbler import Marbler
 from marblevideo.recipe import parse_recipe
-
-ROOT = Path(__file__).resolve().parent.parent
 
 
 def seam_ratio(img: np.ndarray) -> float:

@@ -9,13 +9,12 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
+from helpers import ROOT
 from test_vector import blank_design
 
 from marblevideo.outputs.uv import read_uv, render_uv
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
-
-ROOT = Path(__file__).resolve().parent.parent
 
 
 def identity_pass(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import os
 import queue
 import signal
 import subprocess
@@ -15,6 +14,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 from clips import picture, probe, write_clip
+from helpers import subprocess_env
 from tolerances import LOSSY_MEAN, LOSSY_MEAN_RESAMPLED
 
 from marblevideo.errors import MediaError, OutputExistsError, UsageError
@@ -394,7 +394,7 @@ def test_sigint_stops_promptly_and_leaves_nothing(tmp_path):
     src = write_clip(tmp_path / "long.mp4", frames=100)
     work = tmp_path / "work"
     work.mkdir()
-    env = dict(os.environ, PYTHONPATH=str(Path(__file__).parents[1]))
+    env = subprocess_env()
     proc = subprocess.Popen(
         [sys.executable, "-c", textwrap.dedent(INTERRUPT_SCRIPT), str(src), str(work / "o.mp4")],
         stdout=subprocess.PIPE,

@@ -13,6 +13,7 @@ from fractions import Fraction
 
 import numpy as np
 from clips import probe, write_clip
+from helpers import fresh_renderer
 from tolerances import KERNEL_LEVELS, KERNEL_SHARE
 
 from marblevideo.api import marbled_frames
@@ -141,7 +142,7 @@ def test_a_static_recipe_keeps_its_maps_from_the_first_frame(tmp_path):
     clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=3, fps=25, audio=False)
     static = {**RECIPE, "ops": [{**RECIPE["ops"][1], "alpha": 20}]}
     for recipe, expect_static in ((static, True), (RECIPE, False)):
-        marbler = Marbler(recipe)
+        marbler = Marbler(recipe, fresh_renderer())  # fresh: no table filled before
         transform = marbler.transform()
         assert transform.static is expect_static
         for t, image in iter_frames(clip):

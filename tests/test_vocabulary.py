@@ -14,7 +14,6 @@ from recipes import make_image, random_registry_op
 from tolerances import KERNEL_SHARE, ROUND_TRIP, SVG_SHARE
 
 from marblevideo.errors import RecipeError
-from marblevideo.opencl.renderer import Renderer
 from marblevideo.opencl.selfcheck import agreement
 from marblevideo.ops import REGISTRY
 from marblevideo.ops.shear import rake_offsets
@@ -45,10 +44,10 @@ def _op_values(definition, seed: int, w: float = 80.0, h: float = 60.0) -> OpSta
 
 @pytest.mark.parametrize("lanes", [None, 1], ids=["vectors", "one-pixel"])
 @pytest.mark.parametrize("definition", OPS, ids=IDS)
-def test_the_kernel_section_is_the_numpy_inverse(renderer, definition, lanes):
+def test_the_kernel_section_is_the_numpy_inverse(renderer, one_pixel_renderer, definition, lanes):
     """Point by point, on random values and points: the section walks a float32
     point where the float64 inverse takes it (ink where contains says so)."""
-    device = renderer if lanes is None else Renderer(lanes=lanes, chains=1)
+    device = renderer if lanes is None else one_pixel_renderer
     rng = np.random.default_rng(definition.code)
     for seed in range(3):
         op = _op_values(definition, 10 * definition.code + seed)
@@ -171,9 +170,11 @@ def test_random_blank_designs_of_every_op_in_svg(renderer, seed):
 
 @pytest.mark.parametrize("ka", [0.5, 0.9, 0.99])
 @pytest.mark.parametrize("lanes", [None, 1], ids=["vectors", "one-pixel"])
-def test_jiggle_newton_converges_to_a_thousandth_of_a_pixel(renderer, ka, lanes):
+def test_jiggle_newton_converges_to_a_thousandth_of_a_pixel(
+    renderer, one_pixel_renderer, ka, lanes
+):
     """Near the |k A| -> 1 edge too, over phases and a canvas of 2000 units."""
-    device = renderer if lanes is None else Renderer(lanes=lanes, chains=1)
+    device = renderer if lanes is None else one_pixel_renderer
     definition = REGISTRY["jiggle"]
     rng = np.random.default_rng(int(ka * 100))
     for wavelength in (17.0, 60.0, 400.0):

@@ -7,6 +7,7 @@ import av
 import numpy as np
 import pytest
 from clips import picture, probe, write_clip
+from helpers import fresh_renderer
 from tolerances import (
     LOSSY_MEAN,
     PLANAR_DIFFERING,
@@ -20,7 +21,6 @@ from marblevideo.marbler import Marbler
 from marblevideo.media.pipeline import render_sheet, transcode
 from marblevideo.media.video import VideoOptions
 from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, packed_i420, split_i420
-from marblevideo.opencl.renderer import Renderer
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
@@ -232,7 +232,8 @@ def test_device_planar_frames_match_the_reference(lanes, case):
     """Same matrix in and out: the planes are warped on the device as render_planes
     does, on a fresh walk and then from the tables of reused maps."""
     antialias, edges, in_size, out_size = case
-    renderer = Renderer(lanes=lanes, chains=1 if lanes == 1 else None)
+    # fresh: the first frame walks, the next reuse its maps
+    renderer = fresh_renderer(lanes=lanes, chains=1 if lanes == 1 else None)
     recipe = parse_recipe({**RECIPE, "antialias": antialias, "edges": edges}, "t.json")
     spec, geom = recipe.at(0, in_size), geometry(in_size, out_size, in_size)
     planes = frame_of(photo_like(*in_size), MATRICES[2])
@@ -245,7 +246,7 @@ def test_device_planar_frames_match_the_reference(lanes, case):
         assert diff.max() <= PLANAR_MAX and (diff > 0).mean() < PLANAR_DIFFERING
         reused.append(renderer.last_reused)
     assert reused == [False, True, True]
-    static = Renderer(lanes=lanes, chains=1 if lanes == 1 else None)
+    static = fresh_renderer(lanes=lanes, chains=1 if lanes == 1 else None)
     ours = static.render_i420(spec, geom, planes, MATRICES[2], MATRICES[2], static=True)
     assert static.last_reused  # the tables from the first frame on
     assert np.abs(ours.astype(int) - expected).max() <= 1
@@ -254,7 +255,7 @@ def test_device_planar_frames_match_the_reference(lanes, case):
 def test_planar_frames_change_with_the_maps_and_the_picture():
     """A table holds one recipe's maps: new values or a new picture are never served
     stale, and switching between planar and converted frames keeps both right."""
-    renderer = Renderer()
+    renderer = fresh_renderer()  # fresh: which frames reuse maps is checked
     size = (96, 64)
     geom = geometry(size, size, size)
     a, b = (frame_of(photo_like(*size, seed=s), MATRICES[1]) for s in (1, 2))
@@ -289,13 +290,13 @@ def test_frames_in_flight_come_out_as_rendered_one_at_a_time(lanes, static):
     recipe = parse_recipe(RECIPE, "t.json")
     spec, geom = recipe.at(0, size), geometry(size, size, size)
     pictures = [frame_of(photo_like(*size, seed=s), MATRICES[1]) for s in range(4)]
-    one_by_one = Renderer(lanes=lanes, chains=chains)
+    one_by_one = fresh_renderer(lanes=lanes, chains=chains)
     want = [
         one_by_one.render_i420(spec, geom, p, MATRICES[1], MATRICES[1], static=static)
         for p in pictures
     ]
     assert not all(np.array_equal(want[0], w) for w in want[1:])
-    renderer = Renderer(lanes=lanes, chains=chains)
+    renderer = fresh_renderer(lanes=lanes, chains=chains)  # fresh: its buffers are shared
     started = [
         renderer.render_i420(spec, geom, p, MATRICES[1], MATRICES[1], static=static, wait=False)
         for p in pictures
@@ -349,11 +350,11 @@ def _planes(path) -> list[np.ndarray]:
         return [frame.to_ndarray() for frame in container.decode(video=0)]
 
 
-def test_pipeline_marbles_i420_frames_plane_by_plane(tmp_path):
+def test_pipeline_marbles_i420_frames_plane_by_plane(tmp_path, renderer):
     """A yuv420p clip is warped plane by plane (render_planes on each decoded frame,
     exactly through lossless x264), with the RGBA path's luma and timing."""
     clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=6, audio=True)
-    transform = Marbler(RECIPE).transform()
+    transform = Marbler(RECIPE, renderer).transform()
     fast = transcode(clip, tmp_path / "fast.mp4", transform, _lossless())
     slow = transcode(clip, tmp_path / "slow.mp4", RgbaOnly(transform), _lossless())
     assert fast.i420_frames == fast.frames == 6 and slow.i420_frames == 0
@@ -411,7 +412,7 @@ class PlanesBack:
 
 
 @pytest.mark.parametrize("size", [(128, 64), (90, 34)], ids=["packed-rows", "padded-rows"])
-def test_i420_frames_cross_the_pipeline_exactly(tmp_path, size):
+def test_i420_frames_cross_the_pipeline_exactly(tmp_path, size, renderer):
     """Decoded planes go to the device as they are (rows padded to the decoder's
     line size at 90 wide) and a frame is encoded on the result's own memory (PyAV
     misreads a yuv420p height that is not a multiple of 4, 34 here, so that one is
@@ -422,7 +423,8 @@ def test_i420_frames_cross_the_pipeline_exactly(tmp_path, size):
         padded = any(plane.line_size > plane.width for plane in first.planes)
         assert padded == (size[0] == 90)
     identity = parse_recipe({"marblevideo": 1, "antialias": "none", "ops": []}, "t.json")
-    for name, transform in (("marbled", Marbler(identity).transform()), ("planes", PlanesBack())):
+    marbled = Marbler(identity, renderer).transform()
+    for name, transform in (("marbled", marbled), ("planes", PlanesBack())):
         stats = transcode(clip, tmp_path / f"{name}.mkv", transform, _lossless())
         assert stats.i420_frames == 3
         for a, b in zip(_planes(clip), _planes(tmp_path / f"{name}.mkv"), strict=True):
@@ -533,10 +535,11 @@ def test_a_start_that_returns_no_function_is_refused(tmp_path, kind):
     assert not (tmp_path / "out.mp4").exists()
 
 
-def test_pipeline_keeps_full_range_on_the_i420_path(tmp_path):
+def test_pipeline_keeps_full_range_on_the_i420_path(tmp_path, renderer):
     clip = write_clip(tmp_path / "full.mkv", color_range=2, audio=False, frames=3)
     identity = parse_recipe({"marblevideo": 1, "antialias": "none", "ops": []}, "t.json")
-    stats = transcode(clip, tmp_path / "out.mkv", Marbler(identity).transform(), _lossless())
+    transform = Marbler(identity, renderer).transform()
+    stats = transcode(clip, tmp_path / "out.mkv", transform, _lossless())
     assert stats.i420_frames == 3
     out = probe(tmp_path / "out.mkv")
     assert out.color_range == 2
@@ -547,7 +550,7 @@ def test_pipeline_keeps_full_range_on_the_i420_path(tmp_path):
     "case",
     ["rotated", "odd-size", "yuv444p-output", "odd-output-size"],
 )
-def test_pipeline_falls_back_to_rgba_where_i420_cannot_go(tmp_path, case):
+def test_pipeline_falls_back_to_rgba_where_i420_cannot_go(tmp_path, case, renderer):
     size, options, clip_args = (96, 64), {}, {}
     if case == "rotated":
         clip_args["rotation"] = 90
@@ -558,13 +561,13 @@ def test_pipeline_falls_back_to_rgba_where_i420_cannot_go(tmp_path, case):
     else:
         options["size"] = (81, 60)
     clip = write_clip(tmp_path / "in.mkv", size=size, frames=3, audio=False, **clip_args)
-    transform = Marbler(RECIPE).transform(options.get("size"))
+    transform = Marbler(RECIPE, renderer).transform(options.get("size"))
     stats = transcode(clip, tmp_path / "out.mp4", transform, _lossless(**options))
     assert stats.frames == 3 and stats.i420_frames == 0
 
 
 @pytest.mark.parametrize("size, planar", [((96, 64), True), ((95, 64), False)])
-def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, planar):
+def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, planar, renderer):
     from marblevideo.api import render_video
 
     recipe = parse_recipe({**RECIPE, "canvas": [96, 64]}, "t.json")
@@ -572,7 +575,7 @@ def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, plan
     stats = render_video(None, recipe, dst, duration=0.3, fps=10, size=size, **_LOSSLESS)
     assert stats.frames == 3 and stats.i420_frames == (3 if planar else 0)
     if planar:
-        marbler = Marbler(recipe)
+        marbler = Marbler(recipe, renderer)
         with av.open(str(dst)) as container:
             for i, frame in enumerate(container.decode(video=0)):
                 want = rgba_to_i420(marbler.render(None, i / 10, size), MATRICES[0])

@@ -1,0 +1,97 @@
+"""``python -m benchmarks [PART ...] [options]``, from the checkout: the parts
+named (the package's docstring says what each measures), one Markdown report on
+standard output. ``lanes-child`` is one process of ``lanes`` (internal)."""
+
+from __future__ import annotations
+
+import argparse
+import importlib
+
+from . import __doc__ as PACKAGE_DOC
+from .common import animated12, header, make_clip, turn12
+
+#: what ``python -m benchmarks`` runs with no part named
+DEFAULT_PARTS = ("table1", "e2e", "numpy", "memory")
+
+
+#: part name -> the (module, function, arguments) it runs, in order; arguments
+#: names one of :func:`arguments`' forms (the function runs once per tuple)
+PARTS = {
+    "table1": [("kernel", "table1", "device")],
+    "pst": [("kernel", "pst_row", "device")],
+    "numpy": [("kernel", "numpy_baseline", "device")],
+    "bullseye": [("kernel", "bullseye", "device")],
+    "series": [("kernel", "series", "device")],
+    "animations": [("kernel", "animations", "device")],
+    "busy": [("kernel", "busy", "device")],
+    "svg": [("svg", "svg_part", "device")],
+    "lanes": [("lanes", "lanes", "device")],
+    "e2e": [("e2e", "e2e", "lengths")],
+    "bounds": [("e2e", "bounds", "lengths")],
+    "memory": [("e2e", "memory", "memory")],
+    "cluster": [("cluster_bench", "cluster_part", "cluster")],
+    "lattice": [
+        ("lattice_bench", "lattice_part", "animated"),
+        ("lattice_bench", "cost_part", "cost"),
+    ],
+    "live1080": [("lattice_bench", "live1080_part", "device")],
+    "strokes": [("stroke_bench", "strokes_part", "device")],
+}
+
+
+def arguments(form: str, args: argparse.Namespace) -> list[tuple]:
+    """The argument tuples of a part's function: one call per tuple."""
+    return {
+        "device": lambda: [(args.device,)],
+        "lengths": lambda: [(args.device, s) for s in args.seconds],  # one per clip length
+        "memory": lambda: [(args.device, args.long)],
+        "cluster": lambda: [(args.device, make_clip, animated12)],
+        "animated": lambda: [(args.device, animated12)],
+        "cost": lambda: [(args.device, animated12, turn12)],
+    }[form]()
+
+
+def function(module: str, name: str):
+    """``benchmarks.MODULE.NAME``, imported when its part runs (cluster needs the
+    extra 'ray', svg cairosvg)."""
+    return getattr(importlib.import_module(f".{module}", __package__), name)
+
+
+def parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(
+        prog="python -m benchmarks",
+        description=PACKAGE_DOC.splitlines()[0],
+        epilog=f"parts: {' '.join(PARTS)} (default: {' '.join(DEFAULT_PARTS)})",
+    )
+    p.add_argument("parts", nargs="*", default=list(DEFAULT_PARTS), metavar="PART")
+    p.add_argument("--device", help="OpenCL device (see `marblevideo devices`)")
+    p.add_argument(
+        "--long", type=int, default=600, help="seconds of the long memory clip (default 600)"
+    )
+    p.add_argument(
+        "--seconds",
+        type=int,
+        nargs="+",
+        default=[4, 20],
+        metavar="S",
+        help="lengths of the e2e and bounds clips in seconds (default 4 20)",
+    )
+    return p
+
+
+def main(argv: list[str] | None = None) -> None:
+    args = parser().parse_args(argv)
+    if args.parts == ["lanes-child"]:
+        return function("lanes", "lanes_child")(args.device)
+    unknown = [p for p in args.parts if p not in PARTS]
+    if unknown:
+        parser().error(f"unknown part(s) {', '.join(unknown)}; parts: {' '.join(PARTS)}")
+    header()
+    for part in args.parts:
+        for module, name, form in PARTS[part]:
+            for call in arguments(form, args):
+                function(module, name)(*call)
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,50 @@
+"""Helpers that tests import: the checkout, subprocess environments, fresh renderers
+and the checks of a failed run. conftest.py holds fixtures only (no test imports it).
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+#: The checkout (the folder holding marblevideo/, tests/, benchmarks/).
+ROOT = Path(__file__).resolve().parent.parent
+
+
+def device_choice() -> str | None:
+    """The --device choice the tests run on: MARBLEVIDEO_TEST_DEVICE, else the default."""
+    return os.environ.get("MARBLEVIDEO_TEST_DEVICE")
+
+
+def fresh_renderer(**options):
+    """A new Renderer on the test device, for tests of what one renderer keeps
+    (caches, reused maps, programs built, counters) or of other options (lanes,
+    chains, adaptive...); every other test takes the session's ``renderer`` fixture."""
+    from marblevideo.opencl.renderer import Renderer
+
+    return Renderer(device_choice(), **options)
+
+
+def pythonpath() -> str:
+    """The checkout first, then the caller's PYTHONPATH (packages installed with --target)."""
+    return os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
+
+
+def subprocess_env(**extra: str) -> dict[str, str]:
+    """This process's environment for a subprocess that imports the checkout
+    (:func:`pythonpath`), with ``extra`` variables added."""
+    return {**os.environ, "PYTHONPATH": pythonpath(), **extra}
+
+
+def one_line(proc) -> str:
+    """The single stderr line of a failed run (``marblevideo: ...``); no traceback."""
+    assert "Traceback" not in proc.stderr, proc.stderr
+    lines = proc.stderr.splitlines()
+    assert len(lines) == 1, proc.stderr
+    assert lines[0].startswith("marblevideo: ")
+    return lines[0]
+
+
+def files(folder: Path) -> list[str]:
+    """The names in ``folder``, sorted."""
+    return sorted(p.name for p in folder.iterdir())

@@ -1,0 +1,141 @@
+"""The tests' own shape: conftest.py holds fixtures only and no module imports it;
+renderers are made by one helper (on the test device); subprocesses get the
+checkout's PYTHONPATH from one helper; random recipes cover every registered op
+type (a new op is covered by adding its definition, or named here)."""
+
+from __future__ import annotations
+
+import ast
+import re
+from dataclasses import replace
+
+import pytest
+from helpers import ROOT
+from recipes import GENERATORS, NOT_RANDOM, OPS, random_recipe
+
+from marblevideo.ops import REGISTRY
+from marblevideo.recipe import parse_recipe
+
+TESTS = ROOT / "tests"
+#: The folders whose modules may be tempted to import the tests' conftest.
+SOURCES = sorted(
+    p
+    for folder in ("tests", "benchmarks", "scripts", "samples")
+    for p in (ROOT / folder).rglob("*.py")
+)
+#: The tests' own modules, the helpers' module (where renderers and PYTHONPATH are made) aside.
+TEST_MODULES = sorted(p for p in TESTS.glob("*.py") if p.name != "helpers.py")
+IMPORTS_CONFTEST = re.compile(
+    r"^\s*(from\s+(tests\.)?conftest\s+import|import\s+(tests\.)?conftest)\b", re.M
+)
+
+
+def conftest_imports(text: str) -> list[str]:
+    return [m.group(0).strip() for m in IMPORTS_CONFTEST.finditer(text)]
+
+
+def renderers_made(text: str) -> list[int]:
+    """Lines of ``Renderer(...)`` calls and of ``Marbler(recipe)`` ones (which make
+    their own renderer on the default device); code in strings, run in a
+    subprocess, aside."""
+    found = []
+    for node in ast.walk(ast.parse(text)):
+        if isinstance(node, ast.Call):
+            func = node.func
+            called = func.id if isinstance(func, ast.Name) else getattr(func, "attr", None)
+            given = len(node.args) > 1 or {k.arg for k in node.keywords} & {"renderer", "device"}
+            if called == "Renderer" or (called == "Marbler" and not given):
+                found.append(node.lineno)
+    return found
+
+
+def pythonpaths_by_hand(text: str) -> list[int]:
+    """Lines setting PYTHONPATH (a dict key or a keyword) to anything but pythonpath()."""
+    found = []
+    for node in ast.walk(ast.parse(text)):
+        pairs = []
+        if isinstance(node, ast.Dict):
+            items = zip(node.keys, node.values, strict=True)
+            pairs = [(k.value, v) for k, v in items if isinstance(k, ast.Constant)]
+        elif isinstance(node, ast.keyword):
+            pairs = [(node.arg, node.value)]
+        by_hand = [v for k, v in pairs if k == "PYTHONPATH" and ast.unparse(v) != "pythonpath()"]
+        found += [v.lineno for v in by_hand]
+    return found
+
+
+def offenders(paths, check) -> dict[str, object]:
+    found = {str(p.relative_to(ROOT)): check(p.read_text()) for p in paths}
+    return {name: what for name, what in found.items() if what}
+
+
+def test_nothing_imports_conftest():
+    """Helpers live in modules (helpers.py, recipes.py...): pytest loads conftest.py
+    itself, and a second import of it runs it twice under another name."""
+    assert not offenders(SOURCES, conftest_imports)
+
+
+def test_conftest_defines_fixtures_and_hooks_only():
+    names = []
+    for node in ast.parse((TESTS / "conftest.py").read_text()).body:
+        if isinstance(node, ast.FunctionDef | ast.ClassDef):
+            fixture = any("fixture" in ast.unparse(d) for d in node.decorator_list)
+            if not fixture and not node.name.startswith("pytest_"):
+                names.append(node.name)
+    assert not names, f"helpers belong in tests/helpers.py: {names}"
+
+
+def test_renderers_are_made_by_fresh_renderer():
+    """Tests take the session's ``renderer`` fixture, or ``fresh_renderer()`` where
+    they need a renderer of their own: both run on MARBLEVIDEO_TEST_DEVICE."""
+    made = offenders(TEST_MODULES, renderers_made)
+    assert not made, f"Renderer(...) made by hand (use helpers.fresh_renderer): {made}"
+
+
+def test_subprocesses_take_pythonpath_from_the_helper():
+    """PYTHONPATH is set only to helpers.pythonpath() (the checkout, then the
+    caller's), never to the checkout alone."""
+    bad = offenders(TEST_MODULES, pythonpaths_by_hand)
+    assert not bad, f"PYTHONPATH set by hand (use helpers.subprocess_env): {bad}"
+
+
+def test_the_layout_checks_find_what_they_look_for():
+    code = (
+        "from conftest import ROOT\nimport tests.conftest\n"
+        "r = Renderer(lanes=1)\nenv = {'PYTHONPATH': str(ROOT)}\n"
+        "run(env=dict(PYTHONPATH=ROOT))\nok = {'PYTHONPATH': pythonpath()}\n"
+        "script = 'Renderer()'\nm = Marbler(recipe)\nok = Marbler(recipe, renderer)\n"
+    )
+    assert conftest_imports(code) == ["from conftest import", "import tests.conftest"]
+    assert renderers_made(code) == [3, 8]
+    assert pythonpaths_by_hand(code) == [4, 5]
+
+
+def uncovered(registry, generators, excluded) -> list[str]:
+    """Registered op types with neither a random generator nor a reason to have none."""
+    return [t for t in registry if t not in generators and t not in excluded]
+
+
+def test_random_recipes_cover_every_registered_type():
+    """A new op is random-generated once listed in recipes.GENERATORS (or left out,
+    with the reason, in recipes.NOT_RANDOM); nothing listed is unregistered."""
+    missing = uncovered(REGISTRY, GENERATORS, NOT_RANDOM)
+    assert not missing, f"no random generator in tests/recipes.py GENERATORS: {missing}"
+    assert set(GENERATORS).isdisjoint(NOT_RANDOM)
+    assert set(GENERATORS) | set(NOT_RANDOM) <= set(REGISTRY)
+    assert all(reason.strip() for reason in NOT_RANDOM.values())
+    assert tuple(t for t in REGISTRY if t not in NOT_RANDOM) == OPS
+
+
+def test_a_new_op_type_is_named_until_it_has_a_generator():
+    whirl = replace(REGISTRY["vortex"], type="whirl")
+    registry = {**REGISTRY, "whirl": whirl, "swirl": replace(whirl, type="swirl")}
+    assert uncovered(registry, GENERATORS, NOT_RANDOM) == ["whirl", "swirl"]
+    assert uncovered(registry, {**GENERATORS, "whirl": None}, {**NOT_RANDOM, "swirl": "why"}) == []
+
+
+@pytest.mark.parametrize("seed", range(3))
+def test_a_recipe_of_as_many_ops_as_types_holds_every_type(seed):
+    recipe = random_recipe(seed, n_ops=len(OPS))
+    assert sorted(op["type"] for op in recipe["ops"]) == sorted(OPS)
+    parse_recipe(recipe, "random.json")
