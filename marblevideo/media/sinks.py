@@ -24,7 +24,7 @@ from marblevideo.errors import MediaError, OutputExistsError, UsageError
 from marblevideo.media.encode import Encoder, OutputPlan
 from marblevideo.media.formats import sequence_name, sequence_names
 from marblevideo.media.images import write_image
-from marblevideo.media.output import atomic_output, check_output
+from marblevideo.media.output import atomic_output
 from marblevideo.media.video import AudioItem, Span, Stats, VideoItem, VideoOptions, notifier
 
 
@@ -132,7 +132,6 @@ def video_writer(
             with contextlib.suppress(OSError):
                 sys.stdout.buffer.flush()
         return
-    check_output(dst, options.overwrite, inputs)
     with atomic_output(dst, options.overwrite, inputs) as tmp:
         out = av.open(str(tmp), "w", format=plan.format, options=plan.container_options)
         yield from _closing(Encoder(out, plan, options, stats, say), out)
