@@ -77,7 +77,7 @@ from marblevideo.errors import UsageError
 from marblevideo.media.decode import Reader, estimate_frames, open_input
 from marblevideo.media.encode import COLOR_FIELDS, OutputPlan, audio_plan, plan_output
 from marblevideo.media.encoders import library_logs
-from marblevideo.media.formats import is_local, is_sequence
+from marblevideo.media.inputs import Input, classify
 from marblevideo.media.output import check_output
 from marblevideo.media.retime import rate_fraction, retimed
 from marblevideo.media.sinks import video_writer
@@ -105,46 +105,45 @@ Transform = Callable[[np.ndarray, float], np.ndarray]
 
 
 def transcode(
-    src: str | os.PathLike,
+    src: str | os.PathLike | Input,
     dst: str | os.PathLike,
     transform: Transform,
     options: VideoOptions | None = None,
     *,
     plan: OutputPlan | None = None,
-    stream=None,
     pts_origin: int | None = None,
 ) -> Stats:
     """Write ``dst``: every frame of ``src`` (in ``start``..``end``) through ``transform``.
 
-    ``src`` is a file, an image sequence, ``-`` (standard input; ``stream`` is
-    :func:`~marblevideo.media.decode.stdin_source`'s when it was read already)
-    or a URL; ``dst`` a file, an image sequence or ``-`` (standard output, in
-    ``options.format``). With ``options.fps`` the frame rate is converted
-    (:mod:`marblevideo.media.retime`); for an image sequence it is the rate
-    the images are read at instead.
+    ``src`` is a file, an image sequence, ``-`` (standard input) or a URL, by
+    name or classified (:class:`~marblevideo.media.inputs.Input`); ``dst`` a
+    file, an image sequence or ``-`` (standard output, in ``options.format``).
+    With ``options.fps`` the frame rate is converted (:mod:`marblevideo.media.retime`);
+    for an image sequence it is the rate the images are read at instead.
 
     Raises UsageError (bad options, output = input), OutputExistsError,
     MediaError (unreadable input, encoder failure); exceptions from
     ``transform`` and KeyboardInterrupt propagate, leaving no output file.
     ``plan`` is :func:`plan_output`'s for ``dst`` and ``options``, where the
-    caller has checked them already. ``pts_origin``: see
+    caller has checked them and the output already. ``pts_origin``: see
     :class:`~marblevideo.media.decode.Reader` (segments of a split render).
     """
     options = options or VideoOptions()
     began = time.monotonic()
-    plan = plan or plan_output(dst, options)
-    inputs = [src] if is_local(src) else []
-    if not (plan.stream or plan.sequence):
-        check_output(dst, options.overwrite, inputs)
+    source = classify(src)
+    if plan is None:
+        plan = plan_output(dst, options)
+        if not (plan.stream or plan.sequence):
+            check_output(dst, options.overwrite, source.names)
     stats = Stats()
-    with open_input(src, options.fps, stream) as container, opened(options.soundtrack) as sound:
+    with open_input(source, options.fps) as container, opened(options.soundtrack) as sound:
         say = notifier(options, stats)
         own, audio = _audio(container, sound, dst, plan, options, stats)
         vin = container.streams.video[0]
         colors = {k: getattr(vin.codec_context, k) for k in COLOR_FIELDS}
         marble = FrameMarbler(transform, _out_matrix(colors, plan, options), options, say)
         reader = Reader(container, options.start, options.end, own, marble.planar, pts_origin)
-        clock = _Clock(vin, None if is_sequence(src) else options.fps)
+        clock = _Clock(vin, None if source.kind == "sequence" else options.fps)
 
         def produce() -> Iterator[VideoItem | AudioItem]:
             items = clock.retimed(reader.items())
@@ -158,11 +157,11 @@ def transcode(
 
         total = estimate_frames(reader, clock.fps)
         with (
-            video_writer(dst, plan, options, stats, inputs) as writer,
+            video_writer(dst, plan, options, stats, source.names) as writer,
             library_logs(options.verbose),
         ):
             run_stages(writer, plan, options, produce, marble, setup, total)
-        _tell_reader(reader, src, stats, say)
+        _tell_reader(reader, source.name, stats, say)
     stats.seconds = time.monotonic() - began
     return stats
 
