@@ -27,20 +27,6 @@ PENDING = {
     "marblevideo/live/session.py",
     "kernels/marble.cl",
 }
-#: Files of this branch not yet under the limits (emptied as they are split).
-PENDING |= {
-    "marblevideo/api.py",
-    "marblevideo/batch.py",
-    "marblevideo/cli/live.py",
-    "marblevideo/cli/render.py",
-    "marblevideo/media/encode.py",
-    "marblevideo/media/pipeline.py",
-    "marblevideo/opencl/selfcheck.py",
-    "marblevideo/outputs/svg.py",
-    "marblevideo/recipe/load.py",
-    "marblevideo/recipe/schema.py",
-    "marblevideo/segmented.py",
-}
 
 PY_FILES = sorted(PACKAGE.rglob("*.py"))
 CL_FILES = sorted(KERNELS.rglob("*.cl"))
