@@ -32,7 +32,7 @@ from marblevideo.errors import MediaError, UsageError
 from marblevideo.marbler import Marbler, RecipeLike, as_recipe
 from marblevideo.media.encode import plan_output
 from marblevideo.media.formats import is_local
-from marblevideo.media.inputs import Input, classify
+from marblevideo.media.inputs import Input, classify, name_kind
 from marblevideo.media.output import check_output
 from marblevideo.media.pipeline import transcode
 from marblevideo.media.progress import Progress, progress_mode
@@ -103,8 +103,7 @@ def render_segment(
 def check_split(src, options: VideoOptions) -> Input:
     """``src`` classified, or UsageError where a job cannot be split: the input is
     not a video file, or an option would cut or retime it."""
-    source = classify(src) if src is None or is_local(src) else None  # stdin is not read
-    if source is None or source.kind != "video":
+    if name_kind(src) != "video" or not is_local(src):
         what = "a blank sheet" if src is None else src
         raise UsageError(f"--cluster: {what} is not a video file; segments are cut from one")
     if options.soundtrack is not None:
@@ -115,7 +114,7 @@ def check_split(src, options: VideoOptions) -> Input:
     for name, flag in NOT_SPLIT.items():
         if getattr(options, name) is not None:
             raise UsageError(f"{flag}: not with --cluster (cut or convert the input first)")
-    return source
+    return classify(src)
 
 
 def render_split(

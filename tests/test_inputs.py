@@ -17,7 +17,7 @@ from clips import write_clip
 from marblevideo.errors import MediaError
 from marblevideo.media.decode import open_input
 from marblevideo.media.images import read_image, write_image
-from marblevideo.media.inputs import Input, classify
+from marblevideo.media.inputs import Input, classify, name_kind
 
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -38,6 +38,17 @@ def test_the_kind_comes_from_the_name(name, kind, local):
     assert (source.kind, source.local) == (kind, local)
     assert source.names == ([name] if local else [])
     assert classify(source) is source  # classified once: passed down as it is
+
+
+def test_the_name_alone_reads_nothing():
+    """What the command line's option checks use: standard input is "stdin" until read."""
+    assert [name_kind(n) for n in (None, "-", "a.jpg", "a_%02d.tif", "a.mkv")] == [
+        "blank",
+        "stdin",
+        "image",
+        "sequence",
+        "video",
+    ]
 
 
 def test_a_file_is_checked_once_and_kept(tmp_path):

@@ -105,20 +105,29 @@ class Input:
         return replace(self, path=check_input(self.name, expected))
 
 
+def name_kind(src: str | os.PathLike | None) -> str:
+    """The kind the name ``src`` tells, reading nothing: one of :data:`KINDS`, or
+    ``stdin`` (standard input: a still or a video, known once read)."""
+    if src is None:
+        return "blank"
+    if is_stdio(src):
+        return "stdin"
+    if is_url(src):
+        return "video"
+    if is_sequence(src):
+        return "sequence"
+    return "image" if is_image_name(src) else "video"
+
+
 def classify(src: str | os.PathLike | Input | None) -> Input:
     """``src`` as an :class:`Input` (itself if it is one already). Standard input is
     read to its first bytes: a still is read whole, a video is left to stream."""
     if isinstance(src, Input):
         return src
-    if src is None:
-        return Input("blank")
-    if is_stdio(src):
-        data, stream = stdin_source()
-        if data is not None:
-            return Input("image", src, data=data)
-        return Input("video", src, stream=stream)
-    if is_url(src):
-        return Input("video", src)
-    if is_sequence(src):
-        return Input("sequence", src)
-    return Input("image" if is_image_name(src) else "video", src)
+    kind = name_kind(src)
+    if kind != "stdin":
+        return Input(kind, src)
+    data, stream = stdin_source()
+    if data is not None:
+        return Input("image", src, data=data)
+    return Input("video", src, stream=stream)

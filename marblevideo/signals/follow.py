@@ -16,7 +16,7 @@ import av
 
 from marblevideo.errors import UsageError
 from marblevideo.media.formats import is_local, is_stdio
-from marblevideo.media.inputs import Input, classify
+from marblevideo.media.inputs import Input, name_kind
 from marblevideo.recipe import Recipe
 from marblevideo.signals.audio import analyse
 from marblevideo.signals.values import AudioSignals
@@ -47,7 +47,7 @@ def _no_audio(src) -> str | None:
         return "a blank sheet has no audio"
     if is_stdio(name) or not is_local(name):
         return f"{'standard input' if is_stdio(name) else name} cannot be read twice for its audio"
-    if classify(src).kind in ("image", "sequence"):  # a local name: nothing is read
+    if name_kind(name) in ("image", "sequence"):
         return f"{name} is an image, with no audio"
     if not has_audio(name):
         return f"{name} has no audio stream"
