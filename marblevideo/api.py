@@ -126,9 +126,7 @@ def _check_still(source: Input, recipe, dst, ext: str, size, overwrite: bool):
         blank_canvas(recipe)
     if size or source.kind == "blank":  # else the input's, within the input limit
         check_still_size(dst, ext, size or blank_size(recipe), not is_stdio(dst))
-    if not is_stdio(dst):
-        dst = check_output(dst, overwrite, source.names)
-    return dst, source.checked()
+    return check_output(dst, overwrite, source.names), source.checked()
 
 
 def _still_notes(notify, marbler: Marbler, input_size, size, fit, time) -> None:
@@ -293,8 +291,7 @@ def render_video(
     # the cheap checks first (the encoder is tried too): an exit during the build
     # below waits for it
     plan = plan_output(dst, opts)
-    if not (plan.stream or plan.sequence):
-        check_output(dst, opts.overwrite, source.names)
+    check_output(dst, opts.overwrite, source.names)
     source = source.checked()
     if opts.soundtrack is not None:
         check_soundtrack(opts.soundtrack)

@@ -133,8 +133,7 @@ def transcode(
     source = classify(src)
     if plan is None:
         plan = plan_output(dst, options)
-        if not (plan.stream or plan.sequence):
-            check_output(dst, options.overwrite, source.names)
+        check_output(dst, options.overwrite, source.names)
     stats = Stats()
     with open_input(source, options.fps) as container, opened(options.soundtrack) as sound:
         say = notifier(options, stats)
@@ -253,7 +252,9 @@ def render_sheet(
     if duration <= 0 or fps <= 0:
         raise UsageError(f"duration and fps must be positive, got {duration} s at {fps} fps")
     began = time.monotonic()
-    plan = plan or plan_output(dst, options)
+    if plan is None:
+        plan = plan_output(dst, options)
+        check_output(dst, options.overwrite)
     stats = Stats()
     for note in notes:
         say(options, stats, note)
