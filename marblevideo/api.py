@@ -25,16 +25,13 @@ from marblevideo.marbler import (
     blank_size,
     fit_note,
 )
-from marblevideo.media.decode import grab_frame, open_input, stdin_source
+from marblevideo.media.decode import grab_frame, open_input
 from marblevideo.media.formats import (
-    is_image_name,
-    is_local,
-    is_sequence,
     is_stdio,
     still_extension,
 )
-from marblevideo.media.images import decode_image, encode_image, read_image, write_image
-from marblevideo.media.inputs import check_input
+from marblevideo.media.images import encode_image, read_image, write_image
+from marblevideo.media.inputs import Input, classify
 from marblevideo.media.output import atomic_output, check_output
 from marblevideo.media.progress import Progress
 from marblevideo.media.tiled import TILED_ABOVE, can_stream, check_still_size, write_bands
@@ -44,6 +41,9 @@ from marblevideo.opencl.renderer import Renderer
 from marblevideo.outputs.svg import VectorStats, design_svg, pdf_writer
 from marblevideo.reference.motion import rest_note
 from marblevideo.signals.follow import check_soundtrack, follow
+
+#: The kinds of input (:mod:`marblevideo.media.inputs`) marbled frame by frame.
+VIDEO_KINDS = ("video", "sequence")
 
 
 def render_image(
@@ -96,42 +96,54 @@ def render_still(
     given ``band_rows``) are rendered in bands and written progressively, so
     their size is not bounded by memory; ``progress`` (a
     :class:`~marblevideo.media.progress.Progress` mode) reports the bands."""
-    recipe = as_recipe(recipe)
-    ext = still_extension(dst, format)
-    to_stdout = is_stdio(dst)
-    inputs = [src] if is_local(src) else []
-    if src is None:
-        blank_canvas(recipe)
-    if size or src is None:  # else the input's, within the input limit
-        check_still_size(dst, ext, size or blank_size(recipe), not to_stdout)
-    if not to_stdout:
-        dst = check_output(dst, overwrite, inputs)
-    if is_local(src) and not is_sequence(src):  # before the build, which an exit would wait for
-        check_input(src, "an image" if is_image_name(src) else "a video")
-    recipe = follow(recipe, src, soundtrack)
+    recipe, ext, to_stdout = as_recipe(recipe), still_extension(dst, format), is_stdio(dst)
+    source = classify(src)  # standard input: read to tell a still from a video
+    dst, source = _check_still(source, recipe, dst, ext, size, overwrite)
+    recipe = follow(recipe, source, soundtrack)
     marbler = Marbler(recipe, renderer, device=device, fit=fit)
-    marbler.renderer.prebuild(Structure.of(recipe, src is not None))  # while the input loads
-    image, has_alpha, time = still_input(src, time, rate)  # a grab's time: its frame's
+    marbler.renderer.prebuild(Structure.of(recipe, source.kind != "blank"))  # while it loads
+    image, has_alpha, time = still_input(source, time, rate)  # a grab's time: its frame's
     input_size = None if image is None else (image.shape[1], image.shape[0])
-    notes = [fit_note(recipe, input_size, size, fit)]
-    if time is None:
-        notes.append(rest_note(recipe, marbler.canvas(input_size)))
-    for note in filter(None, notes) if notify else ():
-        notify(note)
+    if notify:
+        _still_notes(notify, marbler, input_size, size, fit, time)
     out_size = size or input_size or blank_size(recipe)
-    if to_stdout:
+    banded = can_stream(ext) and (band_rows or out_size[0] * out_size[1] > TILED_ABOVE)
+    if to_stdout or not banded:
         out = marbler.render(image, time, size, view)
+        return _write_still(out, dst, ext, has_alpha, overwrite, source.names)
+    rows = band_rows or tiled_rows(out_size[0])
+    with atomic_output(dst, overwrite, source.names) as tmp:
+        bands = marbler.render_bands(image, time, out_size, view, rows)
+        counted = _counted(bands, -(-out_size[1] // rows), progress)
+        write_bands(tmp, ext, *out_size, 4 if has_alpha else 3, counted)
+    return dst
+
+
+def _check_still(source: Input, recipe, dst, ext: str, size, overwrite: bool):
+    """(the output, the input checked): a still job's cheap checks, the output's
+    then the input's, before the build (which an exit would wait for)."""
+    if source.kind == "blank":
+        blank_canvas(recipe)
+    if size or source.kind == "blank":  # else the input's, within the input limit
+        check_still_size(dst, ext, size or blank_size(recipe), not is_stdio(dst))
+    return check_output(dst, overwrite, source.names), source.checked()
+
+
+def _still_notes(notify, marbler: Marbler, input_size, size, fit, time) -> None:
+    """Tell a stretched input or fitted canvas, and a still at rest at the end."""
+    notes = [fit_note(marbler.recipe, input_size, size, fit)]
+    if time is None:
+        notes.append(rest_note(marbler.recipe, marbler.canvas(input_size)))
+    for note in filter(None, notes):
+        notify(note)
+
+
+def _write_still(out: np.ndarray, dst, ext: str, has_alpha: bool, overwrite: bool, inputs):
+    """Write the still ``out`` to ``dst`` (a file, atomically, or ``-``)."""
+    if is_stdio(dst):
         sys.stdout.buffer.write(encode_image(out, ext, has_alpha, "-"))
         sys.stdout.buffer.flush()
         return "-"
-    if can_stream(ext) and (band_rows or out_size[0] * out_size[1] > TILED_ABOVE):
-        rows = band_rows or tiled_rows(out_size[0])
-        with atomic_output(dst, overwrite, inputs) as tmp:
-            bands = marbler.render_bands(image, time, out_size, view, rows)
-            counted = _counted(bands, -(-out_size[1] // rows), progress)
-            write_bands(tmp, ext, *out_size, 4 if has_alpha else 3, counted)
-        return dst
-    out = marbler.render(image, time, size, view)
     with atomic_output(dst, overwrite, inputs) as tmp:
         write_image(tmp, out, alpha=has_alpha, fmt=ext, name=dst)
     return dst
@@ -146,21 +158,17 @@ def _counted(bands, total: int, progress: str):
 
 
 def still_input(
-    src: str | os.PathLike | None, time: float | None, rate: float | None
+    src: str | os.PathLike | Input | None, time: float | None, rate: float | None
 ) -> tuple[np.ndarray | None, bool, float | None]:
     """(the RGBA image or None, whether it has alpha, the recipe's time) of a
     still's input: a still image, or the frame of a video shown at ``time``
     (whose own time the recipe takes)."""
-    if src is None:
+    source = classify(src)
+    if source.kind == "blank":
         return None, False, time
-    stream = None
-    if is_stdio(src):
-        data, stream = stdin_source()
-        if data is not None:
-            return (*decode_image(data, "-"), time)
-    elif is_image_name(src):
-        return (*read_image(src), time)
-    with open_input(src, rate, stream) as container:
+    if source.kind == "image":
+        return (*read_image(source), time)
+    with open_input(source, rate) as container:
         t, rgba = grab_frame(container, time)
     return rgba, False, t
 
@@ -272,41 +280,47 @@ def render_video(
     :func:`render_still`.
     Returns the job's :class:`marblevideo.media.video.Stats`."""
     from marblevideo.media.encode import plan_output
-    from marblevideo.media.pipeline import render_sheet, transcode
+    from marblevideo.media.pipeline import transcode
 
     recipe = as_recipe(recipe)
-    if src is None:
+    source = classify(src)  # standard input: read to tell a still from a video
+    if source.kind == "blank":
         blank_canvas(recipe)
-    image, stream = None, None
-    if is_stdio(src):
-        data, stream = stdin_source()
-        image = None if data is None else decode_image(data, "-")[0]
     opts = _video_options({**options, "fps": fps})
-    still = src is not None and (image is not None or is_image_name(src))
-    if src is not None and not still and duration is not None:
-        if opts.end is not None:
-            raise UsageError("--duration and --end: give one")
-        opts.end = (opts.start or 0) + duration
-    if (src is None or still) and (opts.start is not None or opts.end is not None):
-        raise UsageError("--start and --end apply to a video input; use --duration")
+    _video_range(source, opts, duration)
     # the cheap checks first (the encoder is tried too): an exit during the build
     # below waits for it
     plan = plan_output(dst, opts)
-    inputs = [src] if is_local(src) else []
-    if not (plan.stream or plan.sequence):
-        check_output(dst, opts.overwrite, inputs)
-    if is_local(src) and not is_sequence(src):
-        check_input(src, "an image" if still else "a video")
+    check_output(dst, opts.overwrite, source.names)
+    source = source.checked()
     if opts.soundtrack is not None:
         check_soundtrack(opts.soundtrack)
-    recipe = follow(recipe, src, opts.soundtrack)
+    recipe = follow(recipe, source, opts.soundtrack)
     marbler = Marbler(recipe, renderer, device=device, fit=opts.fit, lattice=not opts.exact_walk)
     # the program builds (without the GIL) while the input opens
-    marbler.renderer.prebuild(Structure.of(recipe, src is not None))
-    if src is not None and not still:
-        return transcode(src, dst, marbler.transform(opts.size), opts, plan=plan, stream=stream)
-    if still and image is None:
-        image = read_image(src)[0]
+    marbler.renderer.prebuild(Structure.of(recipe, source.kind != "blank"))
+    if source.kind in VIDEO_KINDS:
+        return transcode(source, dst, marbler.transform(opts.size), opts, plan=plan)
+    return _animated(source, marbler, dst, duration, fps, opts, plan)
+
+
+def _video_range(source: Input, opts, duration: float | None) -> None:
+    """``duration`` of a video input as its ``end``; refuse a range without one."""
+    if source.kind in VIDEO_KINDS and duration is not None:
+        if opts.end is not None:
+            raise UsageError("--duration and --end: give one")
+        opts.end = (opts.start or 0) + duration
+    if source.kind not in VIDEO_KINDS and (opts.start is not None or opts.end is not None):
+        raise UsageError("--start and --end apply to a video input; use --duration")
+
+
+def _animated(source: Input, marbler: Marbler, dst, duration, fps, opts, plan):
+    """A still (or a blank sheet) animated by the recipe for ``duration`` seconds
+    (default: the animation plus one second) at ``fps`` (default 30)."""
+    from marblevideo.media.pipeline import render_sheet
+
+    recipe = marbler.recipe
+    image = None if source.kind == "blank" else read_image(source)[0]
     duration = recipe.end_time() + 1.0 if duration is None else duration
     size = opts.size or (blank_size(recipe) if image is None else image.shape[1::-1])
     frames = SheetFrames(marbler, tuple(size), image)

@@ -24,14 +24,15 @@ import shutil
 import tempfile
 import time
 from dataclasses import dataclass, fields
+from functools import partial
 from pathlib import Path
 
 from marblevideo.cluster import RayPool, SerialPool, require_ray
 from marblevideo.errors import MediaError, UsageError
 from marblevideo.marbler import Marbler, RecipeLike, as_recipe
 from marblevideo.media.encode import plan_output
-from marblevideo.media.formats import is_image_name, is_local, is_sequence
-from marblevideo.media.inputs import check_input
+from marblevideo.media.formats import is_local
+from marblevideo.media.inputs import Input, classify, name_kind
 from marblevideo.media.output import check_output
 from marblevideo.media.pipeline import transcode
 from marblevideo.media.progress import Progress, progress_mode
@@ -99,10 +100,10 @@ def render_segment(
     return stats.frames, stats.notes
 
 
-def check_split(src, options: VideoOptions) -> None:
-    """UsageError where a job cannot be split: the input is not a video file, or
-    an option would cut or retime it."""
-    if src is None or not is_local(src) or is_sequence(src) or is_image_name(src):
+def check_split(src, options: VideoOptions) -> Input:
+    """``src`` classified, or UsageError where a job cannot be split: the input is
+    not a video file, or an option would cut or retime it."""
+    if name_kind(src) != "video" or not is_local(src):
         what = "a blank sheet" if src is None else src
         raise UsageError(f"--cluster: {what} is not a video file; segments are cut from one")
     if options.soundtrack is not None:
@@ -113,6 +114,7 @@ def check_split(src, options: VideoOptions) -> None:
     for name, flag in NOT_SPLIT.items():
         if getattr(options, name) is not None:
             raise UsageError(f"{flag}: not with --cluster (cut or convert the input first)")
+    return classify(src)
 
 
 def render_split(
@@ -141,46 +143,62 @@ def render_split(
         raise UsageError(f"render_split: unknown options {', '.join(sorted(set(options) - names))}")
     opts = VideoOptions(**options)
     recipe = as_recipe(recipe)
-    check_split(src, opts)
-    check_signals(recipe, src)
+    source = check_split(src, opts)
+    check_signals(recipe, source)
     recipe = recipe.bind(None)  # each worker analyses the input's audio itself
     plan = plan_output(dst, opts)
     segment_plan(plan, dst)
-    dst = check_output(dst, opts.overwrite, [src])
-    check_input(src, "a video")
+    dst = check_output(dst, opts.overwrite, source.names)
+    source = source.checked()
     if cluster == "ray":
         require_ray()
     parts = plan_segments(src, segments)
-    say = notifier(opts, Stats())
     if segments and len(parts) < segments:
+        say = notifier(opts, Stats())
         say(f"{src}: {segments} segments asked; its keyframes allow {len(parts)}")
-    # the output's encoder and pixel format (from its extension), whatever the segments' is
+    job = SegmentJob(str(source.path.resolve()), recipe, _shared(opts, plan))
+    make_pool = partial(RayPool, jobs, device) if cluster == "ray" else partial(SerialPool, device)
+    stats = _run_segments(make_pool, job, parts, (src, dst), plan, opts)
+    stats.seconds = time.monotonic() - began
+    return stats
+
+
+def _shared(opts: VideoOptions, plan) -> dict:
+    """The segments' encoder options: the output's encoder and pixel format (from
+    its extension), whatever the segments' own extension would give."""
     keys = ("crf", "preset", "size", "fit", "verbose", "exact_walk")
     shared = {k: getattr(opts, k) for k in keys}
     shared.update(codec=plan.codec, pix_fmt=plan.pix_fmt, encoder_opts=dict(opts.encoder_opts))
-    job = SegmentJob(str(Path(src).resolve()), recipe, shared)
+    return shared
+
+
+def _run_segments(make_pool, job: SegmentJob, parts: list[Segment], src_dst, plan, opts):
+    """Render every segment into a temporary folder beside ``dst`` on the pool
+    ``make_pool()`` starts, then join them with the audio of ``src`` into ``dst``
+    here."""
+    src, dst = src_dst
     try:
         folder = Path(tempfile.mkdtemp(prefix=f".{dst.stem}.segments.", dir=dst.parent.resolve()))
     except OSError as exc:
         raise MediaError(f"{dst}: cannot write in {dst.parent}: {exc.strerror}") from None
     pool = None
     try:
-        pool = RayPool(jobs, device) if cluster == "ray" else SerialPool(device)
+        pool = make_pool()
         paths = [str(folder / f"{s.index:05d}.mp4") for s in parts]
         calls = [(job, s, path) for s, path in zip(parts, paths, strict=True)]
         notes = run_calls(pool, calls, parts, progress_mode(opts.progress, opts.quiet))
         pool.close()  # the workers' part is done: the join runs here
         pool = None
+        say = notifier(opts, Stats())
         for note in notes:
             say(note)
-        stats = join_segments(src, [(Path(p), s.origin) for p, s in zip(paths, parts, strict=True)],
-                              dst, plan, opts)  # fmt: skip
+        pieces = [(Path(p), s.origin) for p, s in zip(paths, parts, strict=True)]
+        stats = join_segments(src, pieces, dst, plan, opts)
         stats.notes[:0] = notes
     finally:
         if pool is not None:
             pool.close()
         shutil.rmtree(folder, ignore_errors=True)
-    stats.seconds = time.monotonic() - began
     return stats
 
 

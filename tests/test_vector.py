@@ -116,9 +116,9 @@ def test_simplification_stays_within_tolerance():
 
 
 def test_refinement_guard_notes_the_cap(monkeypatch):
-    import marblevideo.outputs.svg as vector
+    import marblevideo.outputs.outlines as outlines
 
-    monkeypatch.setattr(vector, "MAX_VERTICES", 2000)
+    monkeypatch.setattr(outlines, "MAX_VERTICES", 2000)
     recipe = blank_design(1)
     _, stats = design_svg(recipe.at(recipe.end_time()), (640, 480), tolerance=0.05)
     assert stats.capped and "note" in stats.summary()
@@ -258,13 +258,8 @@ def test_every_outline_lies_within_the_tolerance_of_the_true_image():
     """Each written edge against the exact image of the arc it stands for, sampled
     16 times as densely as the refined outline: every true point within the
     tolerance of its edge (the guarantee; not merely of the nearest edge)."""
-    from marblevideo.outputs.svg import (
-        SIMPLIFIED,
-        VectorStats,
-        push_forward,
-        refine_outlines,
-        simplified_indices,
-    )
+    from marblevideo.outputs.outlines import VectorStats, push_forward, refine_outlines
+    from marblevideo.outputs.svg import SIMPLIFIED, simplified_indices
 
     recipe = strong_design(5, 120, 90)
     spec = recipe.at(recipe.end_time())

@@ -18,8 +18,9 @@ from helpers import subprocess_env
 from tolerances import LOSSY_MEAN, LOSSY_MEAN_RESAMPLED
 
 from marblevideo.errors import MediaError, OutputExistsError, UsageError
-from marblevideo.media.pipeline import _Pipeline, _Stopped, iter_frames, render_sheet, transcode
+from marblevideo.media.pipeline import iter_frames, render_sheet, transcode
 from marblevideo.media.progress import Progress
+from marblevideo.media.stages import Stages, Stopped
 from marblevideo.media.video import QUEUE_FRAMES, VideoOptions
 
 
@@ -368,13 +369,13 @@ def test_corrupt_packet_skipped_with_count(tmp_path):
 
 def test_queues_are_bounded():
     assert 1 <= QUEUE_FRAMES <= 8
-    pipe = _Pipeline()
+    pipe = Stages()
     q: queue.Queue = queue.Queue(QUEUE_FRAMES)
     for i in range(QUEUE_FRAMES):
         pipe.put(q, i)
     assert q.full()
     pipe.stop.set()
-    with pytest.raises(_Stopped):
+    with pytest.raises(Stopped):
         pipe.put(q, "one too many")  # does not block forever once stopped
 
 

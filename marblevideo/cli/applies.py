@@ -13,12 +13,8 @@ from __future__ import annotations
 import argparse
 
 from marblevideo.errors import UsageError
-from marblevideo.media.formats import (
-    is_image_name,
-    is_sequence,
-    is_stdio,
-    output_kind,
-)
+from marblevideo.media.formats import output_kind
+from marblevideo.media.inputs import name_kind
 
 ENCODER_FLAGS = (
     ("codec", "--codec"),
@@ -27,15 +23,6 @@ ENCODER_FLAGS = (
     ("pix_fmt", "--pix-fmt"),
     ("encoder_opt", "--encoder-opt"),
 )
-
-
-def input_kind(src: str | None) -> str:
-    """ "blank", "image", "video" or "stdin"."""
-    if src is None:
-        return "blank"
-    if is_stdio(src):
-        return "stdin"
-    return "image" if is_image_name(src) else "video"
 
 
 def job_kind(args: argparse.Namespace) -> str:
@@ -47,9 +34,9 @@ def job_kind(args: argparse.Namespace) -> str:
 
 
 def check_options(args: argparse.Namespace) -> tuple[str, str]:
-    """(job, input kind) of the command line; UsageError for an option given that
-    the job does not take."""
-    job, source = job_kind(args), input_kind(args.input)
+    """(job, input kind: :func:`~marblevideo.media.inputs.name_kind`) of the
+    command line; UsageError for an option given that the job does not take."""
+    job, source = job_kind(args), name_kind(args.input)
     out = args.output
     if job != "video":
         for name, flag in (*ENCODER_FLAGS, ("audio", "--audio")):
@@ -62,7 +49,7 @@ def check_options(args: argparse.Namespace) -> tuple[str, str]:
             raise UsageError(f"--duration: applies to video outputs; {out} is not one")
         if args.exact_walk:
             raise UsageError(f"--exact-walk: applies to video outputs; {out} is not one")
-        if args.fps is not None and not (job == "still" and is_sequence(args.input)):
+        if args.fps is not None and not (job == "still" and source == "sequence"):
             raise UsageError(
                 f"--fps: applies to video outputs (and image-sequence inputs); {out} is not one"
             )
@@ -101,7 +88,7 @@ def check_cluster(args: argparse.Namespace, job: str, source: str) -> None:
             if getattr(args, name) is not None:
                 raise UsageError(f"{flag}: goes with --cluster ray")
         return
-    if job != "video" or source != "video" or is_sequence(args.input):
+    if job != "video" or source != "video":
         what = {"blank": "a blank sheet", "stdin": "standard input"}.get(source, args.input)
         raise UsageError(f"--cluster: renders a video file to a video in segments; not {what}")
     for name, flag in (("start", "--start"), ("end", "--end"), ("duration", "--duration"),

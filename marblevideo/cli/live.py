@@ -127,21 +127,41 @@ def recorder_for(args):
 
 def run_live(argv: list[str]) -> int:
     """The ``live`` command; returns the exit status (MarbleError propagates)."""
+    args = build_parser().parse_args(argv)
+    configure_logging(args.verbose)
+    spec, recipe, size = _checked(args)
+    recorder = recorder_for(args) if args.output else None  # settings checked up front
+    live = _Live(args, open_source(spec, size, args.fps, args.loop), recorder)
+    try:
+        live.open(recipe)
+        live.session.run(args.duration)
+        live.ok = True
+        if args.automation:
+            write_take(args, live.session)
+    finally:
+        live.close()
+    if not args.quiet:
+        print(f"marblevideo: {live.session.summary()}", file=sys.stderr, flush=True)
+        report_controllers(args, live.session)
+        if recorder is not None:
+            print(f"marblevideo: wrote {args.output}", file=sys.stderr, flush=True)
+    return 0
+
+
+def _checked(args: argparse.Namespace):
+    """(the source's spec, the recipe, the size or None): every option checked
+    before anything opens (a bad recipe or option exits 2)."""
     from marblevideo.bundled import recipe_file
     from marblevideo.recipe import load_recipe
 
-    args = build_parser().parse_args(argv)
-    configure_logging(args.verbose)
     if args.source and args.source_opt and args.source != args.source_opt:
         raise UsageError("give the source once: SOURCE or --source")
-    spec = args.source_opt or args.source or "0"
     args.ops = recipe_file(args.ops)  # a preset's file, when no file of that name exists
-    recipe = load_recipe(args.ops)  # a bad recipe is refused before anything opens (exit 2)
+    recipe = load_recipe(args.ops)
     size = parse_size(args.size) if args.size else None
-    if args.fps is not None and args.fps <= 0:
-        raise UsageError(f"--fps: must be > 0, got {args.fps}")
-    if args.duration is not None and args.duration <= 0:
-        raise UsageError(f"--duration: must be > 0, got {args.duration}")
+    for flag, value in (("--fps", args.fps), ("--duration", args.duration)):
+        if value is not None and value <= 0:
+            raise UsageError(f"{flag}: must be > 0, got {value}")
     if not 0 <= args.port <= 65535:
         raise UsageError(f"--port: must be 0..65535, got {args.port}")
     if not 1 <= args.jpeg_quality <= 100:
@@ -154,29 +174,33 @@ def run_live(argv: list[str]) -> int:
         except ImportError:
             raise MarbleError(f"--vcam needs pyvirtualcam: {VCAM_HELP}") from None
     check_controllers(args, recipe)
-    recorder = recorder_for(args) if args.output else None  # settings checked up front
+    return args.source_opt or args.source or "0", recipe, size
 
-    source = open_source(spec, size, args.fps, args.loop)
-    try:
-        audio, by_frame = live_audio(recipe, source, args.soundtrack)
-    except BaseException:
-        source.stop()
-        raise
-    session = server = None
-    listeners: list = []
-    stop = threading.Event()
-    ok = False
-    previous: dict[int, object] = {}
 
-    def on_signal(signum, frame):
-        if stop.is_set():  # a second Ctrl-C while finishing: abort
+class _Live:
+    """One live run's parts: the source, the session that marbles it, and what
+    listens and watches (preview server, controllers, signal handlers); :meth:`close`
+    ends them in order, whatever was opened."""
+
+    def __init__(self, args: argparse.Namespace, source, recorder):
+        self.args, self.source, self.recorder = args, source, recorder
+        self.session = self.server = None
+        self.listeners: list = []
+        self.previous: dict[int, object] = {}
+        self.stop = threading.Event()
+        self.ok = False
+
+    def on_signal(self, signum, frame):
+        if self.stop.is_set():  # a second Ctrl-C while finishing: abort
             raise KeyboardInterrupt
-        stop.set()
-        if session is not None:
-            session.stop_event.set()
+        self.stop.set()
+        if self.session is not None:
+            self.session.stop_event.set()
 
-    try:
-        session = LiveSession(
+    def open(self, recipe) -> None:
+        args, source = self.args, self.source
+        audio, by_frame = live_audio(recipe, source, args.soundtrack)
+        self.session = session = LiveSession(
             args.ops,
             source,
             device=args.device,
@@ -191,46 +215,43 @@ def run_live(argv: list[str]) -> int:
         width, height = source.size
         if args.vcam:
             session.vcam = VirtualCamera(width, height, source.fps)
-        if recorder is not None:
-            recorder.start(width, height, source.fps)
-            session.recorder = recorder
+        if self.recorder is not None:
+            self.recorder.start(width, height, source.fps)
+            session.recorder = self.recorder
         if args.preview:
-            from marblevideo.design.live import LiveDesign
-            from marblevideo.server import Server
-
-            server = Server(LiveDesign(session), args.port)  # the designer, live
-            server.start()
-            print(f"preview: {server.url}", flush=True)
-        listeners = start_controllers(args, session)
+            self.server = _preview(session, args.port)
+        self.listeners = start_controllers(args, session)
         for signum in (signal.SIGINT, signal.SIGTERM):
-            previous[signum] = signal.signal(signum, on_signal)
+            self.previous[signum] = signal.signal(signum, self.on_signal)
         if not args.quiet:
             print(
                 f"marblevideo: live from {source.name} ({width}x{height}); Ctrl-C to stop",
                 file=sys.stderr,
                 flush=True,
             )
-        session.run(args.duration)
-        ok = True
-        if args.automation:
-            write_take(args, session)
-    finally:
-        close_all(listeners)
-        if server is not None:
-            server.stop()
-        if session is not None:
-            session.close()
+
+    def close(self) -> None:
+        close_all(self.listeners)
+        if self.server is not None:
+            self.server.stop()
+        if self.session is not None:
+            self.session.close()
         else:
-            source.stop()
-        if session is not None and session.vcam is not None:
-            session.vcam.close()
-        if recorder is not None:
-            recorder.close(ok=ok)
-        for signum, handler in previous.items():
+            self.source.stop()
+        if self.session is not None and self.session.vcam is not None:
+            self.session.vcam.close()
+        if self.recorder is not None:
+            self.recorder.close(ok=self.ok)
+        for signum, handler in self.previous.items():
             signal.signal(signum, handler)
-    if not args.quiet:
-        print(f"marblevideo: {session.summary()}", file=sys.stderr, flush=True)
-        report_controllers(args, session)
-        if recorder is not None:
-            print(f"marblevideo: wrote {args.output}", file=sys.stderr, flush=True)
-    return 0
+
+
+def _preview(session: LiveSession, port: int):
+    """The designer's page, live, served on ``port`` (started; its URL printed)."""
+    from marblevideo.design.live import LiveDesign
+    from marblevideo.server import Server
+
+    server = Server(LiveDesign(session), port)  # the designer, live
+    server.start()
+    print(f"preview: {server.url}", flush=True)
+    return server

@@ -49,6 +49,166 @@ exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143 interru
 """
 
 
+#: The parser's options, one table per group of ``--help``: (flags, add_argument keywords).
+_MAIN = (
+    (
+        ("input",),
+        dict(
+            nargs="?",
+            help="image, video, image sequence (name_%%04d.png), URL, or - (standard input); "
+            "omit for a blank sheet",
+        ),
+    ),
+    (("--ops",), dict(required=True, metavar="RECIPE", help="recipe JSON file")),
+    (
+        ("-o", "--output"),
+        dict(
+            required=True,
+            help="output; the format follows the extension: "
+            f"{output_kinds().replace('%', '%%')}; or - (standard output, with --format)",
+        ),
+    ),
+    (("-y", "--overwrite"), dict(action="store_true", help="replace an existing output")),
+    (("--size",), dict(metavar="WxH", help="output size (default: input or canvas)")),
+    (
+        ("--fit",),
+        dict(
+            choices=FIT_MODES,
+            help="an input of another aspect than --size: stretch it (default), crop it to "
+            "fill, or pad it with the recipe's background; a blank sheet's canvas: fitted and "
+            "centred (default, as pad), cropped to fill, or stretched",
+        ),
+    ),
+    (
+        ("--format",),
+        dict(
+            metavar="NAME",
+            help="output format by name, for -o - (matroska, nut, mpegts, y4m, mp4, gif, ...; "
+            "png, jpeg, tiff for a still) or to force one (webp: an animated WebP)",
+        ),
+    ),
+    (
+        ("--time",),
+        dict(
+            type=float,
+            metavar="T",
+            help="stills: render at T seconds (default: the end of the animation; "
+            "from a video, its frame at T, default the first)",
+        ),
+    ),
+)
+_VECTORS = (
+    (
+        ("--view",),
+        dict(
+            metavar="X,Y,W,H",
+            help="stills: render this canvas window (deep zoom; exact at any size)",
+        ),
+    ),
+    (
+        ("--tolerance",),
+        dict(
+            type=float,
+            metavar="PX",
+            help="SVG/PDF output: outline tolerance in output pixels "
+            f"(default {DEFAULT_TOLERANCE})",
+        ),
+    ),
+    (
+        ("--uv",),
+        dict(
+            metavar="PASS",
+            help="render the design through a UV pass (.png 16-bit / .exr; R = u, G = v)",
+        ),
+    ),
+)
+_VIDEO = (
+    (("--start",), dict(type=float, metavar="S", help="render from S seconds of the input")),
+    (("--end",), dict(type=float, metavar="S", help="render up to S seconds of the input")),
+    (
+        ("--duration",),
+        dict(
+            type=float,
+            metavar="S",
+            help="length: of a blank sheet or a still animated (default: the animation plus "
+            "1 s); of a video input, from --start",
+        ),
+    ),
+    (
+        ("--fps",),
+        dict(
+            type=float,
+            help=f"frame rate: of a blank sheet or a still animated ({DEFAULT_FPS:g}); "
+            f"converts a video's (as ffmpeg's fps filter); the rate an image sequence is "
+            f"read at ({DEFAULT_FPS:g})",
+        ),
+    ),
+    (
+        ("--audio",),
+        dict(
+            choices=("copy", "aac", "none"),
+            help="copy audio bit-exact (default), re-encode to AAC, or drop it",
+        ),
+    ),
+    (
+        ("--soundtrack",),
+        dict(
+            metavar="FILE",
+            help="a sound file: the output's audio (its first sample at t = 0, in place of "
+            "the input's) and what audio signals (audio.level, audio.low, ...) follow",
+        ),
+    ),
+    (
+        ("--exact-walk",),
+        dict(
+            action="store_true",
+            help="animated frames over an input: walk every subsample (default: interpolate "
+            'the map from a walked lattice where it is smooth; the recipe\'s "lattice": '
+            "false too)",
+        ),
+    ),
+)
+#: After the encoder's flags (:func:`.arguments.add_encoder_arguments`) in the video group.
+_PROGRESS = (
+    (
+        ("--progress",),
+        dict(
+            choices=("auto", "bar", "json", "off"),
+            default="auto",
+            help="progress on stderr: a bar on terminals (auto), JSON lines, or off",
+        ),
+    ),
+)
+_SCALE_OUT = (
+    (
+        ("--cluster",),
+        dict(
+            choices=("ray",),
+            help="render a video in segments on a Ray cluster ($RAY_ADDRESS, else a local "
+            "Ray), joined into the output; the machines must see input and output at the "
+            "same paths",
+        ),
+    ),
+    (
+        ("--segments",),
+        dict(
+            type=int,
+            metavar="N",
+            help="cut the input into N segments at its keyframes (default: one per about 45 s)",
+        ),
+    ),
+    (
+        ("--jobs",),
+        dict(type=int, metavar="N", help="Ray workers (default: one per GPU, else per CPU)"),
+    ),
+)
+
+
+def _add(group, table) -> None:
+    for flags, options in table:
+        group.add_argument(*flags, **options)
+
+
 def _render_parser() -> argparse.ArgumentParser:
     p = Parser(
         prog="marblevideo",
@@ -57,119 +217,16 @@ def _render_parser() -> argparse.ArgumentParser:
         epilog=EPILOG,
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
-    p.add_argument(
-        "input",
-        nargs="?",
-        help="image, video, image sequence (name_%%04d.png), URL, or - (standard input); "
-        "omit for a blank sheet",
-    )
-    p.add_argument("--ops", required=True, metavar="RECIPE", help="recipe JSON file")
-    p.add_argument(
-        "-o",
-        "--output",
-        required=True,
-        help="output; the format follows the extension: "
-        f"{output_kinds().replace('%', '%%')}; or - (standard output, with --format)",
-    )
-    p.add_argument("-y", "--overwrite", action="store_true", help="replace an existing output")
-    p.add_argument("--size", metavar="WxH", help="output size (default: input or canvas)")
-    p.add_argument(
-        "--fit",
-        choices=FIT_MODES,
-        help="an input of another aspect than --size: stretch it (default), crop it to "
-        "fill, or pad it with the recipe's background; a blank sheet's canvas: fitted and "
-        "centred (default, as pad), cropped to fill, or stretched",
-    )
-    p.add_argument(
-        "--format",
-        metavar="NAME",
-        help="output format by name, for -o - (matroska, nut, mpegts, y4m, mp4, gif, ...; "
-        "png, jpeg, tiff for a still) or to force one (webp: an animated WebP)",
-    )
-    p.add_argument(
-        "--time",
-        type=float,
-        metavar="T",
-        help="stills: render at T seconds (default: the end of the animation; "
-        "from a video, its frame at T, default the first)",
-    )
-    z = p.add_argument_group("vectors, zoom, textures")
-    z.add_argument(
-        "--view",
-        metavar="X,Y,W,H",
-        help="stills: render this canvas window (deep zoom; exact at any size)",
-    )
-    z.add_argument(
-        "--tolerance",
-        type=float,
-        metavar="PX",
-        help=f"SVG/PDF output: outline tolerance in output pixels (default {DEFAULT_TOLERANCE})",
-    )
-    z.add_argument(
-        "--uv",
-        metavar="PASS",
-        help="render the design through a UV pass (.png 16-bit / .exr; R = u, G = v)",
-    )
+    _add(p, _MAIN)
+    _add(p.add_argument_group("vectors, zoom, textures"), _VECTORS)
     p.add_argument("--device", help="OpenCL device: P:D, a name, see `marblevideo devices`")
     add_log_arguments(p)
     p.add_argument("--version", action="version", version=f"marblevideo {__version__}")
-    v = p.add_argument_group("video")
-    v.add_argument("--start", type=float, metavar="S", help="render from S seconds of the input")
-    v.add_argument("--end", type=float, metavar="S", help="render up to S seconds of the input")
-    v.add_argument(
-        "--duration",
-        type=float,
-        metavar="S",
-        help="length: of a blank sheet or a still animated (default: the animation plus "
-        "1 s); of a video input, from --start",
-    )
-    v.add_argument(
-        "--fps",
-        type=float,
-        help=f"frame rate: of a blank sheet or a still animated ({DEFAULT_FPS:g}); converts "
-        f"a video's (as ffmpeg's fps filter); the rate an image sequence is read at "
-        f"({DEFAULT_FPS:g})",
-    )
-    v.add_argument(
-        "--audio",
-        choices=("copy", "aac", "none"),
-        help="copy audio bit-exact (default), re-encode to AAC, or drop it",
-    )
-    v.add_argument(
-        "--soundtrack",
-        metavar="FILE",
-        help="a sound file: the output's audio (its first sample at t = 0, in place of the "
-        "input's) and what audio signals (audio.level, audio.low, ...) follow",
-    )
-    v.add_argument(
-        "--exact-walk",
-        action="store_true",
-        help="animated frames over an input: walk every subsample (default: interpolate the "
-        'map from a walked lattice where it is smooth; the recipe\'s "lattice": false too)',
-    )
-    add_encoder_arguments(v, preset_default="medium")
-    c = p.add_argument_group("scale-out (pip install 'marblevideo[ray]')")
-    c.add_argument(
-        "--cluster",
-        choices=("ray",),
-        help="render a video in segments on a Ray cluster ($RAY_ADDRESS, else a local Ray), "
-        "joined into the output; the machines must see input and output at the same paths",
-    )
-    c.add_argument(
-        "--segments",
-        type=int,
-        metavar="N",
-        help="cut the input into N segments at its keyframes (default: one per about 45 s)",
-    )
-    c.add_argument(
-        "--jobs", type=int, metavar="N", help="Ray workers (default: one per GPU, else per CPU)"
-    )
-    v.add_argument(
-        "--progress",
-        choices=("auto", "bar", "json", "off"),
-        default="auto",
-        help="progress on stderr: a bar on terminals (auto), JSON lines, or off",
-    )
+    video = p.add_argument_group("video")
+    _add(video, _VIDEO)
+    add_encoder_arguments(video, preset_default="medium")
+    _add(p.add_argument_group("scale-out (pip install 'marblevideo[ray]')"), _SCALE_OUT)
+    _add(video, _PROGRESS)
     return p
 
 

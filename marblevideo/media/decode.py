@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import contextlib
 import os
-import sys
 from collections.abc import Iterator
 from fractions import Fraction
 from pathlib import Path
@@ -17,41 +16,10 @@ import numpy as np
 
 from marblevideo.errors import MediaError, UsageError
 from marblevideo.limits import DEFAULT_FPS, URL_TIMEOUT
-from marblevideo.media.formats import frame_field, is_sequence, is_stdio, is_url, sequence_names
-from marblevideo.media.inputs import check_input
+from marblevideo.media.formats import frame_field, sequence_names
+from marblevideo.media.inputs import Input, check_input, classify
 from marblevideo.media.video import AudioItem, VideoItem
 from marblevideo.media.yuv import FORMATS, YuvMatrix
-
-
-class _Replay:
-    """A stream read again from its start: the bytes already read (``head``), then
-    the rest of ``raw``. No ``seek``: PyAV treats it as a pipe."""
-
-    def __init__(self, raw, head: bytes):
-        self.raw, self.head = raw, head
-
-    def read(self, size: int = -1) -> bytes:
-        if self.head:
-            cut = len(self.head) if size < 0 else size
-            out, self.head = self.head[:cut], self.head[cut:]
-            return out
-        return self.raw.read(size)
-
-
-#: How a still image's first bytes look (PNG, JPEG, TIFF, WebP).
-_IMAGE_MAGIC = (b"\x89PNG", b"\xff\xd8\xff", b"II*\x00", b"MM\x00*")
-
-
-def stdin_source() -> tuple[bytes | None, _Replay | None]:
-    """Standard input as (the whole of a still image's bytes, None), or (None, a
-    readable stream for PyAV) for anything else."""
-    raw = sys.stdin.buffer
-    head = raw.read(16)
-    if not head:
-        raise MediaError("-: standard input is empty")
-    if head.startswith(_IMAGE_MAGIC) or (head[:4] == b"RIFF" and head[8:12] == b"WEBP"):
-        return head + raw.read(), None
-    return None, _Replay(raw, head)
 
 
 def input_name(container: av.container.InputContainer) -> str:
@@ -82,32 +50,36 @@ def packets(container: av.container.InputContainer, streams) -> Iterator[av.Pack
 
 
 def open_input(
-    src: str | os.PathLike, rate: float | None = None, stream=None
+    src: str | os.PathLike | Input, rate: float | None = None
 ) -> av.container.InputContainer:
     """Open a video input, or raise MediaError with one line: a file, an image
     sequence (``name_%04d.png``, read at ``rate`` frames per second, numbered
-    from its first file), standard input (``-``, or ``stream`` from
-    :func:`stdin_source`), or a URL."""
+    from its first file), standard input (``-``), or a URL; ``src`` a name or an
+    :class:`~marblevideo.media.inputs.Input` classified already."""
+    source = classify(src)
     options, fmt = {}, None
-    if is_stdio(src):
-        target = stream if stream is not None else stdin_source()[1]
+    if source.stdin:
+        target = source.stream
         if target is None:
             raise MediaError("-: standard input holds a still image, not a video")
-    elif is_url(src):
-        target = os.fspath(src)
+    elif not source.local:
+        target = os.fspath(source.name)
         options = {"rw_timeout": str(URL_TIMEOUT * 1_000_000)}  # microseconds
-    elif is_sequence(src):
-        target, fmt = os.fspath(src), "image2"
-        options = {"framerate": f"{rate or DEFAULT_FPS:g}", "start_number": str(_first(src))}
+    elif source.kind == "sequence":
+        target, fmt = os.fspath(source.name), "image2"
+        options = {
+            "framerate": f"{rate or DEFAULT_FPS:g}",
+            "start_number": str(_first(source.name)),
+        }
     else:
-        target = str(check_input(src, "a video"))
+        target = str(source.path or check_input(source.name, "a video"))
     try:
         container = av.open(target, format=fmt, options=options)
     except av.error.FFmpegError as exc:
-        raise MediaError(f"{src}: not a readable video ({exc.strerror})") from None
+        raise MediaError(f"{source.name}: not a readable video ({exc.strerror})") from None
     if not container.streams.video:
         container.close()
-        raise MediaError(f"{src}: no video stream")
+        raise MediaError(f"{source.name}: no video stream")
     return container
 
 

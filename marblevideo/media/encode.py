@@ -74,62 +74,24 @@ class OutputPlan:
 
 def plan_output(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
     """Check every output setting before anything is opened; UsageError on a bad one."""
-    check_range(options.start, options.end)
-    if options.audio not in AUDIO_MODES:
-        raise UsageError(f"audio must be one of {', '.join(AUDIO_MODES)}, got {options.audio!r}")
-    if options.progress not in MODES:
-        raise UsageError(f"progress must be one of {', '.join(MODES)}, got {options.progress!r}")
-    if options.size is not None and (len(options.size) != 2 or min(options.size) < 1):
-        raise UsageError(f"size must be two positive integers, got {options.size!r}")
+    _check_options(options)
     if is_sequence(dst) and options.format is None:
         return _sequence_plan(dst, options)
-    name = output_format(dst, options.format)
-    if name is None:
-        if is_stdio(dst):
-            raise UsageError("-o -: name the stream's format with --format (e.g. matroska, nut)")
-        ext = Path(dst).suffix.lower()
-        known = output_kinds()
-        raise UsageError(f"{dst}: unknown output extension {ext or '(none)'!r}; use {known}")
+    name = _format_name(dst, options)
     fmt = FORMATS[name]
     codec_name = options.codec or fmt.codec
-    try:
-        codec = av.Codec(codec_name, "w")
-    except (ValueError, av.error.FFmpegError):
-        raise UsageError(f"unknown video encoder {codec_name!r}") from None
-    if codec.type != "video":
-        raise UsageError(f"{codec_name!r} is not a video encoder")
-    with av.open(io.BytesIO(), "w", format=fmt.muxer) as probe:
-        supported = set(probe.supported_codecs) | fmt.also_holds
-    if codec.canonical_name not in supported and codec.name not in supported:
-        raise UsageError(f"{name} cannot hold {codec.canonical_name} video ({codec_name})")
+    codec, supported = _video_codec(name, fmt, codec_name)
     pix_fmt = options.pix_fmt or (fmt.pix_fmt if codec_name == fmt.codec else "yuv420p")
-    try:
-        pix = av.VideoFormat(pix_fmt)
-    except (ValueError, av.error.FFmpegError):
-        raise UsageError(f"unknown pixel format {pix_fmt!r}") from None
-    palette = codec_name == "gif"
-    formats = [f.name for f in codec.video_formats or ()]
-    if formats and pix_fmt not in formats:
-        raise UsageError(f"{codec_name} cannot encode {pix_fmt}; it takes {', '.join(formats)}")
+    pix = _pixel_format(codec, codec_name, pix_fmt)
     table = option_table(codec_name)
     has_preset = codec_name in PRESET_CODECS if table is None else "preset" in table
     if options.preset is not None and not has_preset:
         raise UsageError(f"--preset: {codec_name} has no presets; use --encoder-opt")
     if options.audio == "aac" and (fmt.audio is None or "aac" not in supported):
         raise UsageError(f"--audio aac: {name} cannot hold AAC audio; use copy or none")
-    codec_options = dict(ENCODER_DEFAULTS.get(codec_name, {}))
-    given: dict[str, tuple[str, str]] = {}  # option -> (the flag that set it, its value)
-    if options.crf is not None:
-        given["crf"] = ("--crf", str(options.crf))
-    if options.preset is not None:
-        given["preset"] = ("--preset", options.preset)
-    for key, value in options.encoder_opts.items():
-        given[str(key)] = ("--encoder-opt", str(value))
-    codec_options.update({key: value for key, (_, value) in given.items()})
-    codec_options = quiet_options(codec_name, codec_options, options.verbose)
-    quiet_environment(codec_name, options.verbose)  # before the probe: SVT-AV1 reads it once
-    check_encoder(codec_name, pix_fmt, codec_options, given, table)
+    codec_options = _codec_options(codec_name, pix_fmt, options, table)
     stream = is_stdio(dst)
+    palette = codec_name == "gif"
     even = (pix.chroma_width(2) < 2, pix.chroma_height(2) < 2) if not palette else (False, False)
     return OutputPlan(
         fmt.muxer,
@@ -143,6 +105,72 @@ def plan_output(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:
         palette=palette,
         stream=stream,
     )
+
+
+def _check_options(options: VideoOptions) -> None:
+    """The options that need no output: range, audio mode, progress mode, size."""
+    check_range(options.start, options.end)
+    if options.audio not in AUDIO_MODES:
+        raise UsageError(f"audio must be one of {', '.join(AUDIO_MODES)}, got {options.audio!r}")
+    if options.progress not in MODES:
+        raise UsageError(f"progress must be one of {', '.join(MODES)}, got {options.progress!r}")
+    if options.size is not None and (len(options.size) != 2 or min(options.size) < 1):
+        raise UsageError(f"size must be two positive integers, got {options.size!r}")
+
+
+def _format_name(dst: str | os.PathLike, options: VideoOptions) -> str:
+    """The output's format (a key of FORMATS), by ``--format`` or the extension."""
+    name = output_format(dst, options.format)
+    if name is not None:
+        return name
+    if is_stdio(dst):
+        raise UsageError("-o -: name the stream's format with --format (e.g. matroska, nut)")
+    ext = Path(dst).suffix.lower()
+    raise UsageError(f"{dst}: unknown output extension {ext or '(none)'!r}; use {output_kinds()}")
+
+
+def _video_codec(name: str, fmt, codec_name: str) -> tuple[av.Codec, set[str]]:
+    """(the video encoder ``codec_name``, the codecs the format's muxer holds)."""
+    try:
+        codec = av.Codec(codec_name, "w")
+    except (ValueError, av.error.FFmpegError):
+        raise UsageError(f"unknown video encoder {codec_name!r}") from None
+    if codec.type != "video":
+        raise UsageError(f"{codec_name!r} is not a video encoder")
+    with av.open(io.BytesIO(), "w", format=fmt.muxer) as probe:
+        supported = set(probe.supported_codecs) | fmt.also_holds
+    if codec.canonical_name not in supported and codec.name not in supported:
+        raise UsageError(f"{name} cannot hold {codec.canonical_name} video ({codec_name})")
+    return codec, supported
+
+
+def _pixel_format(codec: av.Codec, codec_name: str, pix_fmt: str) -> av.VideoFormat:
+    try:
+        pix = av.VideoFormat(pix_fmt)
+    except (ValueError, av.error.FFmpegError):
+        raise UsageError(f"unknown pixel format {pix_fmt!r}") from None
+    formats = [f.name for f in codec.video_formats or ()]
+    if formats and pix_fmt not in formats:
+        raise UsageError(f"{codec_name} cannot encode {pix_fmt}; it takes {', '.join(formats)}")
+    return pix
+
+
+def _codec_options(codec_name: str, pix_fmt: str, options: VideoOptions, table) -> dict:
+    """The encoder's options: its defaults, then --crf, --preset, --encoder-opt,
+    tried on the encoder (:func:`~marblevideo.media.encoders.check_encoder`)."""
+    codec_options = dict(ENCODER_DEFAULTS.get(codec_name, {}))
+    given: dict[str, tuple[str, str]] = {}  # option -> (the flag that set it, its value)
+    if options.crf is not None:
+        given["crf"] = ("--crf", str(options.crf))
+    if options.preset is not None:
+        given["preset"] = ("--preset", options.preset)
+    for key, value in options.encoder_opts.items():
+        given[str(key)] = ("--encoder-opt", str(value))
+    codec_options.update({key: value for key, (_, value) in given.items()})
+    codec_options = quiet_options(codec_name, codec_options, options.verbose)
+    quiet_environment(codec_name, options.verbose)  # before the probe: SVT-AV1 reads it once
+    check_encoder(codec_name, pix_fmt, codec_options, given, table)
+    return codec_options
 
 
 def _sequence_plan(dst: str | os.PathLike, options: VideoOptions) -> OutputPlan:

@@ -16,7 +16,7 @@ import numpy as np
 from marblevideo.errors import MediaError, UsageError
 from marblevideo.limits import MAX_PIXELS
 from marblevideo.media.formats import IMAGE_EXTENSIONS
-from marblevideo.media.inputs import check_input
+from marblevideo.media.inputs import Input, check_input
 
 ALPHA_EXTENSIONS = frozenset({".png", ".tif", ".tiff", ".webp"})
 #: Largest input image accepted, in pixels (about 16k x 16k).
@@ -40,9 +40,16 @@ def is_image_path(path: str | os.PathLike) -> bool:
     return Path(path).suffix.lower() in IMAGE_EXTENSIONS
 
 
-def read_image(path: str | os.PathLike) -> tuple[np.ndarray, bool]:
-    """(RGBA uint8 array, whether the file had alpha)."""
-    path = check_input(path, "an image")
+def read_image(path: str | os.PathLike | Input) -> tuple[np.ndarray, bool]:
+    """(RGBA uint8 array, whether the file had alpha), of a file or of a still
+    :class:`~marblevideo.media.inputs.Input` (its file checked once, or the
+    bytes it read from standard input)."""
+    if isinstance(path, Input):
+        if path.data is not None:
+            return decode_image(path.data, "-")
+        path = path.checked().path
+    else:
+        path = check_input(path, "an image")
     try:
         data = np.fromfile(path, dtype=np.uint8)
     except OSError as exc:

@@ -17,14 +17,23 @@ from collections.abc import Iterable, Iterator
 from pathlib import Path
 
 from marblevideo.errors import MediaError, OutputExistsError, UsageError
+from marblevideo.media.formats import is_sequence, is_stdio, sequence_names
 
 
 def check_output(
     dst: str | os.PathLike, overwrite: bool = False, inputs: Iterable[str | os.PathLike] = ()
-) -> Path:
-    """Refuse an output that would harm an input, exists without ``overwrite``,
-    or lies in a folder that does not exist. Returns the target as a Path."""
+) -> Path | str:
+    """The one output check, before any work: refuse an output that would harm an
+    input, exists without ``overwrite``, or lies in a folder that does not exist.
+    An image sequence (``name_%04d.png``) is refused when any of its frames exists;
+    ``-`` (standard output) is always free. Returns the target as a Path (``-`` as
+    it is)."""
+    if is_stdio(dst):
+        return os.fspath(dst)
     target = Path(dst)
+    if is_sequence(dst):
+        _check_sequence(target, overwrite)
+        return target
     for src in inputs:
         if src is None:
             continue
@@ -39,6 +48,17 @@ def check_output(
     if target.exists() and not overwrite:
         raise OutputExistsError(f"{target}: already exists; use -y to overwrite")
     return target
+
+
+def _check_sequence(pattern: Path, overwrite: bool) -> None:
+    """Refuse a sequence whose folder is missing, or whose frames exist already
+    (without ``overwrite``)."""
+    folder = pattern.parent if str(pattern.parent) else Path(".")
+    if not folder.is_dir():
+        raise UsageError(f"{pattern}: folder {folder} does not exist")
+    taken = sequence_names(pattern, os.listdir(folder))
+    if taken and not overwrite:
+        raise OutputExistsError(f"{folder / taken[0]}: already exists; use -y to overwrite")
 
 
 def _set_mode(tmp: Path, target: Path) -> None:

@@ -20,11 +20,11 @@ from pathlib import Path
 
 import av
 
-from marblevideo.errors import MediaError, OutputExistsError, UsageError
+from marblevideo.errors import MediaError, OutputExistsError
 from marblevideo.media.encode import Encoder, OutputPlan
-from marblevideo.media.formats import sequence_name, sequence_names
+from marblevideo.media.formats import sequence_name
 from marblevideo.media.images import write_image
-from marblevideo.media.output import atomic_output, check_output
+from marblevideo.media.output import atomic_output
 from marblevideo.media.video import AudioItem, Span, Stats, VideoItem, VideoOptions, notifier
 
 
@@ -40,7 +40,6 @@ class SequenceWriter:
         self.written: list[tuple[Path, Path]] = []  # (temporary, target)
         self.span = Span()
         self.time_base = Fraction(1)
-        check_sequence(self.pattern, options.overwrite)
 
     def open_video(self, width: int, height: int, time_base: Fraction, rate, colors) -> None:
         self.stream, self.time_base = "image2", time_base
@@ -78,18 +77,6 @@ class SequenceWriter:
         for tmp, _ in self.written:
             with contextlib.suppress(FileNotFoundError):
                 tmp.unlink()
-
-
-def check_sequence(pattern: str | os.PathLike, overwrite: bool) -> None:
-    """Refuse a sequence whose folder is missing, or whose frames exist already
-    (without ``overwrite``), before any work."""
-    pattern = Path(pattern)
-    folder = pattern.parent if str(pattern.parent) else Path(".")
-    if not folder.is_dir():
-        raise UsageError(f"{pattern}: folder {folder} does not exist")
-    taken = sequence_names(pattern, os.listdir(folder))
-    if taken and not overwrite:
-        raise OutputExistsError(f"{folder / taken[0]}: already exists; use -y to overwrite")
 
 
 def _closing(writer: Encoder, out) -> Iterator[Encoder]:
@@ -132,7 +119,6 @@ def video_writer(
             with contextlib.suppress(OSError):
                 sys.stdout.buffer.flush()
         return
-    check_output(dst, options.overwrite, inputs)
     with atomic_output(dst, options.overwrite, inputs) as tmp:
         out = av.open(str(tmp), "w", format=plan.format, options=plan.container_options)
         yield from _closing(Encoder(out, plan, options, stats, say), out)

@@ -23,24 +23,19 @@ giving the :class:`~marblevideo.recipe.frame.FrameSpec` the renderers read.
 from __future__ import annotations
 
 import dataclasses
-import json
-import math
-import numbers
 import os
 from dataclasses import dataclass, field
 from typing import Any
 
 from marblevideo.bundled import preset_name, presets, recipe_file
 from marblevideo.errors import RecipeError, UsageError
-from marblevideo.limits import MAX_DEPTH
 from marblevideo.ops import LAYOUTS, expand, op_def, type_def
 from marblevideo.recipe.colors import color_components
+from marblevideo.recipe.document import check_depth, normalize, parse_json
 from marblevideo.recipe.faults import (
     Fault,
-    NonFinite,
     describe,
     did_you_mean,
-    format_path,
     make_fault,
     schema_fault,
     validator,
@@ -185,11 +180,6 @@ class Recipe:
 # --------------------------------------------------------------------------- loading
 
 
-def _parse_float(text: str) -> float | NonFinite:
-    value = float(text)
-    return value if math.isfinite(value) else NonFinite(text)
-
-
 def load_recipe(path: str | os.PathLike[str]) -> Recipe:
     """Read, validate and build the recipe file at ``path`` (named as given in
     messages) or, when no such file exists, the preset ``path`` names (a bundled
@@ -215,16 +205,7 @@ def read_recipe(path: str | os.PathLike[str]) -> tuple[object, Recipe]:
             reason += f", nor a preset of that name{did_you_mean(stem, presets(), n=3)}; "
             reason += "`marblevideo presets` lists them"
         raise UsageError(f"cannot read recipe {source}: {reason}") from None
-    try:
-        data = json.loads(
-            text, parse_constant=NonFinite, parse_float=_parse_float, object_pairs_hook=_Object
-        )
-    except json.JSONDecodeError as exc:
-        raise RecipeError(
-            source, "", f"invalid JSON at line {exc.lineno}, column {exc.colno}: {exc.msg}"
-        ) from None
-    except RecursionError:
-        raise RecipeError(source, "", f"nested too deeply (over {MAX_DEPTH} levels)") from None
+    data = parse_json(text, source)
     return data, parse_recipe(data, source)
 
 
@@ -233,8 +214,8 @@ def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
 
     ``source`` names it in messages. Raises RecipeError for the first fault.
     """
-    _check_depth(data, source)
-    doc = _normalize(data)
+    check_depth(data, source)
+    doc = normalize(data)
     faults = [schema_fault(error, doc) for error in validator().iter_errors(doc)]
     if not faults:
         faults = _semantic_faults(doc)
@@ -242,52 +223,6 @@ def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
         first = min(faults, key=lambda f: f.position)
         raise RecipeError(source, first.path, first.message)
     return _build(doc, source)
-
-
-class _Object(dict):
-    """A JSON object as read from a file, with the keys it gave more than once
-    (json keeps the last value of each without a word)."""
-
-    def __init__(self, pairs: list[tuple[str, Any]]):
-        super().__init__(pairs)
-        seen: set[str] = set()
-        self.twice = [k for k, _ in pairs if k in seen or seen.add(k)]
-
-
-def _check_depth(data: Any, source: str) -> None:
-    """Refuse nesting deeper than MAX_DEPTH, naming the first node too deep, and a key
-    given twice in one object of a file, in document order, without recursion (the
-    validator and the builder recurse)."""
-    stack: list[tuple[Any, list, int]] = [(data, [], 0)]
-    while stack:
-        node, path, depth = stack.pop()
-        if isinstance(node, dict):
-            if getattr(node, "twice", None):
-                message = "given twice in one object (JSON would keep only the last)"
-                raise RecipeError(source, format_path([*path, node.twice[0]]), message)
-            children = list(node.items())
-        elif isinstance(node, (list, tuple)):
-            children = list(enumerate(node))
-        else:
-            continue
-        if depth == MAX_DEPTH:
-            message = f"nested too deeply: more than {MAX_DEPTH} levels of lists and objects"
-            raise RecipeError(source, format_path(path), message)
-        stack.extend((child, [*path, key], depth + 1) for key, child in reversed(children))
-
-
-def _normalize(data: Any) -> Any:
-    """JSON-shaped copy: tuples become lists, NumPy-style numbers int or float,
-    non-finite floats NonFinite."""
-    if isinstance(data, dict):
-        return {k: _normalize(v) for k, v in data.items()}
-    if isinstance(data, (list, tuple)):
-        return [_normalize(v) for v in data]
-    if isinstance(data, numbers.Real) and not isinstance(data, (bool, int, float)):
-        data = int(data) if isinstance(data, numbers.Integral) else float(data)
-    if isinstance(data, float) and not math.isfinite(data):
-        return NonFinite("NaN" if math.isnan(data) else "Infinity" if data > 0 else "-Infinity")
-    return data
 
 
 def _params(op: dict) -> dict[str, Track]:

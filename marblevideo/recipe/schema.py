@@ -151,8 +151,9 @@ def _op(op: str) -> dict:
     }
 
 
-def _build() -> dict:
-    kinds = {
+def _value_kinds() -> dict:
+    """The kinds a keyable parameter may have (each also a keyframe track)."""
+    return {
         "number": _number(),
         "positive": _number(exclusiveMinimum=0),
         "nonnegative": _number(minimum=0),
@@ -179,9 +180,13 @@ def _build() -> dict:
             ],
         },
     }
+
+
+def _constant_kinds() -> dict:
+    """The kinds that are never keyframe tracks, those some op's parameter uses."""
     positive_pair = {"type": "array", "items": _ref("positive"), "minItems": 2, "maxItems": 2}
     count_pair = {"type": "array", "items": _ref("count"), "minItems": 2, "maxItems": 2}
-    constants = {  # kinds that are never keyframe tracks
+    constants = {
         "count": {
             "title": "count (a whole number >= 1)",
             "type": "integer",
@@ -227,10 +232,49 @@ def _build() -> dict:
         },
     }
     used = {p.kind for t in recipe_types() for p in type_def(t).params}
+    return {kind: schema_ for kind, schema_ in constants.items() if kind in used}
+
+
+def _ease() -> dict:
     unit = {"type": "number", "minimum": 0, "maximum": 1}
-    defs: dict = {
+    return {
+        "description": "Shapes the segment leaving this key (default linear).",
+        "anyOf": [
+            {"title": "ease name", "type": "string", "enum": list(EASE_NAMES)},
+            {
+                "title": "cubic-bezier [x1, y1, x2, y2]",
+                "type": "array",
+                "prefixItems": [unit, _number(), unit, _number()],
+                "minItems": 4,
+                "maxItems": 4,
+            },
+        ],
+    }
+
+
+def _op_dispatch() -> dict:
+    """Any op: its ``type`` picks the op's own schema (``if``/``then``)."""
+    return {
+        "type": "object",
+        "required": ["type"],
+        "properties": {
+            "type": {"title": "op type", "type": "string", "enum": list(recipe_types())},
+        },
+        "allOf": [
+            {
+                "if": {"properties": {"type": {"const": op}}, "required": ["type"]},
+                "then": _ref(op),
+            }
+            for op in recipe_types()
+        ],
+    }
+
+
+def _defs() -> dict:
+    kinds = _value_kinds()
+    return {
         **kinds,
-        **{kind: schema_ for kind, schema_ in constants.items() if kind in used},
+        **_constant_kinds(),
         **{f"{kind}Track": _track(kind) for kind in kinds},
         **{f"{kind}Signal": _signal(kind) for kind in SIGNAL_KINDS},
         **{
@@ -244,35 +288,70 @@ def _build() -> dict:
             for kind in kinds
         },
         "time": _number(),
-        "ease": {
-            "description": "Shapes the segment leaving this key (default linear).",
-            "anyOf": [
-                {"title": "ease name", "type": "string", "enum": list(EASE_NAMES)},
-                {
-                    "title": "cubic-bezier [x1, y1, x2, y2]",
-                    "type": "array",
-                    "prefixItems": [unit, _number(), unit, _number()],
-                    "minItems": 4,
-                    "maxItems": 4,
-                },
-            ],
-        },
+        "ease": _ease(),
         **{op: _op(op) for op in recipe_types()},
-        "op": {
-            "type": "object",
-            "required": ["type"],
-            "properties": {
-                "type": {"title": "op type", "type": "string", "enum": list(recipe_types())},
-            },
-            "allOf": [
-                {
-                    "if": {"properties": {"type": {"const": op}}, "required": ["type"]},
-                    "then": _ref(op),
-                }
-                for op in recipe_types()
-            ],
+        "op": _op_dispatch(),
+    }
+
+
+def _properties() -> dict:
+    """The recipe's top-level fields."""
+    return {
+        "$schema": {"type": "string", "description": "Ignored; lets editors find this schema."},
+        "description": {
+            "type": "string",
+            "maxLength": MAX_DESCRIPTION,
+            "description": "One line on what the recipe makes; ignored by the renderer.",
+        },
+        "marblevideo": {
+            "title": "recipe format version",
+            "type": "integer",
+            "const": 1,
+            "default": 1,
+            "description": "Format version; only 1 exists.",
+        },
+        "canvas": {
+            "title": "size [W, H]",
+            "type": "array",
+            "items": _ref("positive"),
+            "minItems": 2,
+            "maxItems": 2,
+            "description": "Size of the design in canvas units (default: the input's size).",
+        },
+        "background": {
+            **_ref("colorParam"),
+            "default": "#ffffff",
+            "description": 'The empty sheet, and the outside of the input for edges "background".',
+        },
+        "antialias": {
+            "title": "antialias pattern",
+            "type": "string",
+            "enum": list(PATTERNS),
+            "default": "rgss",
+            "description": "Subsample pattern per output pixel.",
+        },
+        "edges": {
+            "title": "edge mode",
+            "type": "string",
+            "enum": list(EDGE_MODES),
+            "default": "clamp",
+            "description": "What the input shows outside itself.",
+        },
+        "lattice": {
+            "type": "boolean",
+            "default": True,
+            "description": "marblevideo: animated frames over an input interpolate the "
+            "map from a walked lattice where it is smooth; false walks every subsample.",
+        },
+        "ops": {
+            "type": "array",
+            "items": _ref("op"),
+            "description": "Applied in order: ops[0] first, the last op is the most visible.",
         },
     }
+
+
+def _build() -> dict:
     return {
         "$schema": DRAFT,
         "$id": SCHEMA_ID,
@@ -280,63 +359,10 @@ def _build() -> dict:
         "description": "A marbling design: ops applied in order (ops[0] first). "
         "Canvas units, origin top-left, y down; angles in degrees; times in seconds.",
         "type": "object",
-        "properties": {
-            "$schema": {"type": "string", "description": "Ignored; lets editors find this schema."},
-            "description": {
-                "type": "string",
-                "maxLength": MAX_DESCRIPTION,
-                "description": "One line on what the recipe makes; ignored by the renderer.",
-            },
-            "marblevideo": {
-                "title": "recipe format version",
-                "type": "integer",
-                "const": 1,
-                "default": 1,
-                "description": "Format version; only 1 exists.",
-            },
-            "canvas": {
-                "title": "size [W, H]",
-                "type": "array",
-                "items": _ref("positive"),
-                "minItems": 2,
-                "maxItems": 2,
-                "description": "Size of the design in canvas units (default: the input's size).",
-            },
-            "background": {
-                **_ref("colorParam"),
-                "default": "#ffffff",
-                "description": "The empty sheet, and the outside of the input for edges "
-                '"background".',
-            },
-            "antialias": {
-                "title": "antialias pattern",
-                "type": "string",
-                "enum": list(PATTERNS),
-                "default": "rgss",
-                "description": "Subsample pattern per output pixel.",
-            },
-            "edges": {
-                "title": "edge mode",
-                "type": "string",
-                "enum": list(EDGE_MODES),
-                "default": "clamp",
-                "description": "What the input shows outside itself.",
-            },
-            "lattice": {
-                "type": "boolean",
-                "default": True,
-                "description": "marblevideo: animated frames over an input interpolate the "
-                "map from a walked lattice where it is smooth; false walks every subsample.",
-            },
-            "ops": {
-                "type": "array",
-                "items": _ref("op"),
-                "description": "Applied in order: ops[0] first, the last op is the most visible.",
-            },
-        },
+        "properties": _properties(),
         "required": ["ops"],
         "additionalProperties": False,
-        "$defs": defs,
+        "$defs": _defs(),
     }
 
 

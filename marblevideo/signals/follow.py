@@ -15,7 +15,8 @@ import os
 import av
 
 from marblevideo.errors import UsageError
-from marblevideo.media.formats import is_image_name, is_local, is_sequence, is_stdio
+from marblevideo.media.formats import is_local, is_stdio
+from marblevideo.media.inputs import Input, name_kind
 from marblevideo.recipe import Recipe
 from marblevideo.signals.audio import analyse
 from marblevideo.signals.values import AudioSignals
@@ -39,15 +40,17 @@ def check_soundtrack(soundtrack: str | os.PathLike) -> None:
 
 
 def _no_audio(src) -> str | None:
-    """Why the input ``src`` gives no audio to follow, or None when it does."""
-    if src is None:
+    """Why the input ``src`` (a name or an :class:`~marblevideo.media.inputs.Input`)
+    gives no audio to follow, or None when it does."""
+    name = src.name if isinstance(src, Input) else src
+    if name is None:
         return "a blank sheet has no audio"
-    if is_stdio(src) or not is_local(src):
-        return f"{'standard input' if is_stdio(src) else src} cannot be read twice for its audio"
-    if is_image_name(src) or is_sequence(src):
-        return f"{src} is an image, with no audio"
-    if not has_audio(src):
-        return f"{src} has no audio stream"
+    if is_stdio(name) or not is_local(name):
+        return f"{'standard input' if is_stdio(name) else name} cannot be read twice for its audio"
+    if name_kind(name) in ("image", "sequence"):
+        return f"{name} is an image, with no audio"
+    if not has_audio(name):
+        return f"{name} has no audio stream"
     return None
 
 
@@ -84,4 +87,6 @@ def follow(recipe: Recipe, src, soundtrack=None) -> Recipe:
         return recipe
     check(recipe, src, soundtrack)  # a controller is refused: what is left is audio
     own = soundtrack is None
+    if isinstance(src, Input):
+        src = src.name
     return recipe.bind(AudioSignals(analyse(src if own else soundtrack, own=own)))

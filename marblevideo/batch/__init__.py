@@ -34,22 +34,18 @@ template, serially or on a local process pool.
 
 from __future__ import annotations
 
-import concurrent.futures
-import contextlib
 import glob
 import hashlib
 import json
-import multiprocessing
 import os
-import signal
 import string
-import time
 from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from marblevideo.cluster import RayPool, require_ray
-from marblevideo.errors import MarbleError, MediaError, UsageError
+from marblevideo.batch.workers import on_processes, on_ray, render_item
+from marblevideo.cluster import require_ray
+from marblevideo.errors import UsageError
 from marblevideo.media.formats import is_sequence, output_format, output_kind, output_kinds
 from marblevideo.media.progress import Progress
 from marblevideo.media.tiled import check_still_size
@@ -219,36 +215,6 @@ class Manifest:
         os.replace(tmp, self.path)
 
 
-def render_item(recipe, item: Item, options: dict, overwrite: bool, renderer=None) -> str | None:
-    """Render one item (on ``renderer`` where given); None when done, else its
-    one-line error."""
-    from marblevideo.api import render_still, render_video
-
-    try:
-        item.dst.parent.mkdir(parents=True, exist_ok=True)
-    except OSError as exc:
-        return f"{item.dst.parent}: cannot make the folder: {exc.strerror or exc}"
-    try:
-        if output_kind(item.dst) == "still":
-            render_still(
-                item.src, recipe, item.dst, overwrite=overwrite, renderer=renderer, **options
-            )
-        else:
-            render_video(
-                item.src, recipe, item.dst, overwrite=overwrite, quiet=True, renderer=renderer,
-                **options,
-            )  # fmt: skip
-    except MarbleError as exc:
-        return str(exc)
-    return None
-
-
-def _init_worker(threads: int) -> None:
-    os.environ.setdefault("POCL_MAX_PTHREAD_COUNT", str(threads))
-    # Ctrl-C reaches the whole process group: the batch itself decides (on_processes)
-    signal.signal(signal.SIGINT, signal.SIG_IGN)
-
-
 def run_batch(
     patterns: list[str],
     recipe: str | os.PathLike,
@@ -270,25 +236,7 @@ def run_batch(
     module). Raises UsageError before any work for bad patterns, templates,
     recipes or options; returns what was done (failures included: the caller
     decides the exit status)."""
-    from marblevideo.bundled import recipe_file
-    from marblevideo.recipe import load_recipe
-    from marblevideo.signals.follow import check as check_signals
-
-    if jobs is not None and jobs < 1:
-        raise UsageError(f"--jobs: expected a count >= 1, got {jobs}")
-    if cluster not in (None, "ray"):
-        raise UsageError(f"--cluster: expected ray, got {cluster!r}")
-    if cluster == "ray":
-        require_ray()
-    recipe = recipe_file(recipe)
-    loaded = load_recipe(recipe)  # a bad recipe stops the batch before any work (exit 2)
-    items = plan_items(expand_inputs(patterns), template)
-    for item in items:  # so does a signal with nothing to follow (exit 2)
-        check_signals(loaded, item.src)
-    if "time" in options and any(output_kind(item.dst) != "still" for item in items):
-        raise UsageError("--time: applies to still outputs; this batch writes videos")
-    check_folders(items)
-    check_outputs(items, options.get("size"))
+    recipe, items = _planned(patterns, recipe, template, jobs, cluster, options)
     recipe_text = Path(recipe).read_text(encoding="utf-8")
     digest = job_digest(recipe_text, {k: repr(v) for k, v in options.items()})
     book = Manifest(Path(manifest) if manifest else items[0].dst.parent / MANIFEST_NAME, digest)
@@ -314,86 +262,45 @@ def run_batch(
                 result.written.append(item.dst)
             bar.update()
 
-        if cluster == "ray":
-            on_ray(load_recipe(recipe), todo, options, overwrite, jobs, finished)
-        elif (jobs or 1) == 1 or len(todo) <= 1:
-            for item in todo:
-                finished(item, render_item(recipe, item, options, overwrite))
-        else:
-            on_processes(str(recipe), todo, options, overwrite, jobs, finished)
+        _render_all(recipe, todo, options, overwrite, (cluster, jobs), finished)
     return result
 
 
-def on_processes(recipe: str, todo: list[Item], options, overwrite, jobs: int, finished) -> None:
-    """Every item of ``todo`` on ``jobs`` worker processes; ``finished(item, error)``
-    as each ends. An interrupt here (Ctrl-C, SIGTERM; workers ignore Ctrl-C) stops
-    the workers at once: what was queued is dropped, the temporary files of the
-    renders cut short are removed, and outputs finished meanwhile are recorded."""
-    threads = max(1, (os.cpu_count() or 1) // jobs)
-    context = multiprocessing.get_context("spawn")  # OpenCL does not survive fork
-    pool = concurrent.futures.ProcessPoolExecutor(
-        jobs, mp_context=context, initializer=_init_worker, initargs=(threads,)
-    )
-    futures, recorded, started = {}, set(), time.time()
-    try:
+def _planned(patterns, recipe, template: str, jobs, cluster, options: dict):
+    """(the recipe's file, the batch's items): every check made before any work
+    (exit 2): the options, the recipe, the inputs and outputs."""
+    from marblevideo.bundled import recipe_file
+    from marblevideo.recipe import load_recipe
+    from marblevideo.signals.follow import check as check_signals
+
+    if jobs is not None and jobs < 1:
+        raise UsageError(f"--jobs: expected a count >= 1, got {jobs}")
+    if cluster not in (None, "ray"):
+        raise UsageError(f"--cluster: expected ray, got {cluster!r}")
+    if cluster == "ray":
+        require_ray()
+    recipe = recipe_file(recipe)
+    loaded = load_recipe(recipe)  # a bad recipe stops the batch before any work
+    items = plan_items(expand_inputs(patterns), template)
+    for item in items:  # so does a signal with nothing to follow
+        check_signals(loaded, item.src)
+    if "time" in options and any(output_kind(item.dst) != "still" for item in items):
+        raise UsageError("--time: applies to still outputs; this batch writes videos")
+    check_folders(items)
+    check_outputs(items, options.get("size"))
+    return recipe, items
+
+
+def _render_all(recipe, todo: list[Item], options, overwrite, where: tuple, finished) -> None:
+    """Every item of ``todo``: on Ray, on worker processes or here, by ``where``
+    = (cluster, jobs); ``finished(item, error)`` as each ends."""
+    from marblevideo.recipe import load_recipe
+
+    cluster, jobs = where
+    if cluster == "ray":
+        on_ray(load_recipe(recipe), todo, options, overwrite, jobs, finished)
+    elif (jobs or 1) == 1 or len(todo) <= 1:
         for item in todo:
-            futures[pool.submit(render_item, recipe, item, options, overwrite)] = item
-        for future in concurrent.futures.as_completed(futures):
-            try:
-                error = future.result()
-            except concurrent.futures.process.BrokenProcessPool:
-                raise MediaError("a batch worker died; run again to resume") from None
-            recorded.add(future)
-            finished(futures[future], error)
-    except BaseException:
-        workers = list((pool._processes or {}).values())  # private: no public way
-        pool.shutdown(wait=False, cancel_futures=True)
-        for worker in workers:  # stopped at once
-            with contextlib.suppress(OSError):
-                worker.kill()
-        pool.shutdown(wait=True)
-        for future, item in futures.items():
-            if future in recorded:
-                continue
-            if _succeeded(future) or _written_since(item.dst, started):  # as it came
-                finished(item, None)
-            else:  # a render cut short leaves its temporary file (media.output)
-                for tmp in item.dst.parent.glob(f".{item.dst.stem}.*.part{item.dst.suffix}"):
-                    tmp.unlink(missing_ok=True)
-        raise
-    pool.shutdown()
-
-
-def _written_since(path: Path, started: float) -> bool:
-    """Whether ``path`` was put in place since ``started`` (a worker killed between
-    its rename and its answer); a second's slack for file-system clocks."""
-    try:
-        return path.stat().st_mtime >= started - 1
-    except OSError:
-        return False
-
-
-def _succeeded(future: concurrent.futures.Future) -> bool:
-    return (
-        future.done()
-        and not future.cancelled()
-        and future.exception() is None
-        and (future.result() is None)
-    )
-
-
-def on_ray(recipe, todo: list[Item], options: dict, overwrite: bool, jobs, finished) -> None:
-    """Every item of ``todo`` on Ray workers; ``finished(item, error)`` as each ends."""
-    if not todo:
-        return
-    pool = RayPool(jobs, options.get("device"))
-    try:
-        # the workers' folders are not this one: absolute paths
-        calls = [
-            (recipe, Item(item.src.resolve(), item.dst.resolve()), options, overwrite)
-            for item in todo
-        ]
-        for index, error in pool.run(render_item, calls, [str(item.src) for item in todo]):
-            finished(todo[index], None if error is None else str(error))
-    finally:
-        pool.close()
+            finished(item, render_item(recipe, item, options, overwrite))
+    else:
+        on_processes(str(recipe), todo, options, overwrite, jobs, finished)
