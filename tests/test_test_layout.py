@@ -9,9 +9,18 @@ import ast
 import re
 from dataclasses import replace
 
+import numpy as np
 import pytest
 from helpers import ROOT
-from recipes import GENERATORS, NOT_RANDOM, OPS, random_recipe
+from recipes import (
+    GENERATORS,
+    NOT_RANDOM,
+    OPS,
+    generator,
+    random_recipe,
+    random_types,
+    valid_registry_op,
+)
 
 from marblevideo.ops import REGISTRY
 from marblevideo.recipe import parse_recipe
@@ -111,27 +120,25 @@ def test_the_layout_checks_find_what_they_look_for():
     assert pythonpaths_by_hand(code) == [4, 5]
 
 
-def uncovered(registry, generators, excluded) -> list[str]:
-    """Registered op types with neither a random generator nor a reason to have none."""
-    return [t for t in registry if t not in generators and t not in excluded]
-
-
 def test_random_recipes_cover_every_registered_type():
-    """A new op is random-generated once listed in recipes.GENERATORS (or left out,
-    with the reason, in recipes.NOT_RANDOM); nothing listed is unregistered."""
-    missing = uncovered(REGISTRY, GENERATORS, NOT_RANDOM)
-    assert not missing, f"no random generator in tests/recipes.py GENERATORS: {missing}"
-    assert set(GENERATORS).isdisjoint(NOT_RANDOM)
-    assert set(GENERATORS) | set(NOT_RANDOM) <= set(REGISTRY)
-    assert all(reason.strip() for reason in NOT_RANDOM.values())
+    """Every registered op type is drawn by random recipes (its own law or the
+    generic one) unless recipes.NOT_RANDOM leaves it out with a reason; nothing
+    listed is unregistered."""
     assert tuple(t for t in REGISTRY if t not in NOT_RANDOM) == OPS
+    assert set(GENERATORS) | set(NOT_RANDOM) <= set(REGISTRY)
+    assert set(GENERATORS).isdisjoint(NOT_RANDOM)
+    assert all(reason.strip() for reason in NOT_RANDOM.values())
 
 
-def test_a_new_op_type_is_named_until_it_has_a_generator():
+def test_a_new_op_type_is_drawn_with_nothing_edited():
+    """A type only registered (a vortex renamed) is in random recipes, drawn by
+    the generic law from its parameters' kinds into an op the recipe accepts."""
     whirl = replace(REGISTRY["vortex"], type="whirl")
-    registry = {**REGISTRY, "whirl": whirl, "swirl": replace(whirl, type="swirl")}
-    assert uncovered(registry, GENERATORS, NOT_RANDOM) == ["whirl", "swirl"]
-    assert uncovered(registry, {**GENERATORS, "whirl": None}, {**NOT_RANDOM, "swirl": "why"}) == []
+    assert random_types({**REGISTRY, "whirl": whirl})[-1] == "whirl"
+    assert generator("whirl") is valid_registry_op
+    rng = np.random.default_rng(1)
+    op = {"type": "vortex", **generator("whirl")(rng, "vortex", 160, 120)}
+    parse_recipe({"canvas": [160, 120], "ops": [op]}, "r.json")
 
 
 @pytest.mark.parametrize("seed", range(3))
