@@ -92,21 +92,29 @@ def _point(rng, w, h) -> list[float]:
     return [float(rng.uniform(0, w)), float(rng.uniform(0, h))]
 
 
-def valid_registry_op(rng, kind: str, w: float, h: float) -> dict:
-    """A random op of any registered type (:func:`random_registry_op`), drawn again
-    until the recipe's own checks accept it; without its start/end."""
+def valid_op(rng, definition, w: float, h: float) -> dict | None:
+    """A random op of ``definition`` (:func:`random_registry_op`) that the
+    recipe's own checks accept, drawn up to 200 times; None if none was."""
     from marblevideo.errors import RecipeError
     from marblevideo.recipe import parse_recipe
 
-    definition = REGISTRY[kind]
     for _ in range(200):
         op = random_registry_op(rng, definition, w, h)
         try:
             parse_recipe({"canvas": [w, h], "ops": [op]}, "r.json")
         except RecipeError:
             continue
-        return {k: v for k, v in op.items() if k not in ("type", "start", "end")}
-    raise AssertionError(f"no valid random {kind}")
+        return op
+    return None
+
+
+def valid_registry_op(rng, kind: str, w: float, h: float) -> dict:
+    """A random valid op of registered type ``kind`` (:func:`valid_op`), without
+    its type, start and end."""
+    op = valid_op(rng, REGISTRY[kind], w, h)
+    if op is None:
+        raise AssertionError(f"no valid random {kind}")
+    return {k: v for k, v in op.items() if k not in ("type", "start", "end")}
 
 
 def _stroke(rng, kind, w, h) -> dict:

@@ -10,7 +10,7 @@ import math
 import numpy as np
 import pytest
 from op_probe import run_op
-from recipes import make_image, random_registry_op
+from recipes import make_image, valid_op
 from tolerances import KERNEL_SHARE, ROUND_TRIP, SVG_SHARE
 
 from marblevideo.errors import RecipeError
@@ -31,15 +31,10 @@ JIGGLE_PX = 1e-3
 
 def _op_values(definition, seed: int, w: float = 80.0, h: float = 60.0) -> OpState:
     """A random valid instance of ``definition`` at the end of its animation."""
-    rng = np.random.default_rng(seed)
-    for _ in range(200):
-        op = random_registry_op(rng, definition, w, h)
-        try:
-            recipe = parse_recipe({"canvas": [w, h], "ops": [op]}, "r.json")
-        except RecipeError:
-            continue
-        return recipe.at(recipe.end_time()).ops[0]
-    raise AssertionError(f"no valid random {definition.type}")
+    op = valid_op(np.random.default_rng(seed), definition, w, h)
+    assert op is not None, f"no valid random {definition.type}"
+    recipe = parse_recipe({"canvas": [w, h], "ops": [op]}, "r.json")
+    return recipe.at(recipe.end_time()).ops[0]
 
 
 @pytest.mark.parametrize("lanes", [None, 1], ids=["vectors", "one-pixel"])
@@ -115,14 +110,9 @@ def _random_recipe(seed: int, blank: bool, w: float = 120.0, h: float = 90.0) ->
     ]  # fmt: skip
     kinds = [OPS[int(i)] for i in rng.permutation(len(OPS))[:6]]
     for definition in kinds:
-        for _ in range(200):
-            op = random_registry_op(rng, definition, w, h)
-            try:
-                parse_recipe({"canvas": [w, h], "ops": [op]}, "r.json")
-            except RecipeError:
-                continue
+        op = valid_op(rng, definition, w, h)
+        if op is not None:
             ops.append(op)
-            break
     patterns = ("rgss", "none", "quincunx", "checker4")
     edges = ("clamp", "repeat", "mirror", "background")
     return {
