@@ -25,6 +25,7 @@ from marblevideo.errors import MarbleError, RecipeError, UsageError
 from marblevideo.marbler import Marbler, blank_size
 from marblevideo.recipe import Recipe, parse_recipe
 from marblevideo.recipe.frame import fit
+from marblevideo.server import json_answer, request_json
 
 RELOAD_POLL = 0.25
 RAW = "application/octet-stream"
@@ -216,13 +217,13 @@ class DesignSession:
         try:
             return self._answer(method, path, q, body)
         except Answer as exc:
-            return exc.code, _error(str(exc)), "application/json"
+            return json_answer({"error": str(exc)}, exc.code)
         except UsageError as exc:
-            return 400, _error(str(exc)), "application/json"
+            return json_answer({"error": str(exc)}, 400)
         except MarbleError as exc:
-            return 500, _error(str(exc)), "application/json"
+            return json_answer({"error": str(exc)}, 500)
         except Exception as exc:  # noqa: BLE001 - the designer keeps serving; one line
-            return 500, _error(f"{path}: {type(exc).__name__}: {exc}"), "application/json"
+            return json_answer({"error": f"{path}: {type(exc).__name__}: {exc}"}, 500)
 
     def _answer(self, method: str, path: str, q: dict, body: bytes | None):
         routes = {
@@ -282,11 +283,8 @@ class DesignSession:
 
 
 def _json(body: bytes | None):
+    """A request's JSON body, or the 400 answer naming what is wrong with it."""
     try:
-        return json.loads(body or b"null")
-    except (ValueError, RecursionError) as exc:
-        raise Answer(400, f"request body: invalid JSON: {exc}") from None
-
-
-def _error(message: str) -> bytes:
-    return json.dumps({"error": message}).encode()
+        return request_json(body)
+    except ValueError as exc:
+        raise Answer(400, str(exc)) from None
