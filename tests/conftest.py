@@ -122,8 +122,9 @@ def coffee_designer(browser, tmp_path):
     import json
     from types import SimpleNamespace
 
+    from live_helpers import LiveProcess, watched_page
+
     from marblevideo.recipe.frame import fit
-    from tests.live_helpers import LiveProcess, watched_page
 
     recipe = tmp_path / "coffee.json"
     app = LiveProcess(

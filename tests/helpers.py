@@ -7,6 +7,8 @@ from __future__ import annotations
 import os
 from pathlib import Path
 
+import numpy as np
+
 #: The checkout (the folder holding marblevideo/, tests/, benchmarks/).
 ROOT = Path(__file__).resolve().parent.parent
 
@@ -48,3 +50,10 @@ def one_line(proc) -> str:
 def files(folder: Path) -> list[str]:
     """The names in ``folder``, sorted."""
     return sorted(p.name for p in folder.iterdir())
+
+
+def identity_pass(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
+    """u, v of a pass that shows the canvas as a plain w x h render would."""
+    u = (np.arange(w) + 0.5) / w
+    v = 1.0 - (np.arange(h) + 0.5) / h
+    return np.broadcast_to(u, (h, w)).copy(), np.broadcast_to(v[:, None], (h, w)).copy()

@@ -9,6 +9,8 @@ import time
 import urllib.request
 from pathlib import Path
 
+import cv2
+import numpy as np
 from helpers import subprocess_env
 
 # A still-image input with constant (adjustable) and keyframed (animated) parameters.
@@ -108,3 +110,82 @@ def watched_page(browser, url: str, ready: str):
     page.goto(url)
     page.wait_for_selector(ready)
     return page, errors
+
+
+# The page, driven in Chromium: waits, drags and what the sheet shows.
+
+INK = "#1d3557"  # the page's first colour
+
+
+REFUSED = "Failed to load resource: the server responded with a status of 400 (Bad Request)"
+
+
+def wait_for(pred, what: str, timeout: float = 20.0):
+    """Poll ``pred`` until it gives a true value (returned); fail with ``what``
+    after ``timeout`` seconds."""
+    end = time.monotonic() + timeout
+    while not (value := pred()):
+        assert time.monotonic() < end, what
+        time.sleep(0.05)
+    return value
+
+
+def pixel(page, x: float, y: float) -> str:
+    """The sheet's colour at frame pixel (x, y), as #rrggbb."""
+    return page.evaluate(
+        """([x, y]) => {
+            const d = document.getElementById('sheet').getContext('2d')
+                .getImageData(Math.floor(x), Math.floor(y), 1, 1).data;
+            return '#' + [d[0], d[1], d[2]].map((c) => c.toString(16).padStart(2, '0')).join('');
+        }""",
+        [x, y],
+    )
+
+
+def settled(page, frames: int, shown: str = "all", ops: list | None = None) -> None:
+    """Wait until the sheet shows an exact frame newer than ``frames`` of the saved
+    recipe (of the ops ``shown``), and with ``ops``, once the page holds those ops."""
+    page.wait_for_function(
+        """([n, shown, ops]) => {
+            const d = document.getElementById('sheet').dataset;
+            return Number(d.frames) > n && d.draft === '0' && d.shown === shown
+                && d.version === String(designer.state.version)
+                && (ops === null || JSON.stringify(designer.state.doc.ops) === JSON.stringify(ops));
+        }""",
+        arg=[frames, shown, ops],
+    )
+
+
+def drag(page, client, a, b) -> str:
+    """Drag the mouse from frame pixel ``a`` to ``b`` in eight moves; the number the
+    page showed beside the hand just before it let go."""
+    page.mouse.move(*client(*a))
+    page.mouse.down()
+    for k in range(1, 9):
+        page.mouse.move(*client(a[0] + (b[0] - a[0]) * k / 8, a[1] + (b[1] - a[1]) * k / 8))
+        time.sleep(0.03)
+    label = page.get_attribute("#overlay", "data-label")
+    page.mouse.up()
+    return label
+
+
+def frames(page) -> int:
+    return int(page.evaluate("document.getElementById('sheet').dataset.frames || 0"))
+
+
+def shot(page) -> np.ndarray:
+    png = page.locator("#sheet").screenshot()
+    return cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_COLOR).astype(np.int16)
+
+
+def frame_diff(a: np.ndarray, b: np.ndarray) -> float:
+    return float(np.abs(a - b).mean())
+
+
+def live_settled(page, live) -> np.ndarray:
+    """The sheet once it shows a frame rendered after now (three JPEGs on)."""
+    seq = live.get("/stats")["jpeg_seq"]
+    page.wait_for_function(
+        f"Number(document.getElementById('sheet').dataset.seq) >= {seq + 3}", timeout=20000
+    )
+    return shot(page)

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from marblevideo.ops import REGISTRY
+from marblevideo.recipe import parse_recipe
 
 EASES = ("linear", "hold", "ease-in", "ease-out", "ease-in-out", [0.3, 0.1, 0.2, 1.0])
 PATTERNS = ("none", "rgss", "quincunx", "checker4", "grid4", "rooks8")
@@ -96,7 +97,6 @@ def valid_op(rng, definition, w: float, h: float) -> dict | None:
     """A random op of ``definition`` (:func:`random_registry_op`) that the
     recipe's own checks accept, drawn up to 200 times; None if none was."""
     from marblevideo.errors import RecipeError
-    from marblevideo.recipe import parse_recipe
 
     for _ in range(200):
         op = random_registry_op(rng, definition, w, h)
@@ -308,3 +308,38 @@ BRIEF = {
         {"type": "vortex", "center": [48, 32], "alpha": 200, "lambda": 20},
     ],
 }
+
+
+def blank_design(seed: int, w: float = 320, h: float = 240):
+    """Seeded blank-sheet design: drops (and a spray) then combs, a wave and a vortex."""
+    rng = np.random.default_rng(seed)
+    size = min(w, h)
+
+    def pt():
+        return [float(rng.uniform(0, w)), float(rng.uniform(0, h))]
+
+    def color():
+        return [int(c) for c in rng.integers(0, 256, 3)]
+
+    ops = [
+        {"type": "drop", "center": pt(), "radius": float(rng.uniform(0.05, 0.2) * size),
+         "color": color()}
+        for _ in range(int(rng.integers(6, 12)))
+    ]  # fmt: skip
+    ops.append({"type": "spray", "center": pt(), "radius": 0.05 * size, "color": color()})
+    for kind in rng.permutation(["comb", "comb", "wave", "vortex"]):
+        if kind == "comb":
+            op = {"point": pt(), "angle": float(rng.uniform(0, 360)),
+                  "spacing": float(rng.uniform(0.15, 0.4) * size),
+                  "alpha": float(rng.uniform(-0.15, 0.15) * size),
+                  "lambda": float(rng.uniform(0.03, 0.1) * size)}  # fmt: skip
+        elif kind == "wave":
+            op = {"amplitude": float(rng.uniform(-0.05, 0.05) * size),
+                  "wavelength": float(rng.uniform(0.3, 1) * size),
+                  "phase": float(rng.uniform(0, 360)),
+                  "angle": float(rng.uniform(0, 360))}  # fmt: skip
+        else:
+            op = {"center": pt(), "alpha": float(rng.uniform(-0.3, 0.3) * size),
+                  "lambda": float(rng.uniform(0.1, 0.3) * size)}  # fmt: skip
+        ops.append({"type": str(kind), **op})
+    return parse_recipe({"canvas": [w, h], "background": color(), "ops": ops})

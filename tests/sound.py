@@ -1,8 +1,11 @@
 """Generated sound for the signal tests: tones as 16-bit PCM, written as WAV
-(Python's own ``wave``) or beside a video in Matroska (PyAV, PCM: lossless)."""
+(Python's own ``wave``) or beside a video in Matroska (PyAV, PCM: lossless);
+samples/pulse.json's beat and what its breathing drop should measure."""
 
 from __future__ import annotations
 
+import importlib.util
+import math
 import os
 import wave
 from fractions import Fraction
@@ -10,6 +13,10 @@ from pathlib import Path
 
 import av
 import numpy as np
+from helpers import ROOT
+
+from marblevideo.recipe import load_recipe
+from marblevideo.signals import AudioSignals
 
 
 def tone(freq: float, seconds: float, rate: int, amplitude: float, start: float = 0.0):
@@ -64,3 +71,39 @@ def write_video_with_sound(
             out.mux(sound.encode(frame))
         out.mux(sound.encode(None))
     return Path(path)
+
+
+# samples/pulse.json over its beat (samples/make_pulse_sound.py)
+
+PULSE = ROOT / "samples" / "pulse.json"
+
+
+BEAT_RATE = 22050
+
+
+CORAL = (231, 111, 81)  # the inner breathing drop of pulse.json, radius 40..120
+
+
+def _beat_module():
+    spec = importlib.util.spec_from_file_location(
+        "pulse_sound", ROOT / "samples" / "make_pulse_sound.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def beat_samples(seconds: float) -> np.ndarray:
+    return pcm16([_beat_module().beat(seconds, BEAT_RATE)])
+
+
+def coral_radius(rgba: np.ndarray, scale: float) -> float:
+    """The radius (canvas units) of a disc of CORAL's area in ``rgba`` drawn at ``scale``."""
+    near = np.abs(rgba[..., :3].astype(int) - CORAL).max(axis=-1) <= 24
+    return math.sqrt(near.sum() / math.pi) / scale
+
+
+def expected_radius(signals: AudioSignals, t: float) -> float:
+    track = load_recipe(PULSE).ops[10].params["radius"]  # ring of 8, base, 2 breathing drops
+    assert (track.lo, track.hi) == (40, 120)
+    return track.lo + (track.hi - track.lo) * signals.at(track.signal, t)

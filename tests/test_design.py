@@ -14,10 +14,10 @@ import cv2
 import numpy as np
 import pytest
 from helpers import ROOT, one_line
+from live_helpers import LiveProcess
 
 from marblevideo import render_image
 from marblevideo.recipe.frame import fit
-from tests.live_helpers import LiveProcess
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
 DROPS = {

@@ -13,63 +13,19 @@ import time
 import cv2
 import numpy as np
 from helpers import ROOT
-
-from tests.live_helpers import LiveProcess, watched_page
+from live_helpers import (
+    INK,
+    REFUSED,
+    LiveProcess,
+    drag,
+    frames,
+    pixel,
+    settled,
+    wait_for,
+    watched_page,
+)
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
-INK = "#1d3557"  # the page's first colour
-REFUSED = "Failed to load resource: the server responded with a status of 400 (Bad Request)"
-
-
-def wait_for(pred, what: str, timeout: float = 20.0):
-    end = time.monotonic() + timeout
-    while not (value := pred()):
-        assert time.monotonic() < end, what
-        time.sleep(0.05)
-    return value
-
-
-def pixel(page, x: float, y: float) -> str:
-    """The sheet's colour at frame pixel (x, y), as #rrggbb."""
-    return page.evaluate(
-        """([x, y]) => {
-            const d = document.getElementById('sheet').getContext('2d')
-                .getImageData(Math.floor(x), Math.floor(y), 1, 1).data;
-            return '#' + [d[0], d[1], d[2]].map((c) => c.toString(16).padStart(2, '0')).join('');
-        }""",
-        [x, y],
-    )
-
-
-def settled(page, frames: int, shown: str = "all", ops: list | None = None) -> None:
-    """Wait until the sheet shows an exact frame newer than ``frames`` of the saved
-    recipe (of the ops ``shown``), and with ``ops``, once the page holds those ops."""
-    page.wait_for_function(
-        """([n, shown, ops]) => {
-            const d = document.getElementById('sheet').dataset;
-            return Number(d.frames) > n && d.draft === '0' && d.shown === shown
-                && d.version === String(designer.state.version)
-                && (ops === null || JSON.stringify(designer.state.doc.ops) === JSON.stringify(ops));
-        }""",
-        arg=[frames, shown, ops],
-    )
-
-
-def drag(page, client, a, b) -> str:
-    """Drag the mouse from frame pixel ``a`` to ``b`` in eight moves; the number the
-    page showed beside the hand just before it let go."""
-    page.mouse.move(*client(*a))
-    page.mouse.down()
-    for k in range(1, 9):
-        page.mouse.move(*client(a[0] + (b[0] - a[0]) * k / 8, a[1] + (b[1] - a[1]) * k / 8))
-        time.sleep(0.03)
-    label = page.get_attribute("#overlay", "data-label")
-    page.mouse.up()
-    return label
-
-
-def frames(page) -> int:
-    return int(page.evaluate("document.getElementById('sheet').dataset.frames || 0"))
 
 
 def test_draw_undo_refuse_and_follow_the_file(coffee_designer):

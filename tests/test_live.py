@@ -15,13 +15,13 @@ import av
 import numpy as np
 import pytest
 from helpers import ROOT
+from live_helpers import RECIPE, LiveProcess
 
 from marblevideo.errors import UsageError
 from marblevideo.live.playback import Clock
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import Latest, TestPattern
 from marblevideo.server import Server
-from tests.live_helpers import RECIPE, LiveProcess
 
 SWIRL = ROOT / "samples" / "swirl.json"
 

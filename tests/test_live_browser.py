@@ -12,33 +12,21 @@ from __future__ import annotations
 import copy
 import json
 
-import cv2
-import numpy as np
 from helpers import ROOT
+from live_helpers import (
+    RECIPE,
+    REFUSED,
+    LiveProcess,
+    drag,
+    frame_diff,
+    live_settled,
+    wait_for,
+    watched_page,
+)
 
 from marblevideo.ops import op_def, slider_range
-from tests.live_helpers import RECIPE, LiveProcess, watched_page
-from tests.test_design_browser import REFUSED, drag, wait_for
 
 BROKEN = "Failed to load resource: the server responded with a status of 409 (Conflict)"
-
-
-def _shot(page) -> np.ndarray:
-    png = page.locator("#sheet").screenshot()
-    return cv2.imdecode(np.frombuffer(png, np.uint8), cv2.IMREAD_COLOR).astype(np.int16)
-
-
-def _diff(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.abs(a - b).mean())
-
-
-def _settled(page, live) -> np.ndarray:
-    """The sheet once it shows a frame rendered after now (three JPEGs on)."""
-    seq = live.get("/stats")["jpeg_seq"]
-    page.wait_for_function(
-        f"Number(document.getElementById('sheet').dataset.seq) >= {seq + 3}", timeout=20000
-    )
-    return _shot(page)
 
 
 def _near(point, expected) -> bool:
@@ -93,9 +81,9 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         page.click("#play")  # the clock runs at the start: this pauses it
         live.wait_stats(lambda s: s["paused"])
         page.wait_for_function("document.getElementById('play').textContent === 'Play'")
-        a, b = _settled(page, live), _settled(page, live)
-        still = max(_diff(a, b), 0.2)
-        assert _diff(a, b) < 1.0
+        a, b = live_settled(page, live), live_settled(page, live)
+        still = max(frame_diff(a, b), 0.2)
+        assert frame_diff(a, b) < 1.0
 
         # a parameter edit saves the file; the stream follows from the next frame
         page.click("#op-1 .name")
@@ -103,8 +91,8 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         wait_for(lambda: saved()[1]["alpha"] == -300, "the edit is saved")
         live.wait_stats(lambda s: s["recipe_version"] == 2)
         _version(page, 2)
-        c = _settled(page, live)
-        assert _diff(a, c) > 5 * still
+        c = live_settled(page, live)
+        assert frame_diff(a, c) > 5 * still
 
         # an invalid edit is refused: its one-line error shown, the file kept
         before = recipe.read_bytes()
@@ -145,12 +133,12 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         def client(px: float, py: float) -> tuple[float, float]:
             return box["x"] + px * box["width"] / 600, box["y"] + py * box["height"] / 400
 
-        d = _settled(page, live)
+        d = live_settled(page, live)
         page.mouse.click(*client(150, 220))
         ops = wait_for(lambda: len(saved()) == 3 and saved(), "the drop is saved")
         assert ops[2]["type"] == "drop" and _near(ops[2]["center"], (150, 220))
         _version(page, 6)
-        assert _diff(d, _settled(page, live)) > 5 * still
+        assert frame_diff(d, live_settled(page, live)) > 5 * still
         # ... its centre is a handle: dragged, it moves; its colour is edited
         drag(page, client, (150, 220), (300, 100))
         wait_for(lambda: _near(saved()[2]["center"], (300, 100)), "the handle moved")
@@ -165,12 +153,12 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         ops = wait_for(lambda: len(saved()) == 4 and saved(), "the comb is saved")
         assert ops[3]["type"] == "comb" and ops[3]["angle"] == 0
         # hide is saved in the file, and the session leaves the op out (the comb is gone)
-        d = _settled(page, live)
+        d = live_settled(page, live)
         page.click("#op-3 button[data-act=hide]")
         wait_for(lambda: saved()[3].get("hidden") is True, "the hide is saved")
         hidden = page.evaluate("designer.state.version")
         live.wait_stats(lambda s: s["recipe_version"] >= hidden)
-        assert _diff(d, _settled(page, live)) > 5 * still
+        assert frame_diff(d, live_settled(page, live)) > 5 * still
         page.wait_for_function(
             "document.querySelector('#op-3 button[data-act=hide]').textContent === 'show'"
         )

@@ -15,12 +15,12 @@ import av
 import numpy as np
 import pytest
 from helpers import ROOT
+from live_helpers import LiveProcess
 from pythonosc.udp_client import SimpleUDPClient
 
 from marblevideo.marbler import Marbler
 from marblevideo.media.decode import upright
 from marblevideo.recipe import parse_recipe
-from tests.live_helpers import LiveProcess
 
 PHOTO = ROOT / "samples" / "coffee.jpg"  # 600x400
 RECIPE = {

@@ -10,11 +10,8 @@ import json
 import cv2
 import numpy as np
 from helpers import ROOT
+from live_helpers import LiveProcess, frame_diff, live_settled, wait_for, watched_page
 from pythonosc.udp_client import SimpleUDPClient
-
-from tests.live_helpers import LiveProcess, watched_page
-from tests.test_design_browser import wait_for
-from tests.test_live_browser import _diff, _settled
 
 RECIPE = {
     "marblevideo": 1,
@@ -45,7 +42,7 @@ def test_a_slider_bound_to_an_osc_address_moves_with_it(browser, tmp_path):
         page, errors = watched_page(browser, live.url, "body[data-ready='1'][data-mode='live']")
         page.click("#op-0 .name")
         page.wait_for_selector("#bind-alpha")
-        before = _settled(page, live)
+        before = live_settled(page, live)
 
         # bind alpha to a typed OSC address: saved into the recipe with the slider's range
         page.once("dialog", lambda d: d.accept("/swirl"))
@@ -59,11 +56,11 @@ def test_a_slider_bound_to_an_osc_address_moves_with_it(browser, tmp_path):
         # OSC moves the meter and the frame
         client.send_message("/swirl", 1.0)
         _meter(page, "alpha", 1.0)
-        moved = _settled(page, live)
-        assert _diff(before, moved) > 5
+        moved = live_settled(page, live)
+        assert frame_diff(before, moved) > 5
         client.send_message("/swirl", 0.25)
         _meter(page, "alpha", 0.25)
-        assert _diff(moved, _settled(page, live)) > 2
+        assert frame_diff(moved, live_settled(page, live)) > 2
 
         # learn: the next control moved is bound
         page.select_option("#bind-lambda", "learn")

@@ -13,12 +13,12 @@ import math
 
 import numpy as np
 import pytest
+from live_helpers import LiveProcess, watched_page
 
 from marblevideo.design.describe import describe_ops
 from marblevideo.ops import LAYOUTS, REGISTRY, slider_range
 from marblevideo.ops.gestures import evaluate, gesture_env, make_op
 from marblevideo.recipe.keyframes import BEZIERS, ease
-from tests.live_helpers import LiveProcess, watched_page
 
 DEFINITIONS = {**REGISTRY, **LAYOUTS}
 CANVAS = (200, 100)  # the server's blank sheet: its frame is the canvas (scale 1)

@@ -14,9 +14,9 @@ from pathlib import Path
 
 import pytest
 from helpers import ROOT, subprocess_env
+from live_helpers import LiveProcess
 
 from marblevideo import load_recipe
-from tests.live_helpers import LiveProcess
 
 
 def test_readme_python_example_runs(monkeypatch, capsys):

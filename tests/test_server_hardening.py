@@ -20,13 +20,13 @@ import threading
 import time
 
 import pytest
+from live_helpers import RECIPE, LiveProcess
 
 from marblevideo.design.live import LiveDesign
 from marblevideo.limits import MAX_DEPTH
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import TestPattern
 from marblevideo.server import Server, json_depth
-from tests.live_helpers import RECIPE, LiveProcess
 
 DROP = {"type": "drop", "center": [40, 30], "radius": 12, "color": "#1d3557"}
 DESIGN = {"marblevideo": 1, "canvas": [96, 64], "antialias": "none", "ops": [DROP]}

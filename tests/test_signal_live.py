@@ -8,8 +8,14 @@ import av
 import numpy as np
 import pytest
 from helpers import one_line
-from sound import write_video_with_sound
-from test_signal_render import PULSE, RATE, beat_samples, coral_radius, expected_radius
+from sound import (
+    BEAT_RATE,
+    PULSE,
+    beat_samples,
+    coral_radius,
+    expected_radius,
+    write_video_with_sound,
+)
 
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import MediaSource
@@ -22,7 +28,7 @@ from marblevideo.signals.live import LazyAudio, live_audio
 def clip(tmp_path_factory):
     folder = tmp_path_factory.mktemp("live")
     return write_video_with_sound(
-        folder / "beat.mkv", beat_samples(2.0), RATE, frames=50, size=(128, 72)
+        folder / "beat.mkv", beat_samples(2.0), BEAT_RATE, frames=50, size=(128, 72)
     )
 
 

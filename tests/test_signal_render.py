@@ -4,16 +4,23 @@
 
 from __future__ import annotations
 
-import importlib.util
 import json
-import math
 from fractions import Fraction
 
 import av
 import numpy as np
 import pytest
-from helpers import ROOT, one_line
-from sound import pcm16, write_video_with_sound, write_wav
+from helpers import one_line
+from sound import (
+    BEAT_RATE,
+    PULSE,
+    beat_samples,
+    coral_radius,
+    expected_radius,
+    pcm16,
+    write_video_with_sound,
+    write_wav,
+)
 
 from marblevideo.marbler import Marbler
 from marblevideo.media.pipeline import iter_frames
@@ -22,43 +29,14 @@ from marblevideo.segmented import render_split
 from marblevideo.signals import AudioSignals, analyse
 from marblevideo.signals.follow import follow
 
-PULSE = ROOT / "samples" / "pulse.json"
-RATE = 22050
-CORAL = (231, 111, 81)  # the inner breathing drop of pulse.json, radius 40..120
-
-
-def _beat_module():
-    spec = importlib.util.spec_from_file_location(
-        "pulse_sound", ROOT / "samples" / "make_pulse_sound.py"
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return module
-
-
-def beat_samples(seconds: float) -> np.ndarray:
-    return pcm16([_beat_module().beat(seconds, RATE)])
-
 
 @pytest.fixture(scope="module")
 def beat_clip(tmp_path_factory):
     """2 s of 64x36 frames at 25 fps with the beat (kicks at 0, 0.5, 1, 1.5 s)."""
     folder = tmp_path_factory.mktemp("beat")
     return write_video_with_sound(
-        folder / "beat.mkv", beat_samples(2.0), RATE, frames=50, size=(64, 36)
+        folder / "beat.mkv", beat_samples(2.0), BEAT_RATE, frames=50, size=(64, 36)
     )
-
-
-def coral_radius(rgba: np.ndarray, scale: float) -> float:
-    """The radius (canvas units) of a disc of CORAL's area in ``rgba`` drawn at ``scale``."""
-    near = np.abs(rgba[..., :3].astype(int) - CORAL).max(axis=-1) <= 24
-    return math.sqrt(near.sum() / math.pi) / scale
-
-
-def expected_radius(signals: AudioSignals, t: float) -> float:
-    track = load_recipe(PULSE).ops[10].params["radius"]  # ring of 8, base, 2 breathing drops
-    assert (track.lo, track.hi) == (40, 120)
-    return track.lo + (track.hi - track.lo) * signals.at(track.signal, t)
 
 
 def test_pulse_drops_breathe_with_the_beat(renderer, beat_clip):
@@ -80,7 +58,7 @@ def test_a_stream_starting_late_is_heard_late(renderer, tmp_path):
     clip = write_video_with_sound(
         tmp_path / "late.mkv",
         beat_samples(1.0),
-        RATE,
+        BEAT_RATE,
         audio_start=Fraction(1, 2),
         frames=40,
         size=(64, 36),
@@ -111,7 +89,7 @@ def test_segments_hear_the_whole_file(renderer, beat_clip, tmp_path):
 
 
 def test_a_music_video_on_a_blank_sheet(cli, tmp_path):
-    sound = write_wav(tmp_path / "beat.wav", beat_samples(1.5), RATE)
+    sound = write_wav(tmp_path / "beat.wav", beat_samples(1.5), BEAT_RATE)
     out = tmp_path / "music.mkv"
     args = [
         "--ops",
@@ -134,7 +112,7 @@ def test_a_music_video_on_a_blank_sheet(cli, tmp_path):
     assert len(frames) == 10
     # the soundtrack's samples, copied, from its first at t = 0 to the video's end
     want = beat_samples(1.5).reshape(-1)
-    assert 1.0 * RATE <= len(heard) <= 1.2 * RATE
+    assert 1.0 * BEAT_RATE <= len(heard) <= 1.2 * BEAT_RATE
     assert np.array_equal(heard, want[: len(heard)])
     assert coral_radius(frames[1], 0.25) > 105 and coral_radius(frames[4], 0.25) < 90
 
@@ -142,7 +120,7 @@ def test_a_music_video_on_a_blank_sheet(cli, tmp_path):
 def test_stills_at_a_time_follow_the_soundtrack(cli, tmp_path):
     import cv2
 
-    sound = write_wav(tmp_path / "beat.wav", beat_samples(1.0), RATE)
+    sound = write_wav(tmp_path / "beat.wav", beat_samples(1.0), BEAT_RATE)
     radii = []
     for t in (0.04, 0.44):
         out = tmp_path / f"at{t}.png"
@@ -232,7 +210,7 @@ def test_refusals_are_one_line_exit_2_and_write_nothing(
         ops = tmp_path / "osc.json"
         ops.write_text(recipe)
     shutil.copy(PULSE, tmp_path / "pulse.json")
-    write_wav(tmp_path / "beat.wav", beat_samples(0.2), RATE)
+    write_wav(tmp_path / "beat.wav", beat_samples(0.2), BEAT_RATE)
     paths = {"beat": beat_clip}
     if "image" in inputs:
         cv2.imwrite(str(tmp_path / "photo.png"), np.zeros((36, 64, 3), np.uint8))
@@ -267,8 +245,8 @@ def test_the_soundtrack_replaces_the_inputs_audio_on_the_renders_clock(cli, tmp_
     kept on, placed where it plays against the frames (whole packets, copied)."""
     from sound import tone
 
-    sound = pcm16([tone(440, 2.0, RATE, 0.5)])
-    write_wav(tmp_path / "tone.wav", sound, RATE)
+    sound = pcm16([tone(440, 2.0, BEAT_RATE, 0.5)])
+    write_wav(tmp_path / "tone.wav", sound, BEAT_RATE)
     out = tmp_path / "out.mkv"
     proc = cli(beat_clip, "--ops", PULSE, "--soundtrack", "tone.wav", "--start", 0.5, "-o", out)
     assert proc.returncode == 0, proc.stderr
@@ -278,10 +256,10 @@ def test_the_soundtrack_replaces_the_inputs_audio_on_the_renders_clock(cli, tmp_
     first = float(frames[0].pts * frames[0].time_base)
     heard = np.concatenate([f.to_ndarray().reshape(-1) for f in frames])
     # the output starts at the first frame kept (0.52 s at 25 fps), its audio with it
-    at = round((first + 0.52) * RATE)  # the soundtrack's sample at the output's first audio
+    at = round((first + 0.52) * BEAT_RATE)  # the soundtrack's sample at the output's first audio
     assert 0 <= first < 0.2
     whole = sound.reshape(-1)
     # Matroska keeps milliseconds: the sample is within one of them
     near = [k for k in range(at - 23, at + 24) if np.array_equal(heard, whole[k : k + len(heard)])]
     assert len(near) == 1, (at, first)
-    assert 1.3 * RATE <= len(heard) <= 1.6 * RATE  # up to the video's end (2 s)
+    assert 1.3 * BEAT_RATE <= len(heard) <= 1.6 * BEAT_RATE  # up to the video's end (2 s)

@@ -173,7 +173,7 @@ def test_a_keyed_drag_between_keys_and_the_settled_value():
 
 
 def test_the_uv_pass_shows_what_the_device_renders(renderer):
-    from test_uv import identity_pass
+    from helpers import identity_pass
 
     from marblevideo.outputs.uv import render_uv
 

@@ -38,6 +38,14 @@ IMPORTS_CONFTEST = re.compile(
     r"^\s*(from\s+(tests\.)?conftest\s+import|import\s+(tests\.)?conftest)\b", re.M
 )
 
+IMPORTS_A_TEST = re.compile(
+    r"^\s*(from\s+(tests\.)?test_\w+\s+import|import\s+(tests\.)?test_\w+)", re.M
+)
+
+
+def imports_of_tests(text: str) -> list[str]:
+    return [m.group(0).strip() for m in IMPORTS_A_TEST.finditer(text)]
+
 
 def conftest_imports(text: str) -> list[str]:
     return [m.group(0).strip() for m in IMPORTS_CONFTEST.finditer(text)]
@@ -84,6 +92,14 @@ def test_nothing_imports_conftest():
     assert not offenders(SOURCES, conftest_imports)
 
 
+def test_no_test_module_imports_another():
+    """What two test modules share lives in a helpers module (helpers, live_helpers,
+    recipes, sound...): importing a test module runs its module-level skips (an
+    importorskip there skipped the importer too) and collects its tests twice."""
+    found = offenders(TEST_MODULES, imports_of_tests)
+    assert not found, f"a test module imported by another: {found}"
+
+
 def test_conftest_defines_fixtures_and_hooks_only():
     names = []
     for node in ast.parse((TESTS / "conftest.py").read_text()).body:
@@ -116,6 +132,8 @@ def test_the_layout_checks_find_what_they_look_for():
         "script = 'Renderer()'\nm = Marbler(recipe)\nok = Marbler(recipe, renderer)\n"
     )
     assert conftest_imports(code) == ["from conftest import", "import tests.conftest"]
+    imports = "from test_uv import x\nimport tests.test_vector\nfrom testing import y\n"
+    assert imports_of_tests(imports) == ["from test_uv import", "import tests.test_vector"]
     assert renderers_made(code) == [3, 8]
     assert pythonpaths_by_hand(code) == [4, 5]
 

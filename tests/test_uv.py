@@ -9,19 +9,12 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from helpers import ROOT
-from test_vector import blank_design
+from helpers import ROOT, identity_pass
+from recipes import blank_design
 
 from marblevideo.outputs.uv import read_uv, render_uv
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
-
-
-def identity_pass(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
-    """u, v of a pass that shows the canvas as a plain w x h render would."""
-    u = (np.arange(w) + 0.5) / w
-    v = 1.0 - (np.arange(h) + 0.5) / h
-    return np.broadcast_to(u, (h, w)).copy(), np.broadcast_to(v[:, None], (h, w)).copy()
 
 
 def write_png16(path: Path, u: np.ndarray, v: np.ndarray, alpha: np.ndarray | None = None):

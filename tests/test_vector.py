@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from recipes import blank_design
 from svg_raster import agreement, path_points, rasterize
 from tolerances import SVG_SHARE, ZOOM_LEVELS, ZOOM_SHARE, ZOOM_SUPERSAMPLE
 
@@ -17,41 +18,6 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 
 cairosvg = pytest.importorskip("cairosvg", reason="cairosvg (test extra) rasterizes the SVG")
-
-
-def blank_design(seed: int, w: float = 320, h: float = 240):
-    """Seeded blank-sheet design: drops (and a spray) then combs, a wave and a vortex."""
-    rng = np.random.default_rng(seed)
-    size = min(w, h)
-
-    def pt():
-        return [float(rng.uniform(0, w)), float(rng.uniform(0, h))]
-
-    def color():
-        return [int(c) for c in rng.integers(0, 256, 3)]
-
-    ops = [
-        {"type": "drop", "center": pt(), "radius": float(rng.uniform(0.05, 0.2) * size),
-         "color": color()}
-        for _ in range(int(rng.integers(6, 12)))
-    ]  # fmt: skip
-    ops.append({"type": "spray", "center": pt(), "radius": 0.05 * size, "color": color()})
-    for kind in rng.permutation(["comb", "comb", "wave", "vortex"]):
-        if kind == "comb":
-            op = {"point": pt(), "angle": float(rng.uniform(0, 360)),
-                  "spacing": float(rng.uniform(0.15, 0.4) * size),
-                  "alpha": float(rng.uniform(-0.15, 0.15) * size),
-                  "lambda": float(rng.uniform(0.03, 0.1) * size)}  # fmt: skip
-        elif kind == "wave":
-            op = {"amplitude": float(rng.uniform(-0.05, 0.05) * size),
-                  "wavelength": float(rng.uniform(0.3, 1) * size),
-                  "phase": float(rng.uniform(0, 360)),
-                  "angle": float(rng.uniform(0, 360))}  # fmt: skip
-        else:
-            op = {"center": pt(), "alpha": float(rng.uniform(-0.3, 0.3) * size),
-                  "lambda": float(rng.uniform(0.1, 0.3) * size)}  # fmt: skip
-        ops.append({"type": str(kind), **op})
-    return parse_recipe({"canvas": [w, h], "background": color(), "ops": ops})
 
 
 @pytest.mark.parametrize("seed", [0, 1, 2, 3])
