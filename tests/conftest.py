@@ -122,17 +122,13 @@ def coffee_designer(browser, tmp_path):
     import json
     from types import SimpleNamespace
 
-    from live_helpers import LiveProcess, watched_page
+    from live_helpers import designer_page
 
     from marblevideo.recipe.frame import fit
 
-    recipe = tmp_path / "coffee.json"
-    app = LiveProcess(
-        ROOT / "samples" / "coffee.jpg", "--ops", recipe, "--canvas", "400x300",
-        "--no-browser", "--port", "0", "--duration", "120", cwd=tmp_path, command="design",
-    )  # fmt: skip
-    try:
-        page, errors = watched_page(browser, app.url, "body[data-ready='1']")
+    recipe, coffee = tmp_path / "coffee.json", ROOT / "samples" / "coffee.jpg"
+    args = (coffee, "--ops", recipe, "--canvas", "400x300")
+    with designer_page(browser, tmp_path, *args, duration=120) as (page, errors):
         page.wait_for_function(
             """() => { const d = document.getElementById('sheet').dataset;
                 return Number(d.frames) > 0 && d.draft === '0' && d.shown === 'all'
@@ -148,7 +144,3 @@ def coffee_designer(browser, tmp_path):
         yield SimpleNamespace(
             recipe=recipe, saved=saved, page=page, errors=errors, s=s, dx=dx, dy=dy, client=client
         )
-        page.close()
-    finally:
-        rc = app.stop()
-    assert rc == 0

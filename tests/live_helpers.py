@@ -7,6 +7,7 @@ import subprocess
 import sys
 import time
 import urllib.request
+from contextlib import contextmanager
 from pathlib import Path
 
 import cv2
@@ -110,6 +111,23 @@ def watched_page(browser, url: str, ready: str):
     page.goto(url)
     page.wait_for_selector(ready)
     return page, errors
+
+
+@contextmanager
+def designer_page(browser, folder: Path, *args: object, duration: float = 60):
+    """``marblevideo design ARGS --no-browser --port 0`` run in ``folder`` for at
+    most ``duration`` s, and its page once ready: yields (page, errors) (the
+    page's errors, for the caller to check); the page is closed after, and the
+    designer must then exit with status 0."""
+    app = LiveProcess(
+        *args, "--no-browser", "--port", "0", "--duration", duration, cwd=folder, command="design"
+    )
+    try:
+        page, errors = watched_page(browser, app.url, "body[data-ready='1']")
+        yield page, errors
+        page.close()
+    finally:
+        assert app.stop() == 0
 
 
 # The page, driven in Chromium: waits, drags and what the sheet shows.

@@ -17,12 +17,12 @@ from live_helpers import (
     INK,
     REFUSED,
     LiveProcess,
+    designer_page,
     drag,
     frames,
     pixel,
     settled,
     wait_for,
-    watched_page,
 )
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
@@ -198,19 +198,12 @@ def test_the_pages_keyed_values_are_the_renderers(browser, tmp_path):
                      [0.7, -0.4, 0.2, 1.6])
     ]  # fmt: skip
     times = [0, 0.5, 0.6, 1.0, 1.37, 2.0, 2.49, 2.5, 2.8, 3, 4]
-    app = LiveProcess(
-        "--ops", tmp_path / "k.json", "--canvas", "200x100", "--no-browser", "--port", "0",
-        "--duration", "60", cwd=tmp_path, command="design",
-    )  # fmt: skip
-    try:
-        page, errors = watched_page(browser, app.url, "body[data-ready='1']")
+    recipe = tmp_path / "k.json"
+    with designer_page(browser, tmp_path, "--ops", recipe, "--canvas", "200x100") as (page, errors):
         ours = page.evaluate(
             "([tracks, times]) => tracks.map((v) => times.map((tt) => designer.valueNow(v, tt)))",
             [tracks, times],
         )
-        page.close()
-    finally:
-        assert app.stop() == 0
     for track, row in zip(tracks, ours, strict=True):
         op = {"type": "tine", "point": [0, 0], "angle": 0, "alpha": track, "lambda": 5}
         alpha = parse_recipe({"canvas": [200, 100], "ops": [op]}).ops[0].params["alpha"]

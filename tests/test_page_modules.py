@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 import pytest
-from live_helpers import LiveProcess, watched_page
+from live_helpers import designer_page
 
 from marblevideo.design.describe import describe_ops
 from marblevideo.ops import LAYOUTS, REGISTRY, slider_range
@@ -32,17 +32,12 @@ GESTURE_ENDS = [((100, 50), (100, 50)), ((30, 20), (170, 90)), ((150, 80), (40, 
 def page(browser, tmp_path_factory):
     """The designer's page on a blank 200x100 sheet, once it is ready."""
     folder = tmp_path_factory.mktemp("modules")
-    app = LiveProcess(
-        "--ops", folder / "m.json", "--canvas", "200x100", "--no-browser", "--port", "0",
-        "--duration", "60", cwd=folder, command="design",
-    )  # fmt: skip
-    try:
-        page, errors = watched_page(browser, app.url, "body[data-ready='1']")
+    with designer_page(browser, folder, "--ops", folder / "m.json", "--canvas", "200x100") as (
+        page,
+        errors,
+    ):
         yield page
-        page.close()
         assert errors == []
-    finally:
-        assert app.stop() == 0
 
 
 def run(page, module: str, body: str, arg):
