@@ -45,7 +45,14 @@ def build_parser() -> argparse.ArgumentParser:
         "default: a blank sheet",
     )
     p.add_argument(
-        "--ops", required=True, metavar="FILE", help="the recipe to edit (created if missing)"
+        "--ops",
+        required=True,
+        metavar="FILE",
+        help="the recipe to edit (created if missing); a preset's name edits a copy of it, "
+        "./NAME.json",
+    )
+    p.add_argument(
+        "-y", "--overwrite", action="store_true", help="replace an existing copy of the preset"
     )
     p.add_argument(
         "--canvas",
@@ -62,8 +69,9 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _checked(args) -> tuple[tuple[int, int] | None, tuple[int, int] | None]:
-    """The options' faults as UsageError (exit 2), before anything opens: (canvas, size)."""
+def _checked(args, preset) -> tuple[tuple[int, int] | None, tuple[int, int] | None]:
+    """The options' faults as UsageError (exit 2), before anything opens: (canvas, size);
+    ``preset``: the preset that ``args.ops`` will be a copy of, or None."""
     from marblevideo.design.backdrop import LIVE, check_spec
 
     if args.input is not None:
@@ -81,7 +89,7 @@ def _checked(args) -> tuple[tuple[int, int] | None, tuple[int, int] | None]:
         canvas = parse_size(args.canvas) if args.canvas else None
     except UsageError as exc:
         raise UsageError(str(exc).replace("--size", "--canvas", 1)) from None
-    if canvas is not None and path.exists():
+    if canvas is not None and (path.exists() or preset is not None):
         raise UsageError(
             f"--canvas: {path} exists and keeps its own canvas (edit it there, or name a new file)"
         )
@@ -97,21 +105,28 @@ def _checked(args) -> tuple[tuple[int, int] | None, tuple[int, int] | None]:
 
 def design_command(argv: list[str]) -> int:
     """The ``design`` command; returns the exit status (MarbleError propagates)."""
+    from marblevideo.cli.working_copy import copy_preset, plan_working_copy
     from marblevideo.design.backdrop import open_backdrop
     from marblevideo.design.session import DesignSession
+    from marblevideo.recipe import load_recipe
     from marblevideo.recipefile import DEFAULT_CANVAS, RecipeFile
     from marblevideo.server import Server
 
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose)
-    canvas, size = _checked(args)
+    args.ops, preset = plan_working_copy(args.ops, args.overwrite)
+    canvas, size = _checked(args, preset)
+    if preset is not None:  # checked before the copy is written
+        check_controllers(args, load_recipe(preset))
+        copy_preset(preset, args.ops, args.quiet)
     if canvas is None and args.input is None:
         canvas = DEFAULT_CANVAS
     # a bad FILE is refused here (exit 2); a bad save by another program later is said
     document = RecipeFile(
         args.ops, canvas, notify=lambda m: print(f"marblevideo: {m}", file=sys.stderr, flush=True)
     )
-    check_controllers(args, document.recipe)
+    if preset is None:
+        check_controllers(args, document.recipe)
     if args.input is None and document.recipe.canvas is None:
         raise UsageError(
             f"{args.ops}: canvas: a blank-sheet design needs canvas [W, H] (or give an INPUT)"

@@ -66,7 +66,12 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"preview port ({DEFAULT_PORT})")
     p.add_argument("--vcam", action="store_true", help="send frames to a virtual camera")
     p.add_argument("-o", "--output", help="record what is shown (.mp4 .mov .mkv .webm)")
-    p.add_argument("-y", "--overwrite", action="store_true", help="replace an existing recording")
+    p.add_argument(
+        "-y",
+        "--overwrite",
+        action="store_true",
+        help="replace an existing recording (and a preset's copy, with --preview)",
+    )
     p.add_argument("--size", metavar="WxH", help="test pattern size, or the size asked of a camera")
     p.add_argument(
         "--fps", type=float, help=f"test pattern rate ({DEFAULT_FPS:g}), or asked of a camera"
@@ -152,12 +157,17 @@ def _checked(args: argparse.Namespace):
     """(the source's spec, the recipe, the size or None): every option checked
     before anything opens (a bad recipe or option exits 2)."""
     from marblevideo.bundled import recipe_file
+    from marblevideo.cli.working_copy import copy_preset, plan_working_copy
     from marblevideo.recipe import load_recipe
 
     if args.source and args.source_opt and args.source != args.source_opt:
         raise UsageError("give the source once: SOURCE or --source")
-    args.ops = recipe_file(args.ops)  # a preset's file, when no file of that name exists
-    recipe = load_recipe(args.ops)
+    preset = None
+    if args.preview:  # the page edits the recipe: a preset's name edits a copy of it
+        args.ops, preset = plan_working_copy(args.ops, args.overwrite)
+    else:  # only read: a preset's file, when no file of that name exists
+        args.ops = recipe_file(args.ops)
+    recipe = load_recipe(preset or args.ops)
     size = parse_size(args.size) if args.size else None
     for flag, value in (("--fps", args.fps), ("--duration", args.duration)):
         if value is not None and value <= 0:
@@ -174,6 +184,8 @@ def _checked(args: argparse.Namespace):
         except ImportError:
             raise MarbleError(f"--vcam needs pyvirtualcam: {VCAM_HELP}") from None
     check_controllers(args, recipe)
+    if preset is not None:
+        copy_preset(preset, args.ops, args.quiet)
     return args.source_opt or args.source or "0", recipe, size
 
 
