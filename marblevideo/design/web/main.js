@@ -18,7 +18,7 @@ import { initPointer, replayEarly } from "./pointer.js";
 import { loadInfo, loadRecipe, poll } from "./recipe.js";
 import { fitSheet, resize, sheetOf, showSheet, sizeOf, whenIdle } from "./sheet.js";
 import { get, isLive, subscribe, update } from "./store.js";
-import { clockOf, initTimeline, liveStats, resume, setTime, showClock } from "./timeline.js";
+import { clockOf, initTimeline, liveStats, playOf, resume, setTime, showClock, showPlay } from "./timeline.js";
 import { buildToolbar } from "./toolbar.js";
 import { buildTools } from "./tools.js";
 
@@ -29,6 +29,7 @@ const VIEWS = [
   [fileOf, showFile],
   [exportsOf, showExports],
   [clockOf, showClock],
+  [playOf, showPlay],
   [actionsOf, showActions],
   [opListOf, showOps],
   [paramsOf, showParams],

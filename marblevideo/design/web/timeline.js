@@ -51,11 +51,17 @@ async function control(request) {
   else await liveStats();
 }
 
-export const clockOf = (s) => [s.t, s.duration, s.playing, s.loop, s.live];
+// The time slider and the clock (live mode: the session's time, set only while
+// the hand is not on the slider, see liveStats).
+export const clockOf = (s) => [s.t, s.duration];
 export function showClock(s) {
   $("time").max = s.duration;
   $("time").value = s.t;
   $("clock").textContent = `t = ${s.t.toFixed(2)} s`;
+}
+// Play, loop, and live mode's counters and switches.
+export const playOf = (s) => [s.playing, s.loop, s.live];
+export function showPlay(s) {
   $("play").textContent = s.playing ? "Pause" : "Play";
   $("loop").checked = s.loop;
   if (!s.live) return;
