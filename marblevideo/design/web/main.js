@@ -11,7 +11,7 @@ import { gesture, toolOp } from "./gestures.js";
 import { exportsOf, fileOf, messagesOf, showExports, showFile, showMessages } from "./header.js";
 import { rangeOf, valueNow } from "./numbers.js";
 import { opListOf, showOps } from "./oplist.js";
-import { overlayOf, showOverlay } from "./overlay.js";
+import { overlayOf, pointsOf, showOverlay } from "./overlay.js";
 import { initPalette, paletteOf, showPalette } from "./palette.js";
 import { paramsOf, showParams } from "./params.js";
 import { initPointer, replayEarly } from "./pointer.js";
@@ -67,6 +67,7 @@ window.designer = {
   get state() { return get(); },
   store: {get, update, subscribe},
   gesture, valueNow, valueAt, rangeOf, toolOp,
+  handles: (i) => pointsOf(i),  // op i's handles: [name, point]
   setTool: (name) => update(() => ({tool: name})),
 };
 start();
