@@ -36,12 +36,12 @@ function save(i, name, value, shown) {
   if (shown !== fields) return null;  // Chrome fires "change" as a focused field is removed
   return setParam(i, name, value);
 }
-const showError = (error) => update(() => ({error}));
+const setError = (error) => update(() => ({error}));
 function keyHere(i, p) {
   const {t, doc} = get();
   let v;
-  try { v = readParam(p); } catch (e) { showError(`${p.name}: ${e.message}`); return; }
-  if (isTrack(v)) { showError(`ops[${i}].${p.name}: type a value (not keys) to set a key at t = ${t}`); return; }
+  try { v = readParam(p); } catch (e) { setError(`${p.name}: ${e.message}`); return; }
+  if (isTrack(v)) { setError(`ops[${i}].${p.name}: type a value (not keys) to set a key at t = ${t}`); return; }
   fields += 1;  // the value typed is keyed: the panel's fields must not save it again as they blur
   setParam(i, p.name, keyed(doc.ops[i][p.name], v, t));
 }
@@ -76,7 +76,7 @@ function editor(i, p, v, shown) {
     const field = input(`p-${p.name}`, "text", v === undefined ? "" : JSON.stringify(v));
     field.addEventListener("change", () => {
       let value;
-      try { value = readParam(p); } catch (e) { showError(`ops[${i}].${p.name}: invalid JSON: ${e.message}`); return; }
+      try { value = readParam(p); } catch (e) { setError(`ops[${i}].${p.name}: invalid JSON: ${e.message}`); return; }
       save(i, p.name, value, shown);
     });
     return field;
