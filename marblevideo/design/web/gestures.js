@@ -7,10 +7,10 @@
 // shows a draft of the recipe the gesture would leave (the exact render once
 // the hand stops for 250 ms); letting go saves it. The store's ``gesture`` is
 // what the overlay shows of the gesture under way.
+import { select } from "./edits.js";
 import { handleAt, setHandle } from "./overlay.js";
 import { inks } from "./palette.js";
 import { commit, serial } from "./recipe.js";
-import { select } from "./edits.js";
 import { get, update, isLive, side } from "./store.js";
 import { gestureEnv, makeOp, pathPoints, settingValue } from "./tools.js";
 import { clone } from "./values.js";
