@@ -3,7 +3,9 @@ Chromium, loaded from the real designer's server (``/web/NAME``) and checked
 against Python on vectors Python makes: the easing (ease.js against
 marblevideo.recipe.keyframes.ease), the slider ranges (range.js on /api/ops's
 laws against marblevideo.ops.slider_range), and the tool table and the ops its
-tools make (tools.js on /api/ops against marblevideo.ops.gestures). One server
+tools make (tools.js on /api/ops against marblevideo.ops.gestures); the store's
+subscriptions, the actions table's hints and a gesture's states (idle,
+pointing, dragging) with the keys that undo it. One server
 and one page for the module; skipped, with the reason, without Playwright or
 Chromium."""
 
@@ -118,3 +120,124 @@ def test_the_tool_table_and_its_ops_are_pythons(page):
             env["setting"] = {s.name: evaluate(s.default, env) for s in settings}
             want = make_op(type_, tool, env)
             assert list(op) == list(want) and _close(op, want), (tool.name or type_, a, b)
+
+
+STORE = """async () => {
+    const m = await import('/web/store.js');
+    const seen = [], echoed = [], before = m.get();
+    const stop = m.subscribe((s) => [s.probe], (s) => {
+        seen.push(s.probe);
+        if (s.probe === 2) m.update(() => ({echo: 'two'}));  // a view's update reaches the others
+    });
+    m.subscribe((s) => [s.echo], (s) => echoed.push(s.echo));
+    m.update(() => ({probe: 1}));
+    m.update(() => ({probe: 1}));  // the same value: not called
+    m.update(() => ({other: 3}));  // a value it does not show: not called
+    m.update(() => null);  // no change
+    m.update((s) => ({probe: s.probe + 1}));
+    stop();
+    m.update(() => ({probe: 9}));  // unsubscribed
+    return [seen, echoed, before.probe === undefined && m.get().probe === 9, m.get() !== before];
+}"""
+
+
+def test_the_store_calls_a_view_when_what_it_shows_changes(page):
+    seen, echoed, kept, replaced = page.evaluate(STORE)
+    assert seen == [None, 1, 2]  # once when subscribed, then on each change
+    assert echoed == [None, "two"]
+    assert kept and replaced  # each update makes a new state; the old one is left as it was
+
+
+def test_the_actions_table_gives_the_buttons_their_hints(page):
+    titles = [page.get_attribute(f"#{name}", "title") for name in ("undo", "redo", "play")]
+    assert titles == ["undo (Ctrl-Z)", "redo (Ctrl-Shift-Z, Ctrl-Y)", "play or pause"]
+    buttons = page.eval_on_selector_all(
+        "#tools button", "bs => bs.map((b) => [b.id, b.dataset.action, b.title])"
+    )
+    types = describe_ops()
+    names = [tool.name or t for t in types for tool in DEFINITIONS[t].tools]
+    assert [b[0] for b in buttons] == [f"tool-{n}" for n in names]
+    for (id_, action, title), name in zip(buttons, names, strict=True):
+        assert action == id_ and title.startswith(f"{name}: ")
+    page.click(f"#tool-{names[1]}")
+    assert page.evaluate("designer.state.tool") == names[1]
+    assert page.eval_on_selector_all("#tools button.on", "bs => bs.map((b) => b.id)") == [
+        f"tool-{names[1]}"
+    ]
+    page.click(f"#tool-{names[0]}")
+
+
+def _ops(page) -> list:
+    return page.evaluate("designer.state.doc.ops")
+
+
+def test_a_gesture_goes_idle_pointing_dragging_idle_and_keys_undo_it(page):
+    """A drag with the first tool (a click tool) adds its op; a press on the new
+    op's handle that moves nothing saves nothing; a drag from it moves the
+    point; Ctrl-Z, Ctrl-Shift-Z and Delete act on the recipe."""
+    box = page.locator("#overlay").bounding_box()
+
+    def at(x: float, y: float) -> tuple[float, float]:
+        return box["x"] + x * box["width"] / CANVAS[0], box["y"] + y * box["height"] / CANVAS[1]
+
+    def state(what: str = "designer.gesture.state"):
+        return page.evaluate(what)
+
+    assert state() == "idle" and _ops(page) == []
+    page.mouse.move(*at(50, 50))
+    page.mouse.down()
+    assert state() == "pointing tool"
+    page.mouse.move(*at(70, 60))
+    assert state() == "dragging tool"
+    assert state("designer.state.preview.doc.ops.length") == 1  # the sheet shows a draft
+    page.mouse.up()
+    assert state() == "idle"
+    page.wait_for_function("designer.state.doc.ops.length === 1 && designer.state.selected === 0")
+    (made,) = _ops(page)
+    handles = page.evaluate("designer.handles(0)")
+    assert handles, made
+    name, point = handles[0]
+    version = state("designer.state.version")
+
+    page.mouse.move(*at(*point))
+    page.mouse.down()
+    assert state() == "pointing handle"
+    page.mouse.up()
+    assert state() == "idle" and state("designer.state.version") == version  # nothing saved
+
+    page.mouse.move(*at(*point))
+    page.mouse.down()
+    page.mouse.move(*at(point[0] + 20, point[1] + 10))
+    assert state() == "dragging handle"
+    page.mouse.up()
+    page.wait_for_function(f"designer.state.version !== {version}")
+    moved = _ops(page)[0]
+    assert moved[name] == [point[0] + 20, point[1] + 10] and moved["type"] == made["type"]
+
+    page.keyboard.press("Control+z")
+    page.wait_for_function(f"designer.state.doc.ops[0].{name}[0] === {point[0]}")
+    page.keyboard.press("Control+Shift+z")
+    page.wait_for_function(f"designer.state.doc.ops[0].{name}[0] === {point[0] + 20}")
+    page.keyboard.press("Delete")
+    page.wait_for_function("designer.state.doc.ops.length === 0")
+    assert state("designer.state.selected") is None
+
+
+def test_what_the_fields_show_is_state(page):
+    """The loop box, the ink, the palette and the tools' settings are the store's."""
+    assert page.evaluate("designer.state.loop") is True
+    page.click("#loop")
+    assert page.evaluate("designer.state.loop") is False and not page.is_checked("#loop")
+    page.evaluate("designer.store.update(() => ({loop: true}))")
+    assert page.is_checked("#loop")
+    page.select_option("#palettes", "sea")
+    assert page.evaluate("[designer.state.palette, designer.state.color]") == ["sea", "#03045e"]
+    assert page.input_value("#color") == "#03045e"
+    page.click("#palette .swatch:nth-child(2)")
+    assert page.evaluate("designer.state.color") == "#0077b6" == page.input_value("#color")
+    page.select_option("#palettes", "classic")
+    field = page.eval_on_selector("header input[placeholder=auto]", "el => el.id")
+    page.fill(f"#{field}", "7")
+    assert page.evaluate(f"designer.state.settings['{field}']") == "7"
+    page.fill(f"#{field}", "")
+    assert page.evaluate(f"designer.state.settings['{field}']") == ""

@@ -1,7 +1,7 @@
 // Keyframe tracks as the renderer evaluates them (marblevideo.recipe.keyframes):
 // tests/test_page_modules.py checks this module against Python on vectors
 // Python makes.
-import { isTrack } from "./state.js";
+import { isTrack } from "./values.js";
 
 export const BEZIERS = {"ease-in": [0.42, 0, 1, 1], "ease-out": [0, 0, 0.58, 1], "ease-in-out": [0.42, 0, 0.58, 1]};
 

@@ -2,68 +2,72 @@
 // API. In "live" mode (/api/info's mode: marblevideo live --preview) the sheet
 // shows the live marbled frames, edits are saved to the live recipe, and the
 // clock is the live session's. The op types, their editors and the tools all
-// come from GET /api/ops: this page names none.
+// come from GET /api/ops: this page names none. This module wires the page:
+// the store's views are subscribed here, each with what it shows of the store.
 import * as api from "./api.js";
+import { actionsOf, initActions, showActions } from "./actions.js";
 import { valueAt } from "./ease.js";
-import { remove } from "./oplist.js";
-import { initPalette } from "./palette.js";
-import { initPointer, replayEarly, toolOp } from "./pointer.js";
-import { rangeOf, valueNow } from "./params.js";
-import { loadInfo, loadRecipe, poll, redo, undo } from "./recipe.js";
-import { fitSheet, show } from "./sheet.js";
-import { $, state, isLive, showError } from "./state.js";
-import { initTimeline, liveStats, setTime } from "./timeline.js";
-import { buildTools, settingControls } from "./tools.js";
+import { gesture, toolOp } from "./gestures.js";
+import { exportsOf, fileOf, messagesOf, showExports, showFile, showMessages } from "./header.js";
+import { rangeOf, valueNow } from "./numbers.js";
+import { opListOf, showOps } from "./oplist.js";
+import { overlayOf, pointsOf, showOverlay } from "./overlay.js";
+import { initPalette, paletteOf, showPalette } from "./palette.js";
+import { paramsOf, showParams } from "./params.js";
+import { initPointer, replayEarly } from "./pointer.js";
+import { loadInfo, loadRecipe, poll } from "./recipe.js";
+import { fitSheet, resize, sheetOf, showSheet, sizeOf, whenIdle } from "./sheet.js";
+import { get, isLive, subscribe, update } from "./store.js";
+import { clockOf, initTimeline, liveStats, playOf, resume, setTime, showClock, showPlay } from "./timeline.js";
+import { buildToolbar } from "./toolbar.js";
+import { buildTools } from "./tools.js";
 
-const GESTURE_HELP = {click: "click (drag to size)", line: "drag a line", centre: "drag from the centre", path: "draw a path"};
+// The views that need the recipe and /api/info, in the order they first run
+// (the canvas sized before the sheet renders).
+const VIEWS = [
+  [sizeOf, resize],
+  [fileOf, showFile],
+  [exportsOf, showExports],
+  [clockOf, showClock],
+  [playOf, showPlay],
+  [actionsOf, showActions],
+  [opListOf, showOps],
+  [paramsOf, showParams],
+  [overlayOf, showOverlay],
+  [sheetOf, showSheet],
+  [(s) => [s.gesture === null], resume],  // the clock goes on after a gesture
+];
 
-function setTool(name) {
-  state.tool = name;
-  for (const b of $("tools").children) b.classList.toggle("on", b.dataset.tool === name);
-}
-function showTools() {
-  state.tools = buildTools(state.types);
-  for (const tool of state.tools) {
-    const b = document.createElement("button");
-    b.textContent = tool.name; b.dataset.tool = tool.name; b.id = `tool-${tool.name}`;
-    b.title = `${tool.name}: ${GESTURE_HELP[tool.gesture]}`;
-    b.addEventListener("click", () => setTool(tool.name));
-    $("tools").appendChild(b);
-  }
-  settingControls(state.types);
-  setTool(state.tool || state.tools[0].name);
-}
-function keys(ev) {
-  if (ev.target.tagName === "INPUT" || ev.target.tagName === "SELECT") return;
-  const mod = ev.ctrlKey || ev.metaKey;
-  if (mod && ev.key.toLowerCase() === "z") { ev.preventDefault(); (ev.shiftKey ? redo : undo)(); }
-  else if (mod && ev.key.toLowerCase() === "y") { ev.preventDefault(); redo(); }
-  else if ((ev.key === "Delete" || ev.key === "Backspace") && state.selected !== null) remove(state.selected);
-}
 async function start() {
-  state.types = await api.ops();
-  showTools();
+  const types = await api.ops(), tools = buildTools(types);
+  update((s) => ({types, tools, tool: s.tool || tools[0].name}));
+  buildToolbar(tools, types);
   await loadInfo();
-  await loadRecipe(state.info);
-  const {info} = state;
-  if (isLive()) {
-    $("export-png").download = "frame.jpg";
-    await liveStats();
-  } else setTime(info.input.kind === "video" ? 0 : Math.min(info.end, Number($("time").max)), false);
-  showError(info.error);
-  show();
+  await loadRecipe(get().info);
+  const {info} = get();
+  if (isLive()) await liveStats();
+  else setTime(info.input.kind === "video" ? 0 : Math.min(info.end, get().duration));
+  update(() => ({error: info.error}));
+  for (const [select, view] of VIEWS) subscribe(select, view);
   document.body.dataset.ready = "1";
   replayEarly();
-  poll();
+  poll(async () => { if (isLive()) await liveStats(); });
 }
 
+subscribe(messagesOf, showMessages);
+subscribe(paletteOf, showPalette);
+initActions();
 initPalette();
 initPointer();
 initTimeline();
-$("undo").addEventListener("click", undo);
-$("redo").addEventListener("click", redo);
-document.addEventListener("keydown", keys);
-window.addEventListener("resize", () => { if (state.info) fitSheet(); });
-// For scripts and tests: the page's state and its evaluations.
-window.designer = {state, valueNow, valueAt, rangeOf, toolOp, setTool};
+whenIdle(resume);
+window.addEventListener("resize", () => { if (get().info) fitSheet(); });
+// For scripts and tests: the page's state, its store and its evaluations.
+window.designer = {
+  get state() { return get(); },
+  store: {get, update, subscribe},
+  gesture, valueNow, valueAt, rangeOf, toolOp,
+  handles: (i) => pointsOf(i),  // op i's handles: [name, point]
+  setTool: (name) => update(() => ({tool: name})),
+};
 start();

@@ -1,6 +1,8 @@
 // The ink colour and the palettes: the colour a new ink op takes, and the
-// colours a layout's drops take in turn (the colour chosen first).
-import { $ } from "./state.js";
+// colours a layout's drops take in turn (the colour chosen first). The store
+// holds both (color, palette); the header's fields show and set them.
+import { $ } from "./dom.js";
+import { update } from "./store.js";
 
 const PALETTES = {
   classic: ["#1d3557", "#b23a48", "#e9c46a", "#2a9d8f", "#f4f1de"],
@@ -9,25 +11,31 @@ const PALETTES = {
   earth: ["#283618", "#606c38", "#fefae0", "#dda15e", "#bc6c25"],
   mono: ["#000000", "#444444", "#888888", "#cccccc", "#ffffff"],
 };
-const palette = () => PALETTES[$("palettes").value];
-export const color = () => $("color").value;
-export function inks() {
-  const c = color();
-  return [c, ...palette().filter((x) => x !== c)];
+export function inks(s) {
+  return [s.color, ...PALETTES[s.palette].filter((x) => x !== s.color)];
 }
-function setColor(c) { $("color").value = c; }
-function showPalette() {
+const setColor = (color) => update(() => ({color}));
+
+export const paletteOf = (s) => [s.color, s.palette];
+export function showPalette(s) {
+  $("color").value = s.color;
+  $("palettes").value = s.palette;
   const box = $("palette");
+  if (box.dataset.palette === s.palette) return;
+  box.dataset.palette = s.palette;
   box.textContent = "";
-  for (const c of palette()) {
-    const s = document.createElement("span");
-    s.className = "swatch"; s.style.background = c; s.title = c;
-    s.addEventListener("click", () => setColor(c));
-    box.appendChild(s);
+  for (const c of PALETTES[s.palette]) {
+    const swatch = document.createElement("span");
+    swatch.className = "swatch"; swatch.style.background = c; swatch.title = c;
+    swatch.addEventListener("click", () => setColor(c));
+    box.appendChild(swatch);
   }
 }
 export function initPalette() {
   for (const name of Object.keys(PALETTES)) $("palettes").add(new Option(name, name));
-  $("palettes").addEventListener("change", () => { showPalette(); setColor(palette()[0]); });
-  showPalette();
+  $("palettes").addEventListener("change", () => {
+    const palette = $("palettes").value;
+    update(() => ({palette, color: PALETTES[palette][0]}));
+  });
+  $("color").addEventListener("input", () => setColor($("color").value));
 }

@@ -6,16 +6,22 @@
 // is saved into the recipe like any edit; "not bound" keeps the value the
 // parameter has now.
 import * as api from "./api.js";
-import { rangeOf, setParam, showParams, valueNow } from "./params.js";
-import { state, isLive, isSignal, round3, setStatus } from "./state.js";
+import { rangeOf, valueNow } from "./numbers.js";
+import { get, update, isLive } from "./store.js";
+import { isSignal, round3 } from "./values.js";
 
 const AUDIO = ["audio.level", "audio.low", "audio.mid", "audio.high"];
 let signalState = {values: {}, latest: {}}, signalTimer = null;
 
 // Signals can be bound where controllers exist: live mode, or the designer over a live source.
-export function controlled() { return isLive() || (!!state.info && state.info.input.kind === "live"); }
+export function controlled() {
+  const {info} = get();
+  return isLive() || (!!info && info.input.kind === "live");
+}
+const setStatus = (status) => update(() => ({status}));
 
-export function bindRow(i, p, v, shown) {
+// The bind menu (and meter) of parameter p of op i, of value v; ``save(value)`` saves it.
+export function bindRow(i, p, v, save) {
   const row = document.createElement("div");
   row.className = "bind";
   const menu = document.createElement("select");
@@ -28,7 +34,11 @@ export function bindRow(i, p, v, shown) {
   for (const name of names) menu.add(new Option(name, name, false, name === bound));
   menu.add(new Option("osc:/… (type an address)", "osc"));
   menu.add(new Option("learn: the next control moved", "learn"));
-  menu.addEventListener("change", () => bindTo(i, p, v, menu.value, shown));
+  menu.addEventListener("change", async () => {
+    const value = await bindTo(i, p, v, menu.value);
+    if (value === null) menu.value = bound;  // nothing chosen: as it was
+    else save(value);
+  });
   row.appendChild(menu);
   if (isSignal(v)) {
     const meter = document.createElement("span");
@@ -45,15 +55,16 @@ function numberNow(i, p, v) {
   const y = signalState.values[`ops[${i}].${p.name}`] || 0;
   return round3(v.range[0] + (v.range[1] - v.range[0]) * y);
 }
-async function bindTo(i, p, v, choice, shown) {
+// The value a choice of the bind menu gives (null: none chosen after all).
+async function bindTo(i, p, v, choice) {
   let name = choice;
   if (choice === "osc") {
     const typed = window.prompt("OSC address (e.g. /fader/1)", "/");
-    if (!typed) { showParams(); return; }
+    if (!typed) return null;
     name = `osc:${typed.startsWith("/") ? typed : "/" + typed}`;
   } else if (choice === "learn") {
     name = await learned();
-    if (!name) { showParams(); return; }
+    if (!name) return null;
   }
   const now = numberNow(i, p, v);
   let value = now;
@@ -61,7 +72,7 @@ async function bindTo(i, p, v, choice, shown) {
     const [lo, hi] = isSignal(v) ? v.range : rangeOf(p, now);
     value = {signal: name, range: [lo, hi]};
   }
-  setParam(i, p.name, value, shown);
+  return value;
 }
 // Learn: the name of the next controller message the session receives (null after 30 s).
 async function learned() {

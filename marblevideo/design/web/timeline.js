@@ -1,37 +1,37 @@
 // Time: the slider, the clock, play and loop. In live mode the clock is the
 // live session's (GET /stats, POST /control) and the sheet shows its frames.
 import * as api from "./api.js";
+import { $ } from "./dom.js";
 import { isRendering, show } from "./sheet.js";
-import { $, state, isLive, showError } from "./state.js";
+import { get, update, isLive } from "./store.js";
 
-export function setDuration() {
-  const end = Math.max(state.info.end || 0, state.info.input.duration || 0, 1);
-  $("time").max = end;
-  if (state.t > end) setTime(end, false);
-}
-export function setTime(value, render = true) {
-  const t = state.t = Math.max(0, Math.min(Number($("time").max), value));
-  $("time").value = t;
-  $("clock").textContent = `t = ${t.toFixed(2)} s`;
-  $("export-png").href = isLive() ? "/frame.jpg" : `/api/frame.png?t=${t.toFixed(3)}`;
-  $("export-svg").href = `/api/design.svg?t=${t.toFixed(3)}`;
-  if (render) show({draft: state.playing});
+export function setTime(value) {
+  update((s) => ({t: Math.max(0, Math.min(s.duration, value))}));
 }
 let last = null;
+// Play's clock: the next frame's time (the sheet view renders it), then the next tick once it is shown.
 export function tick(now) {
-  if (isRendering() || state.gesture) return;
-  if (isLive()) { show(); return; }  // the clock is the session's: show its newest frame
-  if (!state.playing) { if (state.info.input.kind === "live") show({draft: true}); return; }
+  const s = get();
+  if (isRendering() || s.gesture) return;
+  if (isLive(s)) { show(); return; }  // the clock is the session's: show its newest frame
+  if (!s.playing) { if (s.info.input.kind === "live") show({draft: true}); return; }
   const dt = last === null ? 0 : (now - last) / 1000;
   last = now;
-  let next = state.t + dt;
-  const end = Number($("time").max);
-  if (next > end) {
-    if ($("loop").checked) next = 0;
-    else { next = end; state.playing = false; $("play").textContent = "Play"; }
-  }
-  setTime(next, false);
-  show({draft: state.playing});
+  const next = s.t + dt;
+  if (next > s.duration && !s.loop) update(() => ({t: s.duration, playing: false}));
+  else if (next > s.duration) update(() => ({t: 0}));
+  else if (next !== s.t) update(() => ({t: next}));
+  else show({draft: true});
+}
+// The next tick, while playing or while a live source moves the sheet (not during a gesture).
+export function resume() {
+  const s = get();
+  if (s.playing || (s.info.input.kind === "live" && !s.gesture)) requestAnimationFrame(tick);
+}
+export function togglePlay() {
+  if (isLive()) { control({paused: get().playing}); return; }
+  last = null;
+  update((s) => ({playing: !s.playing}));
 }
 // Live mode: the session's counters and clock, as /stats has them (an answer
 // older than one shown already, a poll's overtaken by a control's, is dropped).
@@ -41,35 +41,45 @@ export async function liveStats() {
   const s = await api.stats();
   if (n < statsShown) return;
   statsShown = n;
-  $("fps").textContent = s.fps.toFixed(1);
-  $("latency").textContent = s.latency_ms === null ? "-" : s.latency_ms.toFixed(0);
-  $("frames").textContent = s.frames;
-  $("dropped").textContent = s.dropped;
-  state.playing = !s.paused;
-  $("play").textContent = state.playing ? "Pause" : "Play";
-  $("loop").checked = s.loop !== null;
-  $("bypass").checked = s.bypass;
-  $("mirror").checked = s.mirror;
-  if (document.activeElement !== $("time")) setTime(s.t, false);
+  update(() => ({live: s, playing: !s.paused, loop: s.loop !== null}));
+  if (document.activeElement !== $("time")) setTime(s.t);  // not while the hand is on the slider
 }
 async function control(request) {
   const r = await api.control(request);
   const answer = await r.json();
-  if (!r.ok) showError(answer.error);
+  if (!r.ok) update(() => ({error: answer.error}));
   else await liveStats();
 }
+
+// The time slider and the clock (live mode: the session's time, set only while
+// the hand is not on the slider, see liveStats).
+export const clockOf = (s) => [s.t, s.duration];
+export function showClock(s) {
+  $("time").max = s.duration;
+  $("time").value = s.t;
+  $("clock").textContent = `t = ${s.t.toFixed(2)} s`;
+}
+// Play, loop, and live mode's counters and switches.
+export const playOf = (s) => [s.playing, s.loop, s.live];
+export function showPlay(s) {
+  $("play").textContent = s.playing ? "Pause" : "Play";
+  $("loop").checked = s.loop;
+  if (!s.live) return;
+  $("fps").textContent = s.live.fps.toFixed(1);
+  $("latency").textContent = s.live.latency_ms === null ? "-" : s.live.latency_ms.toFixed(0);
+  $("frames").textContent = s.live.frames;
+  $("dropped").textContent = s.live.dropped;
+  $("bypass").checked = s.live.bypass;
+  $("mirror").checked = s.live.mirror;
+}
 export function initTimeline() {
-  $("play").addEventListener("click", () => {
-    if (isLive()) { control({paused: state.playing}); return; }
-    state.playing = !state.playing;
-    last = null;
-    $("play").textContent = state.playing ? "Pause" : "Play";
-    if (state.playing) requestAnimationFrame(tick); else show();
-  });
   $("time").addEventListener("input", () => {
     if (isLive()) control({time: Number($("time").value)});
     else setTime(Number($("time").value));
   });
-  $("loop").addEventListener("change", () => { if (isLive()) control({loop: $("loop").checked}); });
+  $("loop").addEventListener("change", () => {
+    if (isLive()) control({loop: $("loop").checked});
+    else update(() => ({loop: $("loop").checked}));
+  });
   for (const name of ["bypass", "mirror"]) $(name).addEventListener("change", () => control({[name]: $(name).checked}));
 }

@@ -1,7 +1,8 @@
 // The tools, built from GET /api/ops: each op type's tools (a gesture and how
 // the op's values are made from it, marblevideo.ops.gestures) and settings.
-// This module evaluates the same expressions as Python's gestures.evaluate.
-import { $, round1 } from "./state.js";
+// This module evaluates the same expressions as Python's gestures.evaluate; it
+// reads neither the page nor the store (the toolbar and gestures do).
+import { round1 } from "./values.js";
 
 const each = (f, v) => (Array.isArray(v) ? v.map((x) => each(f, x)) : f(v));
 
@@ -76,36 +77,15 @@ export function buildTools(types) {
   return table;
 }
 
-// A setting's value: the number typed in its field (``TYPE-NAME``) when it is
-// one (> 0 where positive), clamped and rounded as the setting says; else its default.
-export function settingValue(type, s, env) {
-  const el = $(`${type}-${s.name}`), raw = el ? el.value.trim() : "", v = Number(raw);
-  if (raw === "" || !Number.isFinite(v) || (s.positive && v <= 0)) return evaluate(s.default, env);
+// A setting's value: the number typed in its field (``raw``, a string) when it
+// is one (> 0 where positive), clamped and rounded as the setting says; else its default.
+export function settingValue(s, env, raw = "") {
+  const text = String(raw).trim(), v = Number(text);
+  if (text === "" || !Number.isFinite(v) || (s.positive && v <= 0)) return evaluate(s.default, env);
   let x = v;
   if (s.low !== null) x = Math.max(s.low, x);
   if (s.high !== null) x = Math.min(s.high, x);
   return s.integer ? Math.round(x) : x;
-}
-
-// The settings' fields, one group per op type that has some, after the tools.
-export function settingControls(types) {
-  let after = $("tools");
-  for (const [type, def] of Object.entries(types)) {
-    if (!def.settings.length) continue;
-    const box = document.createElement("span");
-    box.id = `${type}-controls`;
-    box.title = `${type} tools: ${def.settings.map((s) => s.help).join(", ")} (canvas units; empty: from the canvas)`;
-    for (const s of def.settings) {
-      const f = document.createElement("input");
-      f.id = `${type}-${s.name}`; f.type = "number"; f.step = "any"; f.value = s.initial;
-      f.style.width = "4.5em"; f.placeholder = "auto"; f.title = s.help;
-      if (s.low !== null) f.min = s.low;
-      if (s.high !== null) f.max = s.high;
-      box.append(` ${s.name} `, f);
-    }
-    after.after(box);
-    after = box;
-  }
 }
 
 // Ramer-Douglas-Peucker to ``tol``; the ends are kept.

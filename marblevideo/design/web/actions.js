@@ -1,0 +1,68 @@
+// The page's actions, one table: each has a name, the keys that perform it
+// ("Mod" is Ctrl or Cmd; none: a button or the pointer only), a one-line hint,
+// perform(state) and enabled(state) (and, for a mode such as a tool, on(state)).
+// The keyboard shortcuts, the buttons' hints (title), clicks and disabled or
+// "on" looks are all built from it: a button names its action (data-action).
+import { remove } from "./edits.js";
+import { redo, undo } from "./recipe.js";
+import { get, update } from "./store.js";
+import { togglePlay } from "./timeline.js";
+
+const always = () => true;
+const registry = new Map();
+export function register(actions) {
+  for (const a of actions) registry.set(a.name, {keys: [], enabled: always, ...a});
+}
+register([
+  {name: "undo", keys: ["Mod+Z"], hint: "undo", perform: undo, enabled: (s) => s.undo.length > 0},
+  {name: "redo", keys: ["Mod+Shift+Z", "Mod+Y"], hint: "redo", perform: redo, enabled: (s) => s.redo.length > 0},
+  {name: "delete", keys: ["Delete", "Backspace"], hint: "delete the selected op",
+    perform: (s) => remove(s.selected), enabled: (s) => s.selected !== null},
+  {name: "play", hint: "play or pause", perform: togglePlay},
+]);
+// A tool's action: it makes ``name`` the active tool.
+export const toolAction = (name, hint) => ({
+  name: `tool-${name}`, hint, perform: () => update(() => ({tool: name})), on: (s) => s.tool === name,
+});
+
+// "Mod+Shift+Z" as a hint says it: "Ctrl-Shift-Z".
+const spelled = (key) => key.replace("Mod", "Ctrl").replaceAll("+", "-");
+export const hintOf = (a) => (a.keys.length ? `${a.hint} (${a.keys.map(spelled).join(", ")})` : a.hint);
+function matches(key, ev) {
+  const parts = key.split("+"), name = parts.pop();
+  const mod = parts.includes("Mod"), shift = parts.includes("Shift");
+  if (mod !== (ev.ctrlKey || ev.metaKey) || (mod && shift !== ev.shiftKey)) return false;
+  return ev.key.toLowerCase() === name.toLowerCase();
+}
+export function perform(name) {
+  const a = registry.get(name), s = get();
+  if (a.enabled(s)) a.perform(s);
+}
+function onKey(ev) {
+  if (ev.target.tagName === "INPUT" || ev.target.tagName === "SELECT") return;
+  for (const a of registry.values()) {
+    const key = a.keys.find((k) => matches(k, ev));
+    if (key === undefined) continue;
+    if (key.startsWith("Mod")) ev.preventDefault();
+    perform(a.name);
+    return;
+  }
+}
+// Wire ``el`` (a button) to its action: its hint and its click.
+export function wire(el) {
+  const a = registry.get(el.dataset.action);
+  el.title = hintOf(a);
+  el.addEventListener("click", () => perform(a.name));
+}
+export function initActions() {
+  for (const el of document.querySelectorAll("[data-action]")) wire(el);
+  document.addEventListener("keydown", onKey);
+}
+export const actionsOf = (s) => [s.undo, s.redo, s.selected, s.tool];
+export function showActions(s) {
+  for (const el of document.querySelectorAll("[data-action]")) {
+    const a = registry.get(el.dataset.action);
+    el.disabled = !a.enabled(s);
+    if (a.on) el.classList.toggle("on", a.on(s));
+  }
+}
