@@ -10,6 +10,7 @@ import sys
 
 import numpy as np
 import pytest
+from helpers import one_line, subprocess_env
 from op_probe import run_op
 
 from marblevideo.errors import RecipeError
@@ -42,9 +43,10 @@ def test_the_command_line_refuses_both_in_one_line(tmp_path):
         [sys.executable, "-m", "marblevideo", "--ops", str(recipe), "-o", str(tmp_path / "o.png")],
         capture_output=True,
         text=True,
+        env=subprocess_env(),
     )
     assert run.returncode == 2 and not (tmp_path / "o.png").exists()
-    assert run.stderr.count("\n") == 1 and "ops[0].turn" in run.stderr
+    assert "ops[0].turn" in one_line(run)
 
 
 def test_a_point_on_a_ring_turns_by_the_sum_of_the_rings_terms():

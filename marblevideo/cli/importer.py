@@ -1,0 +1,29 @@
+"""``marblevideo import DESIGN -o RECIPE``: a pst-marble design (LaTeX, .pst or a
+PostScript list of actions) written as a recipe (:mod:`marblevideo.pstmarble`)."""
+
+from __future__ import annotations
+
+import json
+
+from marblevideo.cli.arguments import Parser
+from marblevideo.media.output import atomic_output
+from marblevideo.pstmarble import import_design
+
+
+def import_command(argv: list[str]) -> int:
+    p = Parser(
+        prog="marblevideo import",
+        description="Write a pst-marble design (\\psMarble in a .tex or .pst file, or a "
+        "PostScript list of actions) as a recipe. See docs/pst-marble.md.",
+    )
+    p.add_argument("design", help="the .tex, .pst or PostScript file")
+    p.add_argument("-o", "--output", required=True, help="the recipe to write (.json)")
+    p.add_argument("-y", "--overwrite", action="store_true", help="overwrite the output")
+    args = p.parse_args(argv)
+    doc = import_design(args.design)
+    text = json.dumps(doc, indent=2) + "\n"
+    with atomic_output(args.output, args.overwrite, [args.design]) as tmp:
+        tmp.write_text(text, encoding="utf-8")
+    ops = len(doc["ops"])
+    print(f"wrote {args.output}: {ops} ops on a {doc['canvas'][0]:g} x {doc['canvas'][1]:g} canvas")
+    return 0
