@@ -19,7 +19,7 @@ from pathlib import Path
 import cv2
 import numpy as np
 import pytest
-from helpers import one_line, subprocess_env
+from helpers import ROOT, one_line, subprocess_env
 
 from marblevideo.errors import UsageError
 from marblevideo.pstmarble import import_design
@@ -162,3 +162,20 @@ def test_the_command_writes_atomically_and_overwrites_only_with_y(tmp_path):
     refused = run_import(str(bad), "-o", str(tmp_path / "bad.json"), "-y")
     assert refused.returncode == 2 and "bad.tex:1:" in one_line(refused)
     assert sorted(p.name for p in tmp_path.iterdir()) == ["bad.tex", "wreath.json"]
+
+
+def test_the_docs_example_imports_the_wreath_in_turn_and_renders_it_as_a_video(tmp_path):
+    """docs/pst-marble.md: import --animate 6, then the recipe as a video."""
+    recipe = tmp_path / "wreath-video.json"
+    done = run_import(str(ROOT / "samples" / "wreath.tex"), "-o", str(recipe), "--animate", "6")
+    assert done.returncode == 0, done.stderr
+    ops = json.loads(recipe.read_text())["ops"]
+    drops = [op for op in ops if op["type"] == "drop"]
+    assert ops[0]["start"] == 0 and drops[-1]["end"] == pytest.approx(3) and ops[-1]["end"] == 6
+    assert all(a["end"] == pytest.approx(b["start"]) for a, b in zip(ops, ops[1:], strict=False))
+    video = tmp_path / "wreath.mp4"
+    cmd = [sys.executable, "-m", "marblevideo", "--ops", str(recipe), "-o", str(video)]
+    cmd += ["--size", "64x64", "--fps", "4", "-q"]
+    rendered = subprocess.run(cmd, capture_output=True, text=True, env=subprocess_env())
+    assert rendered.returncode == 0, rendered.stderr
+    assert video.stat().st_size > 0

@@ -6,8 +6,9 @@ from __future__ import annotations
 import json
 
 from marblevideo.cli.arguments import Parser
+from marblevideo.errors import UsageError
 from marblevideo.media.output import atomic_output
-from marblevideo.pstmarble import import_design
+from marblevideo.pstmarble import animate, import_design
 
 
 def import_command(argv: list[str]) -> int:
@@ -19,8 +20,18 @@ def import_command(argv: list[str]) -> int:
     p.add_argument("design", help="the .tex, .pst or PostScript file")
     p.add_argument("-o", "--output", required=True, help="the recipe to write (.json)")
     p.add_argument("-y", "--overwrite", action="store_true", help="overwrite the output")
+    p.add_argument(
+        "--animate",
+        type=float,
+        metavar="S",
+        help="give the ops start and end: one after another over S seconds (a video)",
+    )
     args = p.parse_args(argv)
+    if args.animate is not None and not args.animate > 0:
+        raise UsageError(f"--animate: must be > 0 seconds, got {args.animate:g}")
     doc = import_design(args.design)
+    if args.animate is not None:
+        doc = animate(doc, args.animate)
     text = json.dumps(doc, indent=2) + "\n"
     with atomic_output(args.output, args.overwrite, [args.design]) as tmp:
         tmp.write_text(text, encoding="utf-8")

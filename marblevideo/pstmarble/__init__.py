@@ -32,8 +32,8 @@ DEFAULTS = {
     "spractions": "",
     "shadings": "",
 }
-#: Options that change only how pst-marble draws, not the design.
-DRAWING_OPTIONS = ("oversample", "drawcontours", "bckg", "paper")
+#: The op types an import makes that pour ink.
+INK = ("drop", "spray")
 
 
 def _value(marble: Marble, key: str) -> tuple[str, int]:
@@ -80,6 +80,23 @@ def design_recipe(text: str) -> dict:
     canvas = [round((x1 - x0) * scale, 6), round((y1 - y0) * scale, 6)]
     return {"marblevideo": 1, "canvas": canvas, "background": background,
             "ops": design.ops + design.sprays}  # fmt: skip
+
+
+def animate(doc: dict, seconds: float) -> dict:
+    """``doc`` with its ops one after another over ``seconds`` (a pst-marble design is
+    a still; this makes it a video): the ink (drops, sprays) takes half the time and
+    the motions the other half, each op of a kind an equal window (all of it when
+    the design has one kind only)."""
+    ops = doc["ops"]
+    ink = [op["type"] in INK for op in ops]
+    counts = {True: sum(ink), False: len(ops) - sum(ink)}
+    kinds = sum(1 for c in counts.values() if c)
+    t, timed = 0.0, []
+    for op, is_ink in zip(ops, ink, strict=True):
+        span = seconds / kinds / counts[is_ink]
+        timed.append({**op, "start": round(t, 6), "end": round(t + span, 6)})
+        t += span
+    return {**doc, "ops": timed}
 
 
 def _where(text: str, at: int) -> str:
