@@ -100,6 +100,9 @@ def test_the_stylus_is_a_stroke_that_matches_away_from_its_path(renderer):
     """pst-marble's stylus is a moving Oseen stylus; the import is a ``stroke``
     (vortex-pair steps), another model: pixels farther than the stroke's width
     from its segment agree as EXACT's do, and the two both drag ink along it."""
+    notes = []
+    import_design(DATA / "stylus.tex", notes.append)
+    assert len(notes) == 1 and "stylus.tex:14:31: note: stylus imported as a stroke" in notes[0]
     agree, ours, doc = compared(renderer, "stylus")
     (stroke,) = [op for op in doc["ops"] if op["type"] == "stroke"]
     (ax, ay), (bx, by) = stroke["points"]

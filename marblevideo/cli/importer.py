@@ -4,6 +4,7 @@ PostScript list of actions) written as a recipe (:mod:`marblevideo.pstmarble`)."
 from __future__ import annotations
 
 import json
+import sys
 
 from marblevideo.cli.arguments import Parser
 from marblevideo.errors import UsageError
@@ -29,7 +30,7 @@ def import_command(argv: list[str]) -> int:
     args = p.parse_args(argv)
     if args.animate is not None and not args.animate > 0:
         raise UsageError(f"--animate: must be > 0 seconds, got {args.animate:g}")
-    doc = import_design(args.design)
+    doc = import_design(args.design, lambda line: print(f"marblevideo: {line}", file=sys.stderr))
     if args.animate is not None:
         doc = animate(doc, args.animate)
     text = json.dumps(doc, indent=2) + "\n"

@@ -11,6 +11,7 @@ action no op can say is refused naming it and its line and column (exit 2).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from pathlib import Path
 
 from marblevideo.errors import MediaError, UsageError
@@ -56,8 +57,9 @@ def _run(design: Design, text: str, at: int, table: dict) -> None:
         raise PsFault(f"{len(ps.stack)} value(s) left over after the last action", max(at, 0))
 
 
-def design_recipe(text: str) -> dict:
-    """The recipe (JSON) of a pst-marble design's text; PsFault where it cannot be."""
+def design_recipe(text: str) -> tuple[dict, list[tuple[int, str]]]:
+    """The recipe (JSON) of a pst-marble design's text, and notes (offset, text) on
+    what it changes; PsFault where it cannot be."""
     marble = find_marble(text)
     if marble is None:  # a plain list of actions: pst-marble's frame of a square
         marble = Marble((-500.0, -500.0, 500.0, 500.0), {"actions": (text, 0)})
@@ -78,8 +80,9 @@ def design_recipe(text: str) -> dict:
     _run(design, *_value(marble, "spractions"), SPRAYS)
     background = colour(_evaluate(*_value(marble, "background"), "background"), 0)
     canvas = [round((x1 - x0) * scale, 6), round((y1 - y0) * scale, 6)]
-    return {"marblevideo": 1, "canvas": canvas, "background": background,
-            "ops": design.ops + design.sprays}  # fmt: skip
+    doc = {"marblevideo": 1, "canvas": canvas, "background": background,
+           "ops": design.ops + design.sprays}  # fmt: skip
+    return doc, design.notes
 
 
 def animate(doc: dict, seconds: float) -> dict:
@@ -104,9 +107,10 @@ def _where(text: str, at: int) -> str:
     return f"{line}:{at - (text.rfind(chr(10), 0, at) + 1) + 1}"
 
 
-def import_design(path: str | Path) -> dict:
+def import_design(path: str | Path, notify: Callable[[str], None] | None = None) -> dict:
     """The recipe of the pst-marble design in file ``path``, validated. UsageError
-    (exit 2) naming the file, line and column of what cannot be imported."""
+    (exit 2) naming the file, line and column of what cannot be imported;
+    ``notify`` takes a line on each action imported as another model."""
     try:
         text = Path(path).read_text(encoding="utf-8", errors="replace")
     except FileNotFoundError:
@@ -114,10 +118,12 @@ def import_design(path: str | Path) -> dict:
     except OSError as exc:
         raise MediaError(f"{path}: cannot read: {exc.strerror}") from None
     try:
-        doc = design_recipe(text)
+        doc, notes = design_recipe(text)
     except PsFault as fault:
         raise UsageError(f"{path}:{_where(text, fault.at)}: {fault}") from None
     except (ArithmeticError, ValueError) as exc:
         raise UsageError(f"{path}: cannot evaluate the design: {exc}") from None
     parse_recipe(doc, f"{path} (imported)")
+    for at, note in notes if notify is not None else ():
+        notify(f"{path}:{_where(text, at)}: note: {note}")
     return doc

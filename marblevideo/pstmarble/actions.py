@@ -51,6 +51,7 @@ class Design:
     seed: str
     ops: list = field(default_factory=list)
     sprays: list = field(default_factory=list)
+    notes: list = field(default_factory=list)  # (offset, what the import changes)
     rng: Rc4 = field(init=False)
 
     def __post_init__(self):
@@ -311,6 +312,7 @@ def stylus(d: Design, ps: Interpreter, at: int) -> None:
     depth, speed = ps.pop_number(at), abs(ps.pop_number(at))
     bx, by, ex, ey = _numbers(ps, at, 4)
     width = _positive(4 * speed * depth**2 / d.viscosity, "V D^2", at)
+    d.notes.append((at, "stylus imported as a stroke: another model (docs/pst-marble.md)"))
     d.ops.append({"type": "stroke", "points": [d.frame.point(bx, by), d.frame.point(ex, ey)],
                   "width": _r(width), "drag": 1})  # fmt: skip
 
