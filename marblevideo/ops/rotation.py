@@ -228,8 +228,8 @@ STIR = OpDef(
         Param(
             "turn",
             "number",
-            "Angle in degrees the rings turn, instead of `alpha` (pst-marble's stir): then "
-            "`falloff` is a share of each ring's radius; positive turns clockwise on screen.",
+            "Angle in degrees the rings turn, instead of `alpha`; then `falloff` is a share of "
+            "each ring's radius. Positive turns clockwise on screen.",
             "angle",
             optional=True,
         ),
