@@ -182,3 +182,16 @@ def test_the_docs_example_imports_the_wreath_in_turn_and_renders_it_as_a_video(t
     rendered = subprocess.run(cmd, capture_output=True, text=True, env=subprocess_env())
     assert rendered.returncode == 0, rendered.stderr
     assert video.stat().st_size > 0
+
+
+def test_psset_settings_apply_and_the_frame_follows_the_size(tmp_path):
+    tex = tmp_path / "tall.tex"
+    tex.write_text(
+        "\\psset[pst-marble]{viscosity=500,background={[0 0 1]}}\n"
+        "\\psMarble[actions={0 [0] 10 10 10 rake 0 0 40 (ff8000) drop}](10,20)\n"
+    )
+    doc = import_design(tex)
+    assert doc["canvas"] == [500, 1000] and doc["background"] == [0, 0, 255]
+    rake, drop = doc["ops"]
+    assert rake["falloff"] == 10 * 10**2 / 500 and drop["center"] == [250, 500]
+    assert drop["color"] == [255, 128, 0]

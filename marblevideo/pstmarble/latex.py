@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from marblevideo.pstmarble.postscript import PsFault
 
 _COMMAND = re.compile(r"\\psMarble\b")
+_PSSET = re.compile(r"\\psset\s*\[\s*pst-marble\s*\]\s*\{")
 _CORNER = re.compile(r"\s*\(\s*([^,()]+?)\s*,\s*([^,()]+?)\s*\)")
 
 
@@ -64,19 +65,28 @@ def _number(text: str, at: int) -> float:
         raise PsFault(f"\\psMarble: expected a number, got {text!r}", at) from None
 
 
+def _defaults(text: str, before: int) -> dict[str, tuple[str, int]]:
+    """The options ``\\psset[pst-marble]{...}`` sets before offset ``before``."""
+    options: dict[str, tuple[str, int]] = {}
+    for m in _PSSET.finditer(text, 0, before):
+        end = _balanced(text, m.end() - 1, "{", "}")
+        options.update(_split_options(text[m.end() : end - 1], m.end()))
+    return options
+
+
 def find_marble(text: str) -> Marble | None:
     """The first ``\\psMarble`` of ``text``; None when there is none."""
     clean = _strip_comments(text)
     m = _COMMAND.search(clean)
     if m is None:
         return None
+    options = _defaults(clean, m.start())
     pos = m.end()
     while pos < len(clean) and clean[pos].isspace():
         pos += 1
-    options: dict[str, tuple[str, int]] = {}
     if pos < len(clean) and clean[pos] == "[":
         end = _balanced(clean, pos, "[", "]")
-        options = _split_options(clean[pos + 1 : end - 1], pos + 1)
+        options.update(_split_options(clean[pos + 1 : end - 1], pos + 1))
         pos = end
     corners = []
     for _ in range(2):
