@@ -160,6 +160,9 @@ def test_the_command_writes_atomically_and_overwrites_only_with_y(tmp_path):
     assert json.loads(out.read_text()) == import_design(DATA / "wreath.tex")
     again = run_import(str(DATA / "wreath.tex"), "-o", str(out))
     assert again.returncode == 2 and "-y" in one_line(again)
+    assert run_import(str(DATA / "wreath.tex"), "-o", str(out), "-y").returncode == 0
+    printed = run_import(str(DATA / "stir.tex"), "-o", "-")
+    assert json.loads(printed.stdout) == import_design(DATA / "stir.tex")
     bad = tmp_path / "bad.tex"
     bad.write_text("\\psMarble[actions={0 0 10 colors 3 concentric-rings 1 2 3 4 5 wriggle}](9,9)")
     refused = run_import(str(bad), "-o", str(tmp_path / "bad.json"), "-y")

@@ -19,7 +19,9 @@ def import_command(argv: list[str]) -> int:
         "PostScript list of actions) as a recipe. See docs/pst-marble.md.",
     )
     p.add_argument("design", help="the .tex, .pst or PostScript file")
-    p.add_argument("-o", "--output", required=True, help="the recipe to write (.json)")
+    p.add_argument(
+        "-o", "--output", required=True, help="the recipe to write (.json; - for standard output)"
+    )
     p.add_argument("-y", "--overwrite", action="store_true", help="overwrite the output")
     p.add_argument(
         "--animate",
@@ -34,6 +36,9 @@ def import_command(argv: list[str]) -> int:
     if args.animate is not None:
         doc = animate(doc, args.animate)
     text = json.dumps(doc, indent=2) + "\n"
+    if args.output == "-":
+        sys.stdout.write(text)
+        return 0
     with atomic_output(args.output, args.overwrite, [args.design]) as tmp:
         tmp.write_text(text, encoding="utf-8")
     ops = len(doc["ops"])
