@@ -48,6 +48,8 @@
 - strokes: the stroke presets at 1024x768 (tulip under 1 s), one stroke of n
   steps against n circle ops, and the packing of a 200000-step stroke
   (stroke_bench.py).
+- pst-stir: Jaffer's Wreath and Curl imported from pst-marble, their stirs with
+  ``turn`` against the same stirs with ``alpha`` (pst_bench.py).
 
 Benchmarks with options of their own run as modules of the package:
 ``python -m benchmarks.live_bench`` (live at 720p, --record, --twelve),

@@ -36,6 +36,7 @@ PARTS = {
     ],
     "live1080": [("lattice_bench", "live1080_part", "device")],
     "strokes": [("stroke_bench", "strokes_part", "device")],
+    "pst-stir": [("pst_bench", "pst_stir_part", "device")],
 }
 
 

@@ -21,6 +21,7 @@ LAYERS = {
     "media": 3,
     "reference": 4,
     "signals": 4,
+    "pstmarble": 4,
     "recipefile": 4,
     "controllers": 5,
     "opencl": 5,

@@ -46,10 +46,15 @@ SKIPPED = {
     "marblevideo samples/coffee.mp4 --ops take.json -o replay.mp4": (
         "renders the take the command before writes (tests/test_live_controllers.py does both)"
     ),
+    "marblevideo --ops wreath-video.json -o wreath.mp4 --size 480x480": (
+        "renders the recipe the command before imports (tests/test_pst_import.py does both)"
+    ),
 }
 VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm", ".gif", ".apng", ".nut")
 #: Commands that print (to stdout) instead of writing an output file.
 PRINTING = (["devices"], ["schema"], ["presets"], ["ops"])
+#: Commands that write a file but take no --size.
+SIZELESS = (["import"],)
 SMALL = 64  # the longest side of any output
 
 
@@ -131,7 +136,7 @@ def quick(command: str) -> list[str]:
             args.append("--no-browser")
         if args[1] == "test":
             args = setting(args, "--size", "64x48")
-    elif args[:1] not in PRINTING:
+    elif args[:1] not in PRINTING and args[:1] not in SIZELESS:
         size = args[args.index("--size") + 1] if "--size" in args else None
         if "--uv" not in args:  # a UV pass sets its own (small) size
             args = setting(args, "--size", small_size(size))

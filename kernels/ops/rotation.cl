@@ -41,16 +41,26 @@ inline void turn_about(vf *x, vf *y, float cx, float cy, vf turns) {
     *y = cy + qx * sn + qy * cs;
 }
 
-/* stir: rotate P' - C by -theta, theta = alpha sum_i sign(r_i) e^(-|R - |r_i|| / L) / R
- * (0 at R = 0). p: cx, cy, turns (alpha / (2 pi)), inv_falloff (1/L), then the
- * rings as a series of |r_i| with coefficients sign(r_i) (prelude's
- * series_sum): where, n, even */
+/* stir: rotate P' - C by -theta. With alpha (relative 0): theta = alpha sum_i sign(r_i)
+ * e^(-|R - |r_i|| / L) / R (0 at R = 0); p: cx, cy, turns (alpha / (2 pi)), inv_falloff
+ * (1/L), then the rings as a series of |r_i| with coefficients sign(r_i) (prelude's
+ * series_sum): where, n, even. With turn th (relative 1): theta = th sum_i sign(r_i)
+ * e^(-|R - |r_i|| / (L |r_i|)); turns th / 360 and, term by term at `where`, the n |r_i|,
+ * the n sign(r_i) and the n 1 / (L |r_i|). */
 inline void op_stir(OP_ARGS) {
     const float cx = p[P_STIR_CX], cy = p[P_STIR_CY];
     vf qx = *x - cx, qy = *y - cy;
     vf R = sqrt(qx * qx + qy * qy);
-    vf sum = series_sum(R, lists + (int)p[P_STIR_SERIES_AT], (int)p[P_STIR_SERIES_N],
-                        p[P_STIR_SERIES_EVEN] != 0.0f, p[P_STIR_INV_FALLOFF]);
+    __global const float *d = lists + (int)p[P_STIR_SERIES_AT];
+    const int n = (int)p[P_STIR_SERIES_N];
+    if (p[P_STIR_RELATIVE] != 0.0f) {
+        vf sum = (vf)0.0f;
+        for (int k = 0; k < n; k++)
+            sum += d[n + k] * exp_neg(fabs(R - d[k]) * d[2 * n + k]);
+        turn_about(x, y, cx, cy, -p[P_STIR_TURNS] * sum);
+        return;
+    }
+    vf sum = series_sum(R, d, n, p[P_STIR_SERIES_EVEN] != 0.0f, p[P_STIR_INV_FALLOFF]);
     turn_about(x, y, cx, cy, -p[P_STIR_TURNS] * sum * recip(fmax(R, 1e-30f)));
 }
 

@@ -1,7 +1,7 @@
 """The command line: ``marblevideo [INPUT] --ops RECIPE -o OUTPUT`` (:mod:`.render`),
 ``devices`` and ``schema`` (:mod:`.info`), ``presets`` and ``ops`` (:mod:`.catalog`),
 ``live`` (:mod:`.live`), ``batch`` (:mod:`.batch`), ``design`` (:mod:`.design`),
-``midi`` (:mod:`.controllers`).
+``midi`` (:mod:`.controllers`), ``import`` (:mod:`.importer`: a pst-marble design).
 
 Exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143
 interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
@@ -57,6 +57,12 @@ def _live(argv: list[str]) -> int:
     return run_live(argv)
 
 
+def _import(argv: list[str]) -> int:
+    from marblevideo.cli.importer import import_command
+
+    return import_command(argv)
+
+
 def _midi(argv: list[str]) -> int:
     from marblevideo.cli.controllers import midi_command
 
@@ -72,6 +78,7 @@ COMMANDS = {
     "batch": _batch,
     "design": _design,
     "midi": _midi,
+    "import": _import,
 }
 
 

@@ -202,6 +202,7 @@ class OpDef:
         return bool(self.progress) and all(
             all(c == 0 for c in v) if isinstance(v := values[name], tuple) else v == 0
             for name, _ in self.progress
+            if name in values
         )
 
     def param(self, name: str) -> Param:
@@ -212,10 +213,13 @@ class OpDef:
 
     def at_progress(self, values: dict[str, Value], p: float) -> dict[str, Value]:
         """``values`` with the progress laws applied at progress ``p``, then settled
-        (in place)."""
+        (in place); a law whose parameter the op leaves out (one of two forms) is
+        skipped."""
         if self.travels:
             values["travel"] = p
         for name, law in self.progress:
+            if name not in values:
+                continue
             scale = PROGRESS_LAWS[law]
             value = values[name]
             values[name] = (

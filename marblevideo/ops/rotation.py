@@ -161,27 +161,52 @@ def _rotate_by(theta_of, sign: float):
 
 
 def _stir_theta(v: Values, big_r: np.ndarray) -> np.ndarray:
-    """alpha * sum_i sign(r_i) exp(-|R - |r_i|| / L) / R, 0 at R = 0."""
-    arc = np.zeros(np.shape(big_r))
+    """With ``alpha``: alpha * sum_i sign(r_i) exp(-|R - |r_i|| / L) / R, 0 at R = 0.
+    With ``turn`` th: radians(th) * sum_i sign(r_i) exp(-|R - |r_i|| / (L |r_i|))."""
+    total = np.zeros(np.shape(big_r))
+    relative = "turn" in v
     for r in v["radii"]:
-        arc += math.copysign(1.0, r) * np.exp(-np.abs(big_r - abs(r)) / v["falloff"])
-    arc *= v["alpha"]
-    return np.divide(arc, big_r, out=np.zeros_like(arc), where=big_r > 0)
+        falloff = v["falloff"] * abs(r) if relative else v["falloff"]
+        total += math.copysign(1.0, r) * np.exp(-np.abs(big_r - abs(r)) / falloff)
+    if relative:
+        return math.radians(v["turn"]) * total
+    total *= v["alpha"]
+    return np.divide(total, big_r, out=np.zeros_like(total), where=big_r > 0)
 
 
-#: A stir's packed floats: the centre, alpha / (2 pi), 1/falloff, then its rings.
-STIR_SLOTS = ("cx", "cy", "turns", "inv_falloff", *SERIES_SLOTS)
+#: A stir's packed floats: the centre, its turns (alpha / (2 pi) with ``alpha``,
+#: th / 360 with ``turn``), 1/falloff, then its rings; ``relative`` is 1.0 for
+#: the ``turn`` form (each ring its own fall-off L |r_i|), else 0.0.
+STIR_SLOTS = ("cx", "cy", "turns", "inv_falloff", "relative", *SERIES_SLOTS)
 
 
 def pack_stir(v: Values, lists: list) -> dict[str, float]:
-    """cx, cy, alpha / (2 pi) (turns), 1/falloff, and the rings as a series of
-    |r_i| with coefficients sign(r_i) (where their data start in ``lists``, how
-    many, whether in closed form: :mod:`marblevideo.ops.series`)."""
+    """cx, cy, turns, 1/falloff, and the rings. With ``alpha``: a series of |r_i|
+    with coefficients sign(r_i) (where their data start in ``lists``, how many,
+    whether in closed form: :mod:`marblevideo.ops.series`). With ``turn``: the n
+    |r_i|, the n sign(r_i), then the n 1 / (L |r_i|), term by term."""
     radii = [float(r) for r in v["radii"]]
     signs = [math.copysign(1.0, r) for r in radii]
-    series = pack_series([abs(r) for r in radii], signs, v["falloff"], lists)
-    (cx, cy), turns = v["center"], v["alpha"] / (2 * math.pi)
-    return {"cx": cx, "cy": cy, "turns": turns, "inv_falloff": 1.0 / v["falloff"], **series}
+    (cx, cy), falloff = v["center"], v["falloff"]
+    head = {"cx": cx, "cy": cy, "inv_falloff": 1.0 / falloff}
+    if "turn" in v:
+        at = len(lists)
+        lists.extend(abs(r) for r in radii)
+        lists.extend(signs)
+        lists.extend(1.0 / (falloff * abs(r)) for r in radii)
+        rings = {"series_at": at, "series_n": len(radii), "series_even": 0.0}
+        return {**head, "turns": v["turn"] / 360.0, "relative": 1.0, **rings}
+    series = pack_series([abs(r) for r in radii], signs, falloff, lists)
+    return {**head, "turns": v["alpha"] / (2 * math.pi), "relative": 0.0, **series}
+
+
+def check_stir(op, tracks) -> list:
+    """``alpha`` or ``turn``: one of the two."""
+    if "alpha" in op and "turn" in op:
+        return [(["turn"], "give `alpha` (an arc length) or `turn` (an angle), not both")]
+    if "alpha" not in op and "turn" not in op:
+        return [([], "missing 'alpha' (or 'turn')")]
+    return []
 
 
 STIR = OpDef(
@@ -195,14 +220,30 @@ STIR = OpDef(
             "Radii of the rings in canvas units; a negative radius -r is a ring of "
             "radius r moved the other way.",
         ),
-        TURNS.but(help="Arc length of the motion at a ring; positive turns clockwise on screen."),
-        FALLOFF,
+        TURNS.but(
+            help="Arc length of the motion at a ring; positive turns clockwise on screen "
+            "(or `turn`).",
+            optional=True,
+        ),
+        Param(
+            "turn",
+            "number",
+            "Angle in degrees the rings turn, instead of `alpha`; then `falloff` is a share of "
+            "each ring's radius. Positive turns clockwise on screen.",
+            "angle",
+            optional=True,
+        ),
+        FALLOFF.but(
+            help="Fall-off L > 0: the pull is alpha e^(-d/L) (canvas units); with `turn`, "
+            "e^(-d/(L |r|)) (a share of each ring's radius)."
+        ),
     ),
-    progress=(("alpha", "linear"),),
+    progress=(("alpha", "linear"), ("turn", "linear")),
     slots=STIR_SLOTS,
     pack=pack_stir,
     inverse=_rotate_by(_stir_theta, -1.0),
     forward=_rotate_by(_stir_theta, 1.0),
+    check=check_stir,
     tools=(
         Tool(
             "centre",
@@ -217,6 +258,17 @@ STIR = OpDef(
                 "falloff": {"positive": {"div": ["len", 12]}},
             },
             label="alpha",
+        ),
+        Tool(
+            "centre",
+            {
+                "center": "a",
+                "radii": [{"positive": {"div": ["len", 2]}}, {"sub": [0, {"positive": "len"}]}],
+                "turn": "angle",
+                "falloff": 0.3,
+            },
+            name="stir-turn",
+            label="turn",
         ),
     ),
     example={"type": "stir", "center": [40, 30], "radii": [8, -16, 24], "alpha": 9, "falloff": 3},
