@@ -9,6 +9,8 @@ from pathlib import Path
 
 import pytest
 
+pytestmark = pytest.mark.tier("fast")
+
 PACKAGE = Path(__file__).resolve().parent.parent / "marblevideo"
 
 #: Each part's layer: a module may import its own part's modules and lower layers'.

@@ -22,6 +22,8 @@ import numpy as np
 import pytest
 from helpers import ROOT, files, one_line, subprocess_env
 
+pytestmark = pytest.mark.tier("integration")
+
 RECIPE = {
     "canvas": [64, 48],
     "antialias": "none",

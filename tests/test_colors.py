@@ -16,6 +16,8 @@ from jsonschema import Draft202012Validator
 from marblevideo import RecipeError, parse_recipe, render_image
 from marblevideo.recipe import schema
 
+pytestmark = pytest.mark.tier("fast")
+
 SHAPES = '"#rrggbb", "#rgb", a CSS color name or [r, g, b]'
 
 

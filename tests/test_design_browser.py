@@ -12,6 +12,7 @@ import time
 
 import cv2
 import numpy as np
+import pytest
 from helpers import ROOT
 from live_helpers import (
     INK,
@@ -24,6 +25,8 @@ from live_helpers import (
     settled,
     wait_for,
 )
+
+pytestmark = pytest.mark.tier("integration")
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
 

@@ -23,6 +23,8 @@ from marblevideo.errors import UsageError
 from marblevideo.media.encode import plan_output
 from marblevideo.media.video import VideoOptions
 
+pytestmark = pytest.mark.tier("integration")
+
 RECIPE = {
     "canvas": [64, 48],
     "antialias": "none",

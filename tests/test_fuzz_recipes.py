@@ -31,6 +31,8 @@ from marblevideo.marbler import Marbler
 from marblevideo.ops import REGISTRY
 from marblevideo.recipe import load_recipe, parse_recipe
 
+pytestmark = pytest.mark.tier("integration")
+
 SOURCE = "fuzz.json"
 #: A JSON path as messages write it: ops[3].center.keys[1].t, ["odd key"], or empty.
 PATH = re.compile(

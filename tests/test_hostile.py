@@ -40,6 +40,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("integration")
+
 CANVAS = {"canvas": [64, 48], "antialias": "none"}
 
 

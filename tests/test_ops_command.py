@@ -13,6 +13,8 @@ from marblevideo import parse_recipe
 from marblevideo.cli.catalog import KIND_LABELS
 from marblevideo.ops import KINDS, LAYOUTS, REGISTRY, recipe_types, type_def
 
+pytestmark = pytest.mark.tier("fast")
+
 
 def squashed(text: str) -> str:
     return " ".join(text.split())

@@ -18,6 +18,8 @@ from marblevideo import RecipeError, UsageError, load_recipe, parse_recipe, rend
 from marblevideo.bundled import presets
 from marblevideo.marbler import as_recipe
 
+pytestmark = pytest.mark.tier("fast")
+
 SAMPLES = ROOT / "samples"
 
 DESIGN = {"canvas": [16, 12], "ops": [{"type": "drop", "center": [8, 6], "radius": 4,

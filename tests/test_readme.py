@@ -18,6 +18,8 @@ from live_helpers import LiveProcess
 
 from marblevideo import load_recipe
 
+pytestmark = pytest.mark.tier("integration")
+
 
 def test_readme_python_example_runs(monkeypatch, capsys):
     text = (ROOT / "README.md").read_text()

@@ -33,6 +33,8 @@ from marblevideo.recipe.frame import Geometry
 from marblevideo.reference import render as reference_render
 from marblevideo.reference.motion import rest_note
 
+pytestmark = pytest.mark.tier("fast")
+
 
 @pytest.mark.parametrize("src, dst", [(None, "o.xyz"), (None, "o"), ("in.mp4", "o.avi")])
 def test_an_unknown_extension_lists_every_kind(cli, tmp_path, src, dst):

@@ -28,6 +28,8 @@ from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import TestPattern
 from marblevideo.server import Server, json_depth
 
+pytestmark = pytest.mark.tier("fast")
+
 DROP = {"type": "drop", "center": [40, 30], "radius": 12, "color": "#1d3557"}
 DESIGN = {"marblevideo": 1, "canvas": [96, 64], "antialias": "none", "ops": [DROP]}
 BROKEN = {**DESIGN, "ops": [{**DROP, "radius": 0}]}

@@ -23,6 +23,8 @@ from marblevideo.recipe.frame import OpState, geometry
 from marblevideo.reference import jacobian
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("fast")
+
 STROKE = op_def("stroke")
 #: A curved stroke, a comb along an S and a tulip's stroke up through its drops.
 CASES = {

@@ -11,7 +11,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from live_helpers import INK, drag, frames, settled, wait_for
+
+pytestmark = pytest.mark.tier("integration")
 
 #: The S drawn, in frame pixels: through the drop at (300, 200) at its middle.
 S = [(220 + 160 * u, 200 - 70 * math.sin(2 * math.pi * u)) for u in np.linspace(0, 1, 41)]

@@ -17,6 +17,8 @@ from marblevideo.outputs.svg import design_svg, simplify_closed
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 
+pytestmark = pytest.mark.tier("integration")
+
 cairosvg = pytest.importorskip("cairosvg", reason="cairosvg (test extra) rasterizes the SVG")
 
 

@@ -23,6 +23,8 @@ from marblevideo.media.progress import Progress
 from marblevideo.media.stages import Stages, Stopped
 from marblevideo.media.video import QUEUE_FRAMES, VideoOptions
 
+pytestmark = pytest.mark.tier("fast")
+
 
 def invert(rgba: np.ndarray, t: float) -> np.ndarray:
     out = 255 - rgba
