@@ -1,4 +1,4 @@
-"""The command line, end to end (issue #2): every run goes through a real
+"""The command line, end to end: every run goes through a real
 ``python -m marblevideo`` subprocess on the real OpenCL device.
 
 Contract checked: a recipe fault of any kind is exit status 2 with one stderr

@@ -1,4 +1,4 @@
-"""Colours (issue 22): everywhere a recipe takes a colour it reads "#rrggbb",
+"""Colours: everywhere a recipe takes a colour it reads "#rrggbb",
 "#rgb", a CSS color name in any case, or [r, g, b]; a near miss is one line with
 its JSON path and a did-you-mean, from the command line and from the API."""
 

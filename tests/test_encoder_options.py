@@ -1,5 +1,5 @@
-"""Encoder options tried before any work, and the encoder libraries kept quiet
-(issue #17): real PyAV encoders, the real command line in a subprocess.
+"""Encoder options tried before any work, and the encoder libraries kept quiet:
+real PyAV encoders, the real command line in a subprocess.
 
 A bad --codec/--crf/--preset/--pix-fmt/--encoder-opt is exit status 2 with one
 stderr line naming the flag, before the input is opened or OpenCL starts, with

@@ -1,4 +1,4 @@
-"""Recipe fuzzing (issue #7): whatever JSON a user hands us, the loader either
+"""Recipe fuzzing: whatever JSON a user hands us, the loader either
 accepts it, and then the renderer draws a frame from it, or refuses it with one
 RecipeError naming the file and the JSON path. Never another exception, never a hang.
 

@@ -1,4 +1,4 @@
-"""Bad input never crashes and never loses data (issue #7).
+"""Bad input never crashes and never loses data.
 
 Extreme but valid recipes, broken media, hostile outputs (full disk, read-only
 folder, the input itself), interrupts and OpenCL faults, each through the real

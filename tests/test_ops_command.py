@@ -1,4 +1,4 @@
-"""``marblevideo ops`` (issue 22): every op type and drop layout of the registry
+"""``marblevideo ops``: every op type and drop layout of the registry
 with its parameters' kinds, defaults and help, wrapped to the terminal;
 ``ops TYPE`` in full; an unknown type is one line with a did-you-mean."""
 

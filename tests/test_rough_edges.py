@@ -1,4 +1,4 @@
-"""Rough edges of the command line a new user meets (issue 34): what an unknown
+"""Rough edges of the command line a new user meets: what an unknown
 output extension lists, interrupted banded stills, stills too big for their
 format, a still of an animation that comes back to rest, and a blank sheet at
 another aspect than its canvas. Each through the real command in a subprocess

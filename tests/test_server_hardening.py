@@ -1,4 +1,4 @@
-"""A hostile HTTP client against both servers (issue 34, items 2, 3 and 9):
+"""A hostile HTTP client against both servers:
 ``marblevideo design`` (a real subprocess) and ``marblevideo live --preview``
 (the live session and its preview server in this process, as tests/test_live.py
 runs them), each on a real recipe file.

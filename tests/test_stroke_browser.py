@@ -1,4 +1,4 @@
-"""The designer's stroke tools (issue 32) driven by the mouse in a real headless
+"""The designer's stroke tools driven by the mouse in a real headless
 Chromium over samples/coffee.jpg (a 400x300 canvas shown at 4/3 in the 600x400
 frame): a drag along an S with the stroke tool adds one stroke whose points
 follow the drag within 2 px and carries the ink along it, undo removes it, a
