@@ -42,6 +42,10 @@ SKIPPED = {
         "needs camera 0 and a v4l2loopback virtual camera"
     ),
     "marblevideo midi": "needs a MIDI system (ALSA's sequencer, /dev/snd/seq)",
+    "marblevideo devices --check": (
+        "the device self-test (a minute of kernel builds on a cold cache): "
+        "tests/test_selfcheck.py runs this very command and checks its report"
+    ),
     "marblevideo live 0 --ops my.json --preview --midi nanoKONTROL2": (
         "needs camera 0 and a MIDI controller (tests/test_controllers.py maps MIDI messages)"
     ),
