@@ -1,8 +1,8 @@
-"""The interpolated inverse map (issue 35) against the exact walk: quality and time.
+"""The interpolated inverse map against the exact walk: quality and time.
 
     python -m benchmarks lattice          # quality and kernel time
     python -m benchmarks live1080         # marblevideo live at 1080p, lattice and exact
-    python -m benchmarks lattice e2e live1080 --seconds 10   # the issue's one run
+    python -m benchmarks lattice e2e live1080 --seconds 10   # the whole comparison
 
 - lattice: frames over the e2e clip's picture (1280x720: two ramps and a
   40-pixel checker that moves per frame) of the animated 12-op recipe at

@@ -1,4 +1,4 @@
-"""The ``strokes`` part of the benchmarks (issue 32): free-hand strokes against their
+"""The ``strokes`` part of the benchmarks: free-hand strokes against their
 baselines, in one run on one renderer.
 
 - the ``tulip`` preset at 1024x768 with RGSS (the bar: under 1 s), adaptive

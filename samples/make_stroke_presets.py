@@ -1,4 +1,4 @@
-"""Write the free-hand stroke presets (issue 32): samples/tulip.json, heart.json,
+"""Write the free-hand stroke presets: samples/tulip.json, heart.json,
 french-curl.json and bird.json, blank-sheet designs drawn with ``stroke`` s.
 
 ``python samples/make_stroke_presets.py`` rewrites them. Every op gets its own

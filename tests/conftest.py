@@ -1,5 +1,6 @@
-"""Shared fixtures (fixtures only: helpers that tests import live in helpers.py):
-one OpenCL renderer per session on the real device.
+"""Shared fixtures and the tier hook (fixtures only: the modules tests import live
+in tests/support/, on the import path by their plain names): one OpenCL renderer
+per session on the real device.
 
 The device comes from MARBLEVIDEO_TEST_DEVICE (a --device choice) or the
 default choice (PoCL on a machine without a GPU). Nothing is mocked.
@@ -13,7 +14,7 @@ import subprocess
 import sys
 
 import pytest
-from helpers import ROOT, fresh_renderer, subprocess_env
+from helpers import ROOT, TIERS, fresh_renderer, subprocess_env
 from hypothesis import settings
 
 # CI sees the same examples on every run, and no wall-clock deadline (a shared
@@ -22,40 +23,21 @@ settings.register_profile("ci", derandomize=True, database=None, deadline=None)
 settings.register_profile("dev", deadline=None)
 settings.load_profile(os.environ.get("HYPOTHESIS_PROFILE", "ci"))
 
-#: The integration tier: modules that run whole commands, servers, browsers,
-#: encoders or clusters. Every other test, unless it is marked ``slow`` or runs
-#: the command line (the ``cli`` fixture) or a browser, is in the ``fast`` tier
-#: (``pytest -m fast``: the recipe, the ops, the reference and the kernels
-#: against it), so a new test module is fast until it is listed here.
-INTEGRATION_MODULES = {
-    "test_batch",
-    "test_clean_build",
-    "test_cli",
-    "test_cluster",
-    "test_design",
-    "test_design_browser",
-    "test_encoder_options",
-    "test_fuzz_recipes",
-    "test_hostile",
-    "test_live",
-    "test_live_browser",
-    "test_media_formats",
-    "test_readme",
-    "test_segments",
-    "test_selfcheck",
-    "test_vector",
-    "test_video_marbling",
-}
 #: Fixtures that make a test an integration test wherever it is.
 INTEGRATION_FIXTURES = {"cli", "browser"}
 
 
 def pytest_collection_modifyitems(items):
-    """Mark the fast tier (see :data:`INTEGRATION_MODULES`)."""
+    """Mark the ``fast`` tier (``pytest -m fast``): the tests of modules declaring
+    ``tier("fast")``, less those marked ``slow`` and those taking the ``cli`` or
+    ``browser`` fixture. A module that declares no tier is not fast."""
     for item in items:
-        module = item.module.__name__.rpartition(".")[2] if item.module else ""
+        tier = item.get_closest_marker("tier")
+        name = tier.args[0] if tier and tier.args else None
+        if tier is not None and name not in TIERS:
+            raise pytest.UsageError(f"{item.nodeid}: tier {name!r} is not one of {TIERS}")
         if (
-            module not in INTEGRATION_MODULES
+            name == "fast"
             and not INTEGRATION_FIXTURES.intersection(getattr(item, "fixturenames", ()))
             and item.get_closest_marker("slow") is None
         ):

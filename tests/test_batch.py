@@ -18,6 +18,8 @@ from interrupts import interrupt, wait_until
 from marblevideo import api
 from marblevideo.batch import MANIFEST_NAME, run_batch
 
+pytestmark = pytest.mark.tier("integration")
+
 
 @pytest.fixture
 def photos(tmp_path):

@@ -11,6 +11,8 @@ import sys
 import pytest
 from helpers import ROOT, subprocess_env
 
+pytestmark = pytest.mark.tier("fast")
+
 BENCHMARKS = ROOT / "benchmarks"
 MODULES = sorted(p.stem for p in BENCHMARKS.glob("*.py"))
 

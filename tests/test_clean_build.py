@@ -21,6 +21,8 @@ from helpers import ROOT, fresh_renderer, pythonpath
 from marblevideo.errors import DeviceError, UsageError
 from marblevideo.opencl.program import LANES_VARIABLE, cpu_lanes
 
+pytestmark = pytest.mark.tier("integration")
+
 SAMPLES = ROOT / "samples"
 
 

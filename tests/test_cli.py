@@ -1,4 +1,4 @@
-"""The command line, end to end (issue #2): every run goes through a real
+"""The command line, end to end: every run goes through a real
 ``python -m marblevideo`` subprocess on the real OpenCL device.
 
 Contract checked: a recipe fault of any kind is exit status 2 with one stderr
@@ -21,6 +21,8 @@ import cv2
 import numpy as np
 import pytest
 from helpers import ROOT, files, one_line, subprocess_env
+
+pytestmark = pytest.mark.tier("integration")
 
 RECIPE = {
     "canvas": [64, 48],

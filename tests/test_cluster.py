@@ -20,6 +20,8 @@ from marblevideo.cluster import CRASH_ENV, CRASH_MARKER_ENV, RayPool, connect
 from marblevideo.media.segments import plan_segments
 from marblevideo.segmented import render_split
 
+pytestmark = pytest.mark.tier("integration")
+
 ray = pytest.importorskip("ray", reason="the extra: pip install 'marblevideo[ray]'")
 
 

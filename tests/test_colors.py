@@ -1,4 +1,4 @@
-"""Colours (issue 22): everywhere a recipe takes a colour it reads "#rrggbb",
+"""Colours: everywhere a recipe takes a colour it reads "#rrggbb",
 "#rgb", a CSS color name in any case, or [r, g, b]; a near miss is one line with
 its JSON path and a did-you-mean, from the command line and from the API."""
 
@@ -15,6 +15,8 @@ from jsonschema import Draft202012Validator
 
 from marblevideo import RecipeError, parse_recipe, render_image
 from marblevideo.recipe import schema
+
+pytestmark = pytest.mark.tier("fast")
 
 SHAPES = '"#rrggbb", "#rgb", a CSS color name or [r, g, b]'
 

@@ -21,6 +21,8 @@ from marblevideo.errors import UsageError
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.signals import Signal
 
+pytestmark = pytest.mark.tier("fast")
+
 
 def contract(messages, n, initial=0.0, attack=0.0, release=0.0):
     """e_0 .. e_{n-1} as the contract says, one grid step at a time, from

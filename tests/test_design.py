@@ -19,6 +19,8 @@ from live_helpers import LiveProcess
 from marblevideo import render_image
 from marblevideo.recipe.frame import fit
 
+pytestmark = pytest.mark.tier("integration")
+
 COFFEE = ROOT / "samples" / "coffee.jpg"
 DROPS = {
     "marblevideo": 1,

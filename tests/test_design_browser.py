@@ -12,6 +12,7 @@ import time
 
 import cv2
 import numpy as np
+import pytest
 from helpers import ROOT
 from live_helpers import (
     INK,
@@ -24,6 +25,8 @@ from live_helpers import (
     settled,
     wait_for,
 )
+
+pytestmark = pytest.mark.tier("integration")
 
 COFFEE = ROOT / "samples" / "coffee.jpg"
 
@@ -142,7 +145,7 @@ def test_draw_undo_refuse_and_follow_the_file(coffee_designer):
 def test_a_nonpareil_a_bouquet_and_a_swirl_over_a_photo_by_mouse_then_rendered(
     browser, tmp_path, cli
 ):
-    """The issue's walk: drops scattered and raked down and back up (a nonpareil),
+    """A user's first session: drops scattered and raked down and back up (a nonpareil),
     waved and raked across (a bouquet), then a vortex (a swirl), all by mouse over
     samples/coffee.jpg; the saved recipe renders with the main command."""
     recipe = tmp_path / "mine.json"

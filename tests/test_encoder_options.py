@@ -1,5 +1,5 @@
-"""Encoder options tried before any work, and the encoder libraries kept quiet
-(issue #17): real PyAV encoders, the real command line in a subprocess.
+"""Encoder options tried before any work, and the encoder libraries kept quiet:
+real PyAV encoders, the real command line in a subprocess.
 
 A bad --codec/--crf/--preset/--pix-fmt/--encoder-opt is exit status 2 with one
 stderr line naming the flag, before the input is opened or OpenCL starts, with
@@ -22,6 +22,8 @@ from helpers import files, one_line
 from marblevideo.errors import UsageError
 from marblevideo.media.encode import plan_output
 from marblevideo.media.video import VideoOptions
+
+pytestmark = pytest.mark.tier("integration")
 
 RECIPE = {
     "canvas": [64, 48],

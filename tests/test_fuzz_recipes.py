@@ -1,4 +1,4 @@
-"""Recipe fuzzing (issue #7): whatever JSON a user hands us, the loader either
+"""Recipe fuzzing: whatever JSON a user hands us, the loader either
 accepts it, and then the renderer draws a frame from it, or refuses it with one
 RecipeError naming the file and the JSON path. Never another exception, never a hang.
 
@@ -30,6 +30,8 @@ from marblevideo.errors import RecipeError
 from marblevideo.marbler import Marbler
 from marblevideo.ops import REGISTRY
 from marblevideo.recipe import load_recipe, parse_recipe
+
+pytestmark = pytest.mark.tier("integration")
 
 SOURCE = "fuzz.json"
 #: A JSON path as messages write it: ops[3].center.keys[1].t, ["odd key"], or empty.

@@ -17,6 +17,8 @@ from marblevideo import load_recipe, parse_recipe, samples_path
 from marblevideo.gallery import stages, strip, upto
 from marblevideo.marbler import Marbler
 
+pytestmark = pytest.mark.tier("fast")
+
 
 def spans(recipe):
     return [(s.label, s.first, s.last) for s in stages(recipe)]

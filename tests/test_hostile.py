@@ -1,4 +1,4 @@
-"""Bad input never crashes and never loses data (issue #7).
+"""Bad input never crashes and never loses data.
 
 Extreme but valid recipes, broken media, hostile outputs (full disk, read-only
 folder, the input itself), interrupts and OpenCL faults, each through the real
@@ -39,6 +39,8 @@ from marblevideo.opencl.selfcheck import agreement
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
+
+pytestmark = pytest.mark.tier("integration")
 
 CANVAS = {"canvas": [64, 48], "antialias": "none"}
 

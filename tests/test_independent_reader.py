@@ -18,9 +18,10 @@ from PIL import Image
 from marblevideo.media.formats import EXTENSION_FORMATS, FORMATS
 
 FFMPEG = shutil.which("ffmpeg")
-pytestmark = pytest.mark.skipif(
-    FFMPEG is None, reason="ffmpeg is not installed (apt-get install ffmpeg)"
-)
+pytestmark = [
+    pytest.mark.tier("integration"),
+    pytest.mark.skipif(FFMPEG is None, reason="ffmpeg is not installed (apt-get install ffmpeg)"),
+]
 
 FRAMES = 6
 #: Each video extension, with whether its format holds audio.

@@ -19,6 +19,8 @@ from marblevideo.media.decode import open_input
 from marblevideo.media.images import read_image, write_image
 from marblevideo.media.inputs import Input, classify, name_kind
 
+pytestmark = pytest.mark.tier("fast")
+
 ROOT = Path(__file__).resolve().parent.parent
 
 

@@ -15,6 +15,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("fast")
+
 
 def check(renderer, recipe_dict, size, image=None, t=None):
     recipe = parse_recipe(recipe_dict, "random.json")

@@ -10,6 +10,7 @@ import re
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from marblevideo.opencl.header import (
     STILL_CODE,
@@ -22,6 +23,8 @@ from marblevideo.opencl.program import pack_params
 from marblevideo.ops import COLOR_SLOTS, PSTRIDE, REGISTRY, op_def
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import EDGE_MODES
+
+pytestmark = pytest.mark.tier("fast")
 
 ROOT = Path(__file__).resolve().parent.parent
 OPS = list(REGISTRY.values())

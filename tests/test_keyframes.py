@@ -12,6 +12,8 @@ from hypothesis import strategies as st
 
 from marblevideo.recipe.keyframes import BEZIERS, EASE_NAMES, Key, Track, cubic_bezier, ease
 
+pytestmark = pytest.mark.tier("fast")
+
 
 def brute_bezier(x1: float, y1: float, x2: float, y2: float, u: float) -> float:
     """y at x = u by exact rational bisection on the monotonic x(s), 120 halvings."""

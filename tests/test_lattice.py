@@ -26,6 +26,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference.yuv import rgba_to_i420
 
+pytestmark = pytest.mark.tier("fast")
+
 W, H = 192, 128
 #: With every rule: the share of pixels within 2 levels of the exact walk, and the
 #: largest difference (a position off by up to TOLERANCE input pixels on a hard

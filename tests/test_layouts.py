@@ -14,6 +14,8 @@ from marblevideo.ops import LAYOUTS, REGISTRY
 from marblevideo.ops.layouts import MASK64, expand, splitmix64
 from marblevideo.recipe import parse_recipe
 
+pytestmark = pytest.mark.tier("fast")
+
 CANVAS = {"canvas": [200, 150]}
 
 

@@ -23,6 +23,8 @@ from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import Latest, TestPattern
 from marblevideo.server import Server
 
+pytestmark = pytest.mark.tier("integration")
+
 SWIRL = ROOT / "samples" / "swirl.json"
 
 

@@ -12,6 +12,7 @@ from __future__ import annotations
 import copy
 import json
 
+import pytest
 from helpers import ROOT
 from live_helpers import (
     RECIPE,
@@ -25,6 +26,8 @@ from live_helpers import (
 )
 
 from marblevideo.ops import op_def, slider_range
+
+pytestmark = pytest.mark.tier("integration")
 
 BROKEN = "Failed to load resource: the server responded with a status of 409 (Conflict)"
 

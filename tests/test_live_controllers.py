@@ -22,6 +22,8 @@ from marblevideo.marbler import Marbler
 from marblevideo.media.decode import upright
 from marblevideo.recipe import parse_recipe
 
+pytestmark = pytest.mark.tier("fast")
+
 PHOTO = ROOT / "samples" / "coffee.jpg"  # 600x400
 RECIPE = {
     "marblevideo": 1,

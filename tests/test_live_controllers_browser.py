@@ -9,9 +9,12 @@ import json
 
 import cv2
 import numpy as np
+import pytest
 from helpers import ROOT
 from live_helpers import LiveProcess, frame_diff, live_settled, wait_for, watched_page
 from pythonosc.udp_client import SimpleUDPClient
+
+pytestmark = pytest.mark.tier("integration")
 
 RECIPE = {
     "marblevideo": 1,

@@ -27,6 +27,8 @@ from marblevideo.recipe import load_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("integration")
+
 #: An animated recipe: a drop appears while a comb and a vortex grow.
 RECIPE = {
     "marblevideo": 1,

@@ -20,6 +20,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import OpState
 from marblevideo.reference import forward, inverse, jacobian
 
+pytestmark = pytest.mark.tier("fast")
+
 SEEDS = range(8)
 ALPHAS = (-400.0, -25.0, -0.5, 3.0, 60.0, 2500.0)  # negative, small, large
 #: Every registered op type: a new op is covered by adding its definition.
@@ -60,7 +62,7 @@ PAPER = ("tine", "comb", "wave", "circle", "vortex", "drop")
 
 def random_op(kind: str, rng: np.random.Generator) -> OpState:
     """A random op of any registered ``kind``: the paper's ops by their hand-made
-    wide ranges, the others by the registry's parameter kinds (tests/recipes.py)."""
+    wide ranges, the others by the registry's parameter kinds (tests/support/recipes.py)."""
     if kind in PAPER:
         return paper_op(kind, rng)
     values = {"type": kind, **valid_registry_op(rng, kind, 160.0, 120.0)}

@@ -19,6 +19,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("fast")
+
 OPS = list(REGISTRY.values())
 IDS = [d.type for d in OPS]
 SECTION = re.compile(r"^inline void (op_\w+)\(OP_ARGS\)", re.M)

@@ -19,6 +19,8 @@ from marblevideo.ops.gestures import GESTURES, evaluate, gesture_env, make_op
 from marblevideo.recipe import parse_recipe
 from marblevideo.server import static_file
 
+pytestmark = pytest.mark.tier("fast")
+
 CANVAS = (400, 300)
 SCALE = 1.5  # frame pixels per canvas unit
 PATH = [[60.0, 200.0], [120.0, 150.5], [180.0, 210.0], [240.0, 160.0]]

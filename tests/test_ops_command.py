@@ -1,4 +1,4 @@
-"""``marblevideo ops`` (issue 22): every op type and drop layout of the registry
+"""``marblevideo ops``: every op type and drop layout of the registry
 with its parameters' kinds, defaults and help, wrapped to the terminal;
 ``ops TYPE`` in full; an unknown type is one line with a did-you-mean."""
 
@@ -12,6 +12,8 @@ from helpers import one_line
 from marblevideo import parse_recipe
 from marblevideo.cli.catalog import KIND_LABELS
 from marblevideo.ops import KINDS, LAYOUTS, REGISTRY, recipe_types, type_def
+
+pytestmark = pytest.mark.tier("fast")
 
 
 def squashed(text: str) -> str:

@@ -22,6 +22,8 @@ from marblevideo.ops import LAYOUTS, REGISTRY, slider_range
 from marblevideo.ops.gestures import evaluate, gesture_env, make_op
 from marblevideo.recipe.keyframes import BEZIERS, ease
 
+pytestmark = pytest.mark.tier("integration")
+
 DEFINITIONS = {**REGISTRY, **LAYOUTS}
 CANVAS = (200, 100)  # the server's blank sheet: its frame is the canvas (scale 1)
 INKS = ["#1d3557", "#b23a48", "#e9c46a"]

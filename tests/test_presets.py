@@ -1,4 +1,4 @@
-"""Presets (issue 22): the bundled recipes by name, wherever a recipe is taken
+"""Presets: the bundled recipes by name, wherever a recipe is taken
 (``--ops NAME``, the API, ``live``) unless a file of that name exists; ``marblevideo
 presets`` lists them and prints one; and the optional top-level ``description``,
 which the renderer ignores."""
@@ -17,6 +17,8 @@ from helpers import ROOT, one_line
 from marblevideo import RecipeError, UsageError, load_recipe, parse_recipe, render_image
 from marblevideo.bundled import presets
 from marblevideo.marbler import as_recipe
+
+pytestmark = pytest.mark.tier("fast")
 
 SAMPLES = ROOT / "samples"
 

@@ -18,6 +18,8 @@ from live_helpers import LiveProcess
 
 from marblevideo import load_recipe
 
+pytestmark = pytest.mark.tier("integration")
+
 
 def test_readme_python_example_runs(monkeypatch, capsys):
     text = (ROOT / "README.md").read_text()
@@ -40,6 +42,10 @@ SKIPPED = {
         "needs camera 0 and a v4l2loopback virtual camera"
     ),
     "marblevideo midi": "needs a MIDI system (ALSA's sequencer, /dev/snd/seq)",
+    "marblevideo devices --check": (
+        "the device self-test (a minute of kernel builds on a cold cache): "
+        "tests/test_selfcheck.py runs this very command and checks its report"
+    ),
     "marblevideo live 0 --ops my.json --preview --midi nanoKONTROL2": (
         "needs camera 0 and a MIDI controller (tests/test_controllers.py maps MIDI messages)"
     ),

@@ -17,6 +17,8 @@ from marblevideo.recipe.frame import FrameSpec
 from marblevideo.recipe.keyframes import EASE_NAMES
 from marblevideo.recipe.schema import schema
 
+pytestmark = pytest.mark.tier("fast")
+
 OPS = {
     "drop": {"type": "drop", "center": [10, 20], "radius": 5, "color": "#ff8000"},
     "spray": {"type": "spray", "center": [1.5, 2], "radius": 0.5, "color": [0, 128, 255]},

@@ -12,6 +12,8 @@ from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.frame import EDGE_MODES, FrameSpec, OpState, geometry
 from marblevideo.reference import forward, inverse_walk, render, sample_bilinear
 
+pytestmark = pytest.mark.tier("fast")
+
 RED, BLUE, GREEN = (255.0, 0.0, 0.0), (0.0, 0.0, 255.0), (0.0, 200.0, 0.0)
 WHITE = (255.0, 255.0, 255.0)
 

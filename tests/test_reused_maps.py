@@ -17,6 +17,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("fast")
+
 
 @pytest.fixture(scope="module")
 def fresh():

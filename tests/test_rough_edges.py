@@ -1,4 +1,4 @@
-"""Rough edges of the command line a new user meets (issue 34): what an unknown
+"""Rough edges of the command line a new user meets: what an unknown
 output extension lists, interrupted banded stills, stills too big for their
 format, a still of an animation that comes back to rest, and a blank sheet at
 another aspect than its canvas. Each through the real command in a subprocess
@@ -32,6 +32,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import Geometry
 from marblevideo.reference import render as reference_render
 from marblevideo.reference.motion import rest_note
+
+pytestmark = pytest.mark.tier("fast")
 
 
 @pytest.mark.parametrize("src, dst", [(None, "o.xyz"), (None, "o"), ("in.mp4", "o.avi")])

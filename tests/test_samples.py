@@ -13,6 +13,8 @@ from marblevideo.recipe import load_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("fast")
+
 SAMPLES = Path(__file__).resolve().parent.parent / "samples"
 
 

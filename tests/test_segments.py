@@ -18,6 +18,8 @@ from marblevideo import api
 from marblevideo.media.segments import plan_segments
 from marblevideo.segmented import render_split
 
+pytestmark = pytest.mark.tier("integration")
+
 
 @pytest.fixture(scope="module")
 def vfr(tmp_path_factory):

@@ -17,6 +17,8 @@ from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.frame import EDGE_MODES
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("integration")
+
 DEVICE = os.environ.get("MARBLEVIDEO_TEST_DEVICE")
 
 

@@ -1,4 +1,4 @@
-"""A hostile HTTP client against both servers (issue 34, items 2, 3 and 9):
+"""A hostile HTTP client against both servers:
 ``marblevideo design`` (a real subprocess) and ``marblevideo live --preview``
 (the live session and its preview server in this process, as tests/test_live.py
 runs them), each on a real recipe file.
@@ -27,6 +27,8 @@ from marblevideo.limits import MAX_DEPTH
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import TestPattern
 from marblevideo.server import Server, json_depth
+
+pytestmark = pytest.mark.tier("fast")
 
 DROP = {"type": "drop", "center": [40, 30], "radius": 12, "color": "#1d3557"}
 DESIGN = {"marblevideo": 1, "canvas": [96, 64], "antialias": "none", "ops": [DROP]}

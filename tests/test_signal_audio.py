@@ -18,6 +18,8 @@ from marblevideo.signals import AudioSignals, analyse
 from marblevideo.signals.audio import analyse_stream, stream_offset
 from marblevideo.signals.levels import Slots
 
+pytestmark = pytest.mark.tier("fast")
+
 RATE = 16000
 COOKBOOK = {  # band: (kind, f0, Q)
     "low": ("lowpass", 150.0, 1 / math.sqrt(2)),

@@ -23,6 +23,8 @@ from marblevideo.recipe import load_recipe
 from marblevideo.signals import AudioSignals, analyse
 from marblevideo.signals.live import LazyAudio, live_audio
 
+pytestmark = pytest.mark.tier("fast")
+
 
 @pytest.fixture(scope="module")
 def clip(tmp_path_factory):

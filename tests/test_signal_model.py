@@ -14,6 +14,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.schema import schema
 from marblevideo.recipe.signals import Signal, SignalTrack, name_fault
 
+pytestmark = pytest.mark.tier("fast")
+
 DROP = {"type": "drop", "center": [50, 40], "radius": 10, "color": "red"}
 VORTEX = {"type": "vortex", "center": [50, 40], "alpha": 100, "lambda": 20}
 LOW = {"signal": "audio.low", "range": [5, 20]}

@@ -29,6 +29,8 @@ from marblevideo.segmented import render_split
 from marblevideo.signals import AudioSignals, analyse
 from marblevideo.signals.follow import follow
 
+pytestmark = pytest.mark.tier("fast")
+
 
 @pytest.fixture(scope="module")
 def beat_clip(tmp_path_factory):

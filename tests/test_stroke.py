@@ -1,4 +1,4 @@
-"""The free-hand ``stroke`` (issue 32, format 1 revision 3): its float64 maps are
+"""The free-hand ``stroke`` (format 1 revision 3): its float64 maps are
 exact inverses that preserve area and move nothing beyond ``width`` of the path,
 the kernel walks a point where the reference does (vectors and one pixel), the
 stylus travels with progress, static strokes are laid out once, and bad strokes
@@ -22,6 +22,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import OpState, geometry
 from marblevideo.reference import jacobian
 from marblevideo.reference import render as reference_render
+
+pytestmark = pytest.mark.tier("fast")
 
 STROKE = op_def("stroke")
 #: A curved stroke, a comb along an S and a tulip's stroke up through its drops.

@@ -1,4 +1,4 @@
-"""The designer's stroke tools (issue 32) driven by the mouse in a real headless
+"""The designer's stroke tools driven by the mouse in a real headless
 Chromium over samples/coffee.jpg (a 400x300 canvas shown at 4/3 in the 600x400
 frame): a drag along an S with the stroke tool adds one stroke whose points
 follow the drag within 2 px and carries the ink along it, undo removes it, a
@@ -11,7 +11,10 @@ from __future__ import annotations
 import math
 
 import numpy as np
+import pytest
 from live_helpers import INK, drag, frames, settled, wait_for
+
+pytestmark = pytest.mark.tier("integration")
 
 #: The S drawn, in frame pixels: through the drop at (300, 200) at its middle.
 S = [(220 + 160 * u, 200 - 70 * math.sin(2 * math.pi * u)) for u in np.linspace(0, 1, 41)]

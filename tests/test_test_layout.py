@@ -1,7 +1,9 @@
-"""The tests' own shape: conftest.py holds fixtures only and no module imports it;
-renderers are made by one helper (on the test device); subprocesses get the
-checkout's PYTHONPATH from one helper; random recipes cover every registered op
-type (a new op is covered by adding its definition, or named here)."""
+"""The tests' own shape: every test module declares its tier; tests/ holds test
+modules and conftest.py, what they import lives in tests/support/; conftest.py
+holds fixtures and hooks only and no module imports it; renderers are made by one
+helper (on the test device); subprocesses get the checkout's PYTHONPATH from one
+helper; random recipes cover every registered op type (a new op is covered by
+adding its definition, or named here)."""
 
 from __future__ import annotations
 
@@ -11,7 +13,8 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
-from helpers import ROOT
+import tomllib
+from helpers import ROOT, TIERS
 from recipes import (
     GENERATORS,
     NOT_RANDOM,
@@ -25,15 +28,22 @@ from recipes import (
 from marblevideo.ops import REGISTRY
 from marblevideo.recipe import parse_recipe
 
+pytestmark = pytest.mark.tier("fast")
+
 TESTS = ROOT / "tests"
+#: The modules tests import (helpers, recipes, clips...), by their plain names.
+SUPPORT = TESTS / "support"
 #: The folders whose modules may be tempted to import the tests' conftest.
 SOURCES = sorted(
     p
     for folder in ("tests", "benchmarks", "scripts", "samples")
     for p in (ROOT / folder).rglob("*.py")
 )
-#: The tests' own modules, the helpers' module (where renderers and PYTHONPATH are made) aside.
-TEST_MODULES = sorted(p for p in TESTS.glob("*.py") if p.name != "helpers.py")
+#: The tests' own modules and their support, the helpers' module (where renderers
+#: and PYTHONPATH are made) aside.
+TEST_MODULES = sorted(p for p in TESTS.rglob("*.py") if p != SUPPORT / "helpers.py")
+#: The modules pytest collects.
+COLLECTED = sorted(p for p in TESTS.rglob("test_*.py") if SUPPORT not in p.parents)
 IMPORTS_CONFTEST = re.compile(
     r"^\s*(from\s+(tests\.)?conftest\s+import|import\s+(tests\.)?conftest)\b", re.M
 )
@@ -49,6 +59,21 @@ def imports_of_tests(text: str) -> list[str]:
 
 def conftest_imports(text: str) -> list[str]:
     return [m.group(0).strip() for m in IMPORTS_CONFTEST.finditer(text)]
+
+
+def tiers_declared(text: str) -> list[object]:
+    """The tiers named by ``pytest.mark.tier(...)`` in a module's top-level
+    ``pytestmark`` (one mark or a list of marks)."""
+    found = []
+    for node in ast.parse(text).body:
+        targets = getattr(node, "targets", [])
+        if isinstance(node, ast.Assign) and "pytestmark" in [ast.unparse(t) for t in targets]:
+            value = node.value
+            marks = value.elts if isinstance(value, ast.List | ast.Tuple) else [value]
+            for mark in marks:
+                if isinstance(mark, ast.Call) and ast.unparse(mark.func) == "pytest.mark.tier":
+                    found += [a.value if isinstance(a, ast.Constant) else None for a in mark.args]
+    return found
 
 
 def renderers_made(text: str) -> list[int]:
@@ -86,6 +111,29 @@ def offenders(paths, check) -> dict[str, object]:
     return {name: what for name, what in found.items() if what}
 
 
+def test_every_test_module_declares_its_tier():
+    """Each test module says whether it is in the fast tier (``pytest -m fast``) or
+    the integration tier, once, in its ``pytestmark``: a new module is fast only if
+    it says so, so a slow one cannot slow the edit loop unnoticed."""
+    wrong = {}
+    for path in COLLECTED:
+        tiers = tiers_declared(path.read_text())
+        if len(tiers) != 1 or tiers[0] not in TIERS:
+            wrong[str(path.relative_to(ROOT))] = tiers
+    assert not wrong, f"declare pytestmark = pytest.mark.tier(one of {TIERS}): {wrong}"
+
+
+def test_support_modules_live_in_tests_support():
+    """tests/ holds test modules and conftest.py only; what tests import lives in
+    tests/support/ (no tests there), which pytest's ``pythonpath`` setting puts
+    on the import path, so tests import it by plain name (``from helpers import``)."""
+    loose = [p.name for p in TESTS.glob("*.py") if p not in COLLECTED and p.name != "conftest.py"]
+    assert not loose, f"move to tests/support/: {loose}"
+    assert not [p.name for p in SUPPORT.glob("*.py") if p.name.startswith(("test_", "conftest"))]
+    config = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    assert "tests/support" in config["tool"]["pytest"]["ini_options"]["pythonpath"]
+
+
 def test_nothing_imports_conftest():
     """Helpers live in modules (helpers.py, recipes.py...): pytest loads conftest.py
     itself, and a second import of it runs it twice under another name."""
@@ -107,7 +155,7 @@ def test_conftest_defines_fixtures_and_hooks_only():
             fixture = any("fixture" in ast.unparse(d) for d in node.decorator_list)
             if not fixture and not node.name.startswith("pytest_"):
                 names.append(node.name)
-    assert not names, f"helpers belong in tests/helpers.py: {names}"
+    assert not names, f"helpers belong in tests/support/: {names}"
 
 
 def test_renderers_are_made_by_fresh_renderer():
@@ -135,6 +183,12 @@ def test_the_layout_checks_find_what_they_look_for():
     imports = "from test_uv import x\nimport tests.test_vector\nfrom testing import y\n"
     assert imports_of_tests(imports) == ["from test_uv import", "import tests.test_vector"]
     assert renderers_made(code) == [3, 8]
+    tiers = 'import pytest\npytestmark = [pytest.mark.tier("fast"), pytest.mark.skipif(x)]\n'
+    assert tiers_declared(tiers) == ["fast"]
+    assert tiers_declared("pytestmark = pytest.mark.tier(TIER)\nx = pytest.mark.tier('a')") == [
+        None
+    ]
+    assert tiers_declared("def f():\n    pytestmark = pytest.mark.tier('fast')\n") == []
     assert pythonpaths_by_hand(code) == [4, 5]
 
 

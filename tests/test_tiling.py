@@ -13,6 +13,8 @@ from helpers import ROOT
 from marblevideo.marbler import Marbler
 from marblevideo.recipe import parse_recipe
 
+pytestmark = pytest.mark.tier("fast")
+
 
 def seam_ratio(img: np.ndarray) -> float:
     """Discontinuity across the tile boundary of a 2 x 2 tiling, relative to the

@@ -16,6 +16,8 @@ from marblevideo.outputs.uv import read_uv, render_uv
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("fast")
+
 
 def write_png16(path: Path, u: np.ndarray, v: np.ndarray, alpha: np.ndarray | None = None):
     rgba = np.zeros(u.shape + (4,), np.uint16)

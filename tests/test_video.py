@@ -23,6 +23,8 @@ from marblevideo.media.progress import Progress
 from marblevideo.media.stages import Stages, Stopped
 from marblevideo.media.video import QUEUE_FRAMES, VideoOptions
 
+pytestmark = pytest.mark.tier("fast")
+
 
 def invert(rgba: np.ndarray, t: float) -> np.ndarray:
     out = 255 - rgba
@@ -297,7 +299,7 @@ def test_missing_empty_and_text_inputs(tmp_path):
     (tmp_path / "text.mp4").write_text("not a video at all\n" * 20)
     (tmp_path / "folder.mp4").mkdir()
     cases = [
-        ("missing.mp4", "no such", 1),  # media faults are exit 1 (issues #3, #7), stills alike
+        ("missing.mp4", "no such", 1),  # media faults are exit 1, stills alike
         ("folder.mp4", "is a folder", 1),
         ("empty.mp4", "empty", 1),
         ("text.mp4", "not a", 1),

@@ -12,6 +12,7 @@ import math
 from fractions import Fraction
 
 import numpy as np
+import pytest
 from clips import probe, write_clip
 from helpers import fresh_renderer
 from tolerances import KERNEL_LEVELS, KERNEL_SHARE
@@ -21,6 +22,8 @@ from marblevideo.media.pipeline import iter_frames
 from marblevideo.recipe import load_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
+
+pytestmark = pytest.mark.tier("integration")
 
 RECIPE = {
     "marblevideo": 1,

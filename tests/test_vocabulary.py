@@ -21,6 +21,8 @@ from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import OpState, geometry
 from marblevideo.reference import render as reference_render
 
+pytestmark = pytest.mark.tier("fast")
+
 OPS = list(REGISTRY.values())
 IDS = [d.type for d in OPS]
 #: A kernel section's point against the float64 inverse of the same float32 point.

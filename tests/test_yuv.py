@@ -26,6 +26,8 @@ from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
 from marblevideo.reference.yuv import i420_to_rgba, render_planes, rgba_to_i420
 
+pytestmark = pytest.mark.tier("fast")
+
 MATRICES = [
     YuvMatrix.of(2, 0),  # unspecified: BT.601, limited
     YuvMatrix.of(1, 1),  # BT.709, limited

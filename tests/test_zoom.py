@@ -12,6 +12,8 @@ from marblevideo.api import render_still
 from marblevideo.marbler import Marbler
 from marblevideo.media.tiled import write_bands
 
+pytestmark = pytest.mark.tier("fast")
+
 FIGURE6 = "samples/figure6.json"
 
 

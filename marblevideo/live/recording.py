@@ -3,7 +3,7 @@
 Timing: variable frame rate. Each frame's pts is its capture time minus the
 first recorded frame's, in milliseconds (time base 1/1000), so the file plays
 back at the pace it was shown, dropped frames included as gaps. Encoder
-settings are the file mode's, checked by :func:`marblevideo.video.plan_output`
+settings are the file mode's, checked by :func:`marblevideo.media.encode.plan_output`
 (--codec, --crf, --preset, --pix-fmt, --encoder-opt), and frames are written
 by its writers (:func:`marblevideo.media.sinks.video_writer`: a file, a GIF,
 an image sequence, standard output).

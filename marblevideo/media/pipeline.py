@@ -61,7 +61,7 @@ Conventions
   stays flat; the transform runs in the calling thread
   (:mod:`marblevideo.media.transforms`). An error in any stage stops the others and is re-raised;
   KeyboardInterrupt propagates after cleanup. Output goes through
-  :func:`marblevideo.output.atomic_output`: nothing is left on failure.
+  :func:`marblevideo.media.output.atomic_output`: nothing is left on failure.
 """
 
 from __future__ import annotations

@@ -10,7 +10,12 @@ from pathlib import Path
 import numpy as np
 
 #: The checkout (the folder holding marblevideo/, tests/, benchmarks/).
-ROOT = Path(__file__).resolve().parent.parent
+ROOT = Path(__file__).resolve().parents[2]
+#: The tiers a test module declares with ``pytestmark = pytest.mark.tier(NAME)``:
+#: "fast" for the edit loop's tests (the recipe, the ops, the reference and the
+#: kernels against it; ``pytest -m fast``), "integration" for modules that run
+#: whole commands, servers, browsers, encoders or clusters.
+TIERS = ("fast", "integration")
 
 
 def device_choice() -> str | None:
