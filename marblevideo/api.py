@@ -279,8 +279,8 @@ def render_video(
     instead of interpolating from a lattice). ``renderer`` as for
     :func:`render_still`.
     Returns the job's :class:`marblevideo.media.video.Stats`."""
+    from marblevideo.jobs.pipeline import transcode
     from marblevideo.media.encode import plan_output
-    from marblevideo.media.pipeline import transcode
 
     recipe = as_recipe(recipe)
     source = classify(src)  # standard input: read to tell a still from a video
@@ -317,7 +317,7 @@ def _video_range(source: Input, opts, duration: float | None) -> None:
 def _animated(source: Input, marbler: Marbler, dst, duration, fps, opts, plan):
     """A still (or a blank sheet) animated by the recipe for ``duration`` seconds
     (default: the animation plus one second) at ``fps`` (default 30)."""
-    from marblevideo.media.pipeline import render_sheet
+    from marblevideo.jobs.pipeline import render_sheet
 
     recipe = marbler.recipe
     image = None if source.kind == "blank" else read_image(source)[0]
@@ -340,7 +340,7 @@ def marbled_frames(
 ):
     """Iterate ``(t, rgba)``: the frames of video ``src`` marbled at their own times
     (audio signals follow its audio)."""
-    from marblevideo.media.pipeline import iter_frames
+    from marblevideo.jobs.pipeline import iter_frames
 
     marbler = Marbler(follow(as_recipe(recipe), src), device=device)
     opts = _video_options({"start": start, "end": end})

@@ -158,10 +158,13 @@ class Marbler:
         rows: int | None = None,
     ):
         """Iterate the frame of :meth:`render` as bands of ``rows`` rows, top to bottom
-        (see :mod:`marblevideo.media.tiled`); each band is (n, w, 4) RGBA uint8."""
-        from marblevideo.media.tiled import bands
+        (default :func:`marblevideo.media.tiled.band_rows`; see
+        :func:`marblevideo.recipe.geometry.bands`); each band is (n, w, 4) RGBA uint8."""
+        from marblevideo.media.tiled import band_rows
+        from marblevideo.recipe.geometry import bands
 
         spec, geom = self.frame(image, time, size, view)
+        rows = rows or band_rows(geom.out_w)
         for _, band in bands(lambda g: self.renderer.render(spec, g, image), geom, rows):
             yield band
 
@@ -176,7 +179,7 @@ class VideoTransform:
 
     Called as ``(rgba, t) -> rgba``; :meth:`i420` takes and gives 8-bit 4:2:0
     frames and converts on the device, which the pipeline prefers when the
-    input and output are both yuv420p (see :mod:`marblevideo.media.pipeline`).
+    input and output are both yuv420p (see :mod:`marblevideo.jobs.pipeline`).
     """
 
     def __init__(self, marbler: Marbler, size: tuple[int, int] | None = None):

@@ -272,7 +272,7 @@ def test_segments_keep_exact_walk(tmp_path):
     from clips import write_clip
 
     from marblevideo.api import render_video
-    from marblevideo.segmented import render_split
+    from marblevideo.scale.segmented import render_split
 
     clip = write_clip(tmp_path / "in.mp4", size=(W, H), frames=12, audio=False)
     ops = [*SCENES["thin filament"][0], *animated()["ops"]]

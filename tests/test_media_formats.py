@@ -22,7 +22,7 @@ from PIL import Image
 from tolerances import KERNEL_LEVELS, KERNEL_SHARE
 
 from marblevideo import api
-from marblevideo.media.pipeline import iter_frames
+from marblevideo.jobs.pipeline import iter_frames
 from marblevideo.recipe import load_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render

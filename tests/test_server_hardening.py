@@ -26,7 +26,7 @@ from marblevideo.design.live import LiveDesign
 from marblevideo.limits import MAX_DEPTH
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import TestPattern
-from marblevideo.server import Server, json_depth
+from marblevideo.serve.server import Server, json_depth
 
 DROP = {"type": "drop", "center": [40, 30], "radius": 12, "color": "#1d3557"}
 DESIGN = {"marblevideo": 1, "canvas": [96, 64], "antialias": "none", "ops": [DROP]}

@@ -17,7 +17,7 @@ from helpers import fresh_renderer
 from tolerances import KERNEL_LEVELS, KERNEL_SHARE
 
 from marblevideo.api import marbled_frames
-from marblevideo.media.pipeline import iter_frames
+from marblevideo.jobs.pipeline import iter_frames
 from marblevideo.recipe import load_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render

@@ -17,12 +17,13 @@ from tolerances import (
     SWSCALE_MEAN,
 )
 
+from marblevideo.jobs.pipeline import render_sheet, transcode
 from marblevideo.marbler import Marbler
-from marblevideo.media.pipeline import render_sheet, transcode
 from marblevideo.media.video import VideoOptions
-from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, packed_i420, split_i420
+from marblevideo.media.yuv import YuvMatrix, packed_i420, split_i420
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
+from marblevideo.recipe.geometry import chroma_geometry, coded_spec
 from marblevideo.reference import render as reference_render
 from marblevideo.reference.yuv import i420_to_rgba, render_planes, rgba_to_i420
 

@@ -99,8 +99,8 @@ def design_command(argv: list[str]) -> int:
     """The ``design`` command; returns the exit status (MarbleError propagates)."""
     from marblevideo.design.backdrop import open_backdrop
     from marblevideo.design.session import DesignSession
-    from marblevideo.recipefile import DEFAULT_CANVAS, RecipeFile
-    from marblevideo.server import Server
+    from marblevideo.serve.recipefile import DEFAULT_CANVAS, RecipeFile
+    from marblevideo.serve.server import Server
 
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose)

@@ -280,7 +280,7 @@ def render_command(argv: list[str]) -> int:
     if args.view:
         raise UsageError(f"{args.output}: --view makes stills; give an image output")
     if args.cluster:
-        from marblevideo.segmented import render_split
+        from marblevideo.scale.segmented import render_split
 
         render = functools.partial(
             render_split, cluster=args.cluster, segments=args.segments, jobs=args.jobs

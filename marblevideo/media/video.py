@@ -1,6 +1,6 @@
 """What a video job is: its options, what it did (:class:`Stats`), the items
 that travel through the pipeline (a frame, or an audio packet or frame), and
-its one-line notices. Conventions of the whole job: :mod:`~marblevideo.media.pipeline`."""
+its one-line notices. Conventions of the whole job: :mod:`~marblevideo.jobs.pipeline`."""
 
 from __future__ import annotations
 

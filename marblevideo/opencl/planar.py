@@ -10,12 +10,13 @@ from collections.abc import Callable
 
 import numpy as np
 
-from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec
+from marblevideo.media.yuv import YuvMatrix
 from marblevideo.opencl.lattice import LatticeWalk
 from marblevideo.opencl.program import Programs, Structure, pack_params
 from marblevideo.opencl.queue import DeviceQueue, float4, geometry_args
 from marblevideo.opencl.tables import ReusedMaps
 from marblevideo.recipe.frame import FrameSpec, Geometry
+from marblevideo.recipe.geometry import chroma_geometry, coded_spec
 
 
 class PlanarFrames:

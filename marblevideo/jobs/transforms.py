@@ -1,4 +1,4 @@
-"""The transform stage of a video render (:mod:`marblevideo.media.pipeline`): what
+"""The transform stage of a video render (:mod:`marblevideo.jobs.pipeline`): what
 a transform may offer besides ``transform(rgba, t) -> rgba`` (the protocols
 below, probed once per job), and the adapters that call it on one decoded item
 in place, checking what it returns.
@@ -45,7 +45,7 @@ class RgbaStart(Protocol):
 
 @runtime_checkable
 class PlanarSource(Protocol):
-    """Frames of a blank sheet (:func:`~marblevideo.media.pipeline.render_sheet`)
+    """Frames of a blank sheet (:func:`~marblevideo.jobs.pipeline.render_sheet`)
     that can come as I420."""
 
     def i420(self, t: float, matrix: YuvMatrix) -> np.ndarray | None: ...
@@ -81,7 +81,7 @@ def check_frame(rgba) -> np.ndarray:
 
 
 class FrameMarbler:
-    """The transform stage of :func:`~marblevideo.media.pipeline.transcode`: one
+    """The transform stage of :func:`~marblevideo.jobs.pipeline.transcode`: one
     decoded item marbled in place, as I420 planes where the transform and output
     allow (:attr:`planar`), else as RGBA; returns the function that finishes a
     frame in flight, or None."""
@@ -124,7 +124,7 @@ class FrameMarbler:
 
 
 class SheetRenderer:
-    """The transform stage of :func:`~marblevideo.media.pipeline.render_sheet`: each
+    """The transform stage of :func:`~marblevideo.jobs.pipeline.render_sheet`: each
     item's frame rendered at its time, as I420 (BT.601, limited range) where the
     source and output allow."""
 

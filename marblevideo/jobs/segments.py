@@ -5,10 +5,10 @@ the segments joined back into one output.
   (no frame is decoded, the file is not read through): about
   :data:`SEGMENT_SECONDS` seconds a segment, or ``count`` segments.
   Segment *i* owns the frames with ``start <= t < end`` (``t`` on the
-  input's clock, as the pipeline's: :mod:`marblevideo.media.pipeline`), so
+  input's clock, as the pipeline's: :mod:`marblevideo.jobs.pipeline`), so
   no frame is lost or doubled; the first has no ``start``, the last no
   ``end``.
-- A segment is rendered by :func:`~marblevideo.media.pipeline.transcode`
+- A segment is rendered by :func:`~marblevideo.jobs.pipeline.transcode`
   with the segment's range and ``pts_origin``: video only, in MP4
   (:data:`SEGMENT_FORMAT`), its frames marbled at their times on the whole
   input's clock, written with the source's own timestamps less the

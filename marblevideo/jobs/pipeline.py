@@ -57,9 +57,9 @@ Conventions
   (:mod:`marblevideo.media.encoders`); the encoder libraries' own log lines are off
   unless ``verbose``.
 - Decode, transform and encode run in three threads joined by bounded queues
-  (``QUEUE_FRAMES`` frames each; :mod:`marblevideo.media.stages`), so memory
+  (``QUEUE_FRAMES`` frames each; :mod:`marblevideo.jobs.stages`), so memory
   stays flat; the transform runs in the calling thread
-  (:mod:`marblevideo.media.transforms`). An error in any stage stops the others and is re-raised;
+  (:mod:`marblevideo.jobs.transforms`). An error in any stage stops the others and is re-raised;
   KeyboardInterrupt propagates after cleanup. Output goes through
   :func:`marblevideo.output.atomic_output`: nothing is left on failure.
 """
@@ -74,20 +74,20 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import UsageError
+from marblevideo.jobs.retime import rate_fraction, retimed
+from marblevideo.jobs.stages import Writer, run_stages
+from marblevideo.jobs.transforms import (
+    FrameMarbler,
+    SheetRenderer,
+    check_frame,
+)
 from marblevideo.media.decode import Reader, estimate_frames, open_input
 from marblevideo.media.encode import COLOR_FIELDS, OutputPlan, audio_plan, plan_output
 from marblevideo.media.encoders import library_logs
 from marblevideo.media.inputs import Input, classify
 from marblevideo.media.output import check_output
-from marblevideo.media.retime import rate_fraction, retimed
 from marblevideo.media.sinks import video_writer
 from marblevideo.media.soundtrack import opened
-from marblevideo.media.stages import Writer, run_stages
-from marblevideo.media.transforms import (
-    FrameMarbler,
-    SheetRenderer,
-    check_frame,
-)
 from marblevideo.media.video import (
     AudioItem,
     Stats,
@@ -118,7 +118,7 @@ def transcode(
     ``src`` is a file, an image sequence, ``-`` (standard input) or a URL, by
     name or classified (:class:`~marblevideo.media.inputs.Input`); ``dst`` a
     file, an image sequence or ``-`` (standard output, in ``options.format``).
-    With ``options.fps`` the frame rate is converted (:mod:`marblevideo.media.retime`);
+    With ``options.fps`` the frame rate is converted (:mod:`marblevideo.jobs.retime`);
     for an image sequence it is the rate the images are read at instead.
 
     Raises UsageError (bad options, output = input), OutputExistsError,

@@ -1,12 +1,12 @@
 """A video rendered in segments, in this process or on a Ray cluster, then
 joined (:func:`render_split`).
 
-The input is cut at its keyframes (:func:`marblevideo.media.segments.plan_segments`);
+The input is cut at its keyframes (:func:`marblevideo.jobs.segments.plan_segments`);
 each segment is rendered by :func:`render_segment` through the normal decode
 -> kernel -> encode pipeline into an MP4 in a temporary folder beside the
 output (workers on other machines must see both paths: shared storage, at the
 same path), and the segments are joined by packet copy with the source's
-audio (:func:`~marblevideo.media.segments.join_segments`), atomically: on any
+audio (:func:`~marblevideo.jobs.segments.join_segments`), atomically: on any
 failure nothing is left at the output and the folder is removed.
 
 Every frame is marbled at its own time on the whole input's clock, as in a
@@ -27,18 +27,18 @@ from dataclasses import dataclass, fields
 from functools import partial
 from pathlib import Path
 
-from marblevideo.cluster import RayPool, SerialPool, require_ray
 from marblevideo.errors import MediaError, UsageError
+from marblevideo.jobs.pipeline import transcode
+from marblevideo.jobs.segments import Segment, join_segments, plan_segments, segment_plan
 from marblevideo.marbler import Marbler, RecipeLike, as_recipe
 from marblevideo.media.encode import plan_output
 from marblevideo.media.formats import is_local
 from marblevideo.media.inputs import Input, classify, name_kind
 from marblevideo.media.output import check_output
-from marblevideo.media.pipeline import transcode
 from marblevideo.media.progress import Progress, progress_mode
-from marblevideo.media.segments import Segment, join_segments, plan_segments, segment_plan
 from marblevideo.media.video import Stats, VideoOptions, notifier
 from marblevideo.recipe import Recipe
+from marblevideo.scale.cluster import RayPool, SerialPool, require_ray
 from marblevideo.signals.follow import check as check_signals
 from marblevideo.signals.follow import follow
 
@@ -129,7 +129,7 @@ def render_split(
     **options,
 ) -> Stats:
     """Render video ``src`` to ``dst`` in segments (see the module) on ``cluster``:
-    "ray" (:class:`~marblevideo.cluster.RayPool`: ``$RAY_ADDRESS``'s cluster or a
+    "ray" (:class:`~marblevideo.scale.cluster.RayPool`: ``$RAY_ADDRESS``'s cluster or a
     local one, ``jobs`` workers) or "serial" (here, one segment after another).
     ``segments``: how many to cut (default: one per about 45 s); ``options`` as
     :func:`marblevideo.api.render_video`'s, but no ``start``, ``end`` or ``fps``.
