@@ -19,7 +19,7 @@ from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.marbler import (
     Marbler,
     RecipeLike,
-    SheetFrames,
+    SheetSource,
     as_recipe,
     blank_canvas,
     blank_size,
@@ -323,7 +323,7 @@ def _animated(source: Input, marbler: Marbler, dst, duration, fps, opts, plan):
     image = None if source.kind == "blank" else read_image(source)[0]
     duration = recipe.end_time() + 1.0 if duration is None else duration
     size = opts.size or (blank_size(recipe) if image is None else image.shape[1::-1])
-    frames = SheetFrames(marbler, tuple(size), image)
+    frames = SheetSource(marbler, tuple(size), image)
     note = fit_note(recipe, None if image is None else image.shape[1::-1], opts.size, opts.fit)
     notes = (note,) if note else ()
     return render_sheet(dst, frames, duration, fps or DEFAULT_FPS, opts, plan=plan, notes=notes)

@@ -1,6 +1,6 @@
 """A recipe bound to an OpenCL renderer (:class:`Marbler`), and its forms for the
-video pipeline: an input's frames (:class:`VideoTransform`) and a still's or a
-blank sheet's (:class:`SheetFrames`).
+video pipeline: an input's frames (:class:`FrameTransform`) and a still's or a
+blank sheet's (:class:`SheetSource`).
 
 Times are seconds; images are RGBA uint8 arrays (H, W, 4). A still is rendered
 at ``time`` or, without it, at the recipe's end (the finished design).
@@ -61,6 +61,11 @@ def fit_note(
     if input_size is not None:
         return stretch_note(input_size, size)
     return canvas_note(blank_canvas(recipe), size)
+
+
+def image_size(image: np.ndarray | None) -> tuple[int, int] | None:
+    """(w, h) of an image, or None for none (a blank sheet)."""
+    return None if image is None else (image.shape[1], image.shape[0])
 
 
 class Marbler:
@@ -129,18 +134,14 @@ class Marbler:
         ``static``: later frames repeat these values (see :class:`Renderer`);
         ``animated``: a frame of a video or live session, which interpolates
         from a lattice when :attr:`lattice` allows and the recipe moves."""
-        spec, geom = self.frame(image, time, size, view)
+        spec, geom = self.frame_at(image_size(image), time, size, view)
         lattice = animated and self.lattice and self.recipe.is_animated
         return self.renderer.render(spec, geom, image, static=static, lattice=lattice)
 
-    def frame(self, image, time, size, view) -> tuple[FrameSpec, Geometry]:
+    def frame_at(self, input_size, time, size, view) -> tuple[FrameSpec, Geometry]:
         """The recipe's values at ``time`` (default: its end) and the geometry of a
-        render of ``image`` (or of the blank sheet) at ``size``."""
-        input_size = None if image is None else (image.shape[1], image.shape[0])
-        return self.frame_for(input_size, time, size, view)
-
-    def frame_for(self, input_size, time, size, view) -> tuple[FrameSpec, Geometry]:
-        """:meth:`frame` for an input of ``input_size`` (w, h), or None."""
+        render at ``size`` of an input of ``input_size`` (w, h), or of the blank
+        sheet (None)."""
         t = self.recipe.end_time() if time is None else float(time)
         if size is None:
             size = input_size or blank_size(self.recipe)
@@ -163,17 +164,17 @@ class Marbler:
         from marblevideo.media.tiled import band_rows
         from marblevideo.recipe.geometry import bands
 
-        spec, geom = self.frame(image, time, size, view)
+        spec, geom = self.frame_at(image_size(image), time, size, view)
         rows = rows or band_rows(geom.out_w)
         for _, band in bands(lambda g: self.renderer.render(spec, g, image), geom, rows):
             yield band
 
-    def transform(self, size: tuple[int, int] | None = None) -> VideoTransform:
+    def transform(self, size: tuple[int, int] | None = None) -> FrameTransform:
         """(frame, t) -> marbled frame for the video pipeline, with its I420 form."""
-        return VideoTransform(self, size)
+        return FrameTransform(self, size)
 
 
-class VideoTransform:
+class FrameTransform:
     """A :class:`Marbler` as the video pipeline's transform, at output ``size``
     (default: the input's).
 
@@ -196,7 +197,7 @@ class VideoTransform:
     def rgba_start(self, frame: np.ndarray, t: float) -> Callable[[], np.ndarray]:
         """The call queued on the device: returns a function that waits for the
         frame and returns it (see :meth:`i420_start`)."""
-        spec, geom = self.marbler.frame(frame, t, self.size, None)
+        spec, geom = self.marbler.frame_at(image_size(frame), t, self.size, None)
         return self.marbler.renderer.render(
             spec, geom, frame, static=self.static, wait=False, lattice=self.lattice
         )
@@ -214,13 +215,13 @@ class VideoTransform:
         waiting, so the device works while the host prepares that frame."""
         planes = split_i420(planes)
         input_size = planes[0].shape[::-1]
-        spec, geom = self.marbler.frame_for(input_size, t, self.size, None)
+        spec, geom = self.marbler.frame_at(input_size, t, self.size, None)
         return self.marbler.renderer.render_i420(
             spec, geom, planes, src, dst, static=self.static, wait=False, lattice=self.lattice
         )
 
 
-class SheetFrames:
+class SheetSource:
     """A :class:`Marbler`'s frames at ``size`` over one still ``image`` (RGBA), or
     over the blank sheet when it is None, as the frames of a video: called as
     ``(t) -> rgba``; :meth:`i420` renders and converts on the device (blank
@@ -250,5 +251,5 @@ class SheetFrames:
         and returns it, or None where it cannot."""
         if self.image is not None or self.still is not None or self.size[0] % 2 or self.size[1] % 2:
             return None
-        spec, geom = self.marbler.frame_for(None, t, self.size, None)
+        spec, geom = self.marbler.frame_at(None, t, self.size, None)
         return self.marbler.renderer.render_i420(spec, geom, None, None, matrix, wait=False)

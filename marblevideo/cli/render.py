@@ -230,7 +230,7 @@ def _render_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _say(message: str) -> None:
+def _notify(message: str) -> None:
     print(f"marblevideo: {message}", file=sys.stderr)
 
 
@@ -271,7 +271,7 @@ def render_command(argv: list[str]) -> int:
             overwrite=args.overwrite,
             device=args.device,
             progress="off" if args.quiet else args.progress,
-            notify=None if args.quiet else _say,
+            notify=None if args.quiet else _notify,
             soundtrack=args.soundtrack,
         )
         if not args.quiet:

@@ -37,7 +37,7 @@ Conventions
   -> finish`` as well (:class:`PlanarStart`), the pipeline keeps one frame in
   flight: it starts frame n + 1 before calling frame n's ``finish()``, which returns what ``i420``
   would have, so a device renders while the host prepares the next frame
-  (:meth:`marblevideo.marbler.VideoTransform.i420_start`); the planes stay the
+  (:meth:`marblevideo.marbler.FrameTransform.i420_start`); the planes stay the
   pipeline's until ``finish`` returns. ``transform.rgba_start(rgba, t) ->
   finish`` (:class:`RgbaStart`) does the same for frames that go the RGBA way.
   It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
@@ -77,8 +77,8 @@ from marblevideo.errors import UsageError
 from marblevideo.jobs.retime import rate_fraction, retimed
 from marblevideo.jobs.stages import Writer, run_stages
 from marblevideo.jobs.transforms import (
-    FrameMarbler,
-    SheetRenderer,
+    SheetStage,
+    TransformStage,
     check_frame,
 )
 from marblevideo.media.decode import Reader, estimate_frames, open_input
@@ -94,12 +94,12 @@ from marblevideo.media.video import (
     VideoItem,
     VideoOptions,
     check_range,
-    notifier,
-    say,
+    job_notify,
+    notify,
 )
 from marblevideo.media.yuv import YuvMatrix
 
-Transform = Callable[[np.ndarray, float], np.ndarray]
+RgbaTransform = Callable[[np.ndarray, float], np.ndarray]
 """``transform(rgba, t) -> rgba``; it may also be a :class:`PlanarTransform`, a
 :class:`PlanarStart` and a :class:`RgbaStart` (see the module)."""
 
@@ -107,7 +107,7 @@ Transform = Callable[[np.ndarray, float], np.ndarray]
 def transcode(
     src: str | os.PathLike | Input,
     dst: str | os.PathLike,
-    transform: Transform,
+    transform: RgbaTransform,
     options: VideoOptions | None = None,
     *,
     plan: OutputPlan | None = None,
@@ -136,11 +136,11 @@ def transcode(
         check_output(dst, options.overwrite, source.names)
     stats = Stats()
     with open_input(source, options.fps) as container, opened(options.soundtrack) as sound:
-        say = notifier(options, stats)
+        notify = job_notify(options, stats)
         own, audio = _audio(container, sound, dst, plan, options, stats)
         vin = container.streams.video[0]
         colors = {k: getattr(vin.codec_context, k) for k in COLOR_FIELDS}
-        marble = FrameMarbler(transform, _out_matrix(colors, plan, options), options, say)
+        marble = TransformStage(transform, _out_matrix(colors, plan, options), options, notify)
         reader = Reader(container, options.start, options.end, own, marble.planar, pts_origin)
         clock = _Clock(vin, None if source.kind == "sequence" else options.fps)
 
@@ -160,7 +160,7 @@ def transcode(
             library_logs(options.verbose),
         ):
             run_stages(writer, plan, options, produce, marble, setup, total)
-        _tell_reader(reader, source.name, stats, say)
+        _tell_reader(reader, source.name, stats, notify)
     stats.seconds = time.monotonic() - began
     return stats
 
@@ -168,10 +168,10 @@ def transcode(
 def _audio(container, sound, dst, plan: OutputPlan, options: VideoOptions, stats: Stats):
     """(the input's audio streams read: index -> "copy" or an encoder, the output's
     audio: the input's, else the soundtrack's), with ``stats.audio`` told."""
-    say = notifier(options, stats)
+    notify = job_notify(options, stats)
     name = "standard output" if plan.stream else f"{Path(dst).suffix} files"
-    own = audio_plan(container, plan, options, name, say) if sound is None else {}
-    audio = own or (sound.plan(plan, options, say) if sound else {})
+    own = audio_plan(container, plan, options, name, notify) if sound is None else {}
+    audio = own or (sound.plan(plan, options, notify) if sound else {})
     encoders = set(audio.values()) - {"copy"}
     stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
     return own, audio
@@ -200,17 +200,19 @@ class _Clock:
         return items if self.fps is None else retimed(items, self.vin.time_base, self.fps)
 
 
-def _tell_reader(reader: Reader, src, stats: Stats, say) -> None:
+def _tell_reader(reader: Reader, src, stats: Stats, notify) -> None:
     """The reader's notices: a rotated input, skipped corrupt packets."""
     if reader.rotation:
-        say(f"input rotated {reader.rotation} degrees: frames turned upright")
+        notify(f"input rotated {reader.rotation} degrees: frames turned upright")
     stats.corrupt_packets = reader.corrupt
     if reader.corrupt:
-        say(f"{src}: skipped {reader.corrupt} corrupt packet(s)")
+        notify(f"{src}: skipped {reader.corrupt} corrupt packet(s)")
 
 
 def iter_frames(
-    src: str | os.PathLike, transform: Transform | None = None, options: VideoOptions | None = None
+    src: str | os.PathLike,
+    transform: RgbaTransform | None = None,
+    options: VideoOptions | None = None,
 ) -> Iterator[tuple[float, np.ndarray]]:
     """Yield ``(t, rgba)`` for each upright frame of ``src`` in ``start``..``end``,
     through ``transform`` when given. Only ``start``/``end``/``notify`` of ``options`` apply."""
@@ -223,7 +225,7 @@ def iter_frames(
             rgba = item.rgba if transform is None else check_frame(transform(item.rgba, item.t))
             yield item.t, rgba
         if reader.corrupt:
-            say(options, stats, f"{src}: skipped {reader.corrupt} corrupt packet(s)")
+            notify(options, stats, f"{src}: skipped {reader.corrupt} corrupt packet(s)")
 
 
 def render_sheet(
@@ -237,7 +239,7 @@ def render_sheet(
     notes: tuple[str, ...] = (),
 ) -> Stats:
     """Write ``dst`` from frames ``render_at(i / fps)``, ``i = 0 .. ceil(duration * fps) - 1``
-    (a blank sheet's, or a still's: :class:`marblevideo.marbler.SheetFrames`),
+    (a blank sheet's, or a still's: :class:`marblevideo.marbler.SheetSource`),
     telling ``notes`` first.
 
     Constant frame rate (time base 1/fps for integer rates), no audio but
@@ -257,10 +259,10 @@ def render_sheet(
         check_output(dst, options.overwrite)
     stats = Stats()
     for note in notes:
-        say(options, stats, note)
+        notify(options, stats, note)
     rate = rate_fraction(fps)
     count = int(np.ceil(duration * fps - 1e-9))
-    render = SheetRenderer(render_at, plan.pix_fmt == "yuv420p")
+    render = SheetStage(render_at, plan.pix_fmt == "yuv420p")
 
     def produce() -> Iterator[VideoItem]:
         items = (VideoItem(None, i, 1, i / fps) for i in range(count))
@@ -277,7 +279,7 @@ def render_sheet(
         video_writer(dst, plan, options, stats) as writer,
         library_logs(options.verbose),
     ):
-        audio = {} if sound is None else sound.plan(plan, options, notifier(options, stats))
+        audio = {} if sound is None else sound.plan(plan, options, job_notify(options, stats))
         stats.audio = next(iter(audio.values()), "none")
         run_stages(writer, plan, options, produce, render, setup, count)
     stats.seconds = time.monotonic() - began

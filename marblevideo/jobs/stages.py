@@ -131,7 +131,7 @@ def _transform(
     transform: Callable[[VideoItem], Callable[[], None] | None],
     bar: Progress,
 ) -> None:
-    """Transform each frame in order, keeping one frame in flight: a frame's
+    """RgbaTransform each frame in order, keeping one frame in flight: a frame's
     finish is called after the next frame has been started."""
     flight: list = []  # (item, finish or None), in order; one frame among them
 

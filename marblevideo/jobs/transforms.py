@@ -80,18 +80,18 @@ def check_frame(rgba) -> np.ndarray:
     return np.ascontiguousarray(rgba)
 
 
-class FrameMarbler:
+class TransformStage:
     """The transform stage of :func:`~marblevideo.jobs.pipeline.transcode`: one
     decoded item marbled in place, as I420 planes where the transform and output
     allow (:attr:`planar`), else as RGBA; returns the function that finishes a
     frame in flight, or None."""
 
-    def __init__(self, transform, out_matrix: YuvMatrix | None, options: VideoOptions, say):
-        self.transform, self.out_matrix, self.options, self.say = (
+    def __init__(self, transform, out_matrix: YuvMatrix | None, options: VideoOptions, notify):
+        self.transform, self.out_matrix, self.options, self.notify = (
             transform,
             out_matrix,
             options,
-            say,
+            notify,
         )
         planar = isinstance(transform, PlanarTransform) and out_matrix is not None
         self.planar = planar
@@ -107,7 +107,7 @@ class FrameMarbler:
         if self.first and options.size is not None and options.fit is None:
             note = stretch_note(item.shape[::-1], tuple(options.size))
             if note:
-                self.say(note)
+                self.notify(note)
         self.first = False
         if item.i420 is not None:
             args = (item.i420, item.t, item.matrix, self.out_matrix)
@@ -123,7 +123,7 @@ class FrameMarbler:
         return lambda: setattr(item, "rgba", check_frame(started()))
 
 
-class SheetRenderer:
+class SheetStage:
     """The transform stage of :func:`~marblevideo.jobs.pipeline.render_sheet`: each
     item's frame rendered at its time, as I420 (BT.601, limited range) where the
     source and output allow."""

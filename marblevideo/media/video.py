@@ -118,9 +118,9 @@ class Span:
         return float((self.bounds[2] - self.bounds[0]) * time_base) if self.bounds else 0.0
 
 
-def say(options: VideoOptions, stats: Stats, message: str) -> None:
-    """Note ``message`` in ``stats`` and tell it (``options.notify``, else stderr
-    unless quiet)."""
+def notify(options: VideoOptions, stats: Stats, message: str) -> None:
+    """A job's one-line notice: noted in ``stats`` and told (``options.notify``, else
+    stderr unless quiet)."""
     stats.notes.append(message)
     if options.notify is not None:
         options.notify(message)
@@ -128,10 +128,10 @@ def say(options: VideoOptions, stats: Stats, message: str) -> None:
         print(f"marblevideo: {message}", file=sys.stderr, flush=True)
 
 
-def notifier(options: VideoOptions, stats: Stats) -> Callable[[str], None]:
-    """The one-line notice function of a job: ``options.notify`` or stderr, noted in
-    ``stats``."""
-    return lambda message: say(options, stats, message)
+def job_notify(options: VideoOptions, stats: Stats) -> Callable[[str], None]:
+    """:func:`notify` bound to a job's ``options`` and ``stats``: the ``notify(message)``
+    handed to its parts."""
+    return lambda message: notify(options, stats, message)
 
 
 def check_range(start: float | None, end: float | None) -> None:

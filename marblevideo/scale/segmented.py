@@ -36,7 +36,7 @@ from marblevideo.media.formats import is_local
 from marblevideo.media.inputs import Input, classify, name_kind
 from marblevideo.media.output import check_output
 from marblevideo.media.progress import Progress, progress_mode
-from marblevideo.media.video import Stats, VideoOptions, notifier
+from marblevideo.media.video import Stats, VideoOptions, job_notify
 from marblevideo.recipe import Recipe
 from marblevideo.scale.cluster import RayPool, SerialPool, require_ray
 from marblevideo.signals.follow import check as check_signals
@@ -154,8 +154,8 @@ def render_split(
         require_ray()
     parts = plan_segments(src, segments)
     if segments and len(parts) < segments:
-        say = notifier(opts, Stats())
-        say(f"{src}: {segments} segments asked; its keyframes allow {len(parts)}")
+        notify = job_notify(opts, Stats())
+        notify(f"{src}: {segments} segments asked; its keyframes allow {len(parts)}")
     job = SegmentJob(str(source.path.resolve()), recipe, _shared(opts, plan))
     make_pool = partial(RayPool, jobs, device) if cluster == "ray" else partial(SerialPool, device)
     stats = _run_segments(make_pool, job, parts, (src, dst), plan, opts)
@@ -189,9 +189,9 @@ def _run_segments(make_pool, job: SegmentJob, parts: list[Segment], src_dst, pla
         notes = run_calls(pool, calls, parts, progress_mode(opts.progress, opts.quiet))
         pool.close()  # the workers' part is done: the join runs here
         pool = None
-        say = notifier(opts, Stats())
+        notify = job_notify(opts, Stats())
         for note in notes:
-            say(note)
+            notify(note)
         pieces = [(Path(p), s.origin) for p, s in zip(paths, parts, strict=True)]
         stats = join_segments(src, pieces, dst, plan, opts)
         stats.notes[:0] = notes
