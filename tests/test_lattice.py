@@ -194,10 +194,12 @@ def animated(**extra) -> dict:
 
 
 def test_video_frames_use_the_lattice_unless_turned_off(walker):
-    assert Marbler(animated(), walker).transform().lattice
-    assert not Marbler(animated(), walker, lattice=False).transform().lattice
-    assert not Marbler(animated(lattice=False), walker).transform().lattice
-    assert not Marbler(recipe_of(SCENES["drop edge"][0]), walker).transform().lattice  # static
+    assert Marbler(animated(), walker).transform().route.lattice
+    assert not Marbler(animated(), walker, lattice=False).transform().route.lattice
+    assert not Marbler(animated(lattice=False), walker).transform().route.lattice
+    assert (
+        not Marbler(recipe_of(SCENES["drop edge"][0]), walker).transform().route.lattice
+    )  # static
 
 
 def test_stills_walk_every_subsample():

@@ -144,7 +144,7 @@ def test_a_static_recipe_keeps_its_maps_from_the_first_frame(tmp_path):
     for recipe, expect_static in ((static, True), (RECIPE, False)):
         marbler = Marbler(recipe, fresh_renderer())  # fresh: no table filled before
         transform = marbler.transform()
-        assert transform.static is expect_static
+        assert transform.route.static is expect_static
         for t, image in iter_frames(clip):
             ours = transform(image, t)
             assert marbler.renderer.last_reused is expect_static  # animated: new maps

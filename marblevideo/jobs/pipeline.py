@@ -27,22 +27,18 @@ Conventions
   for the RGBA <-> YUV conversions. With a chroma-subsampled ``pix_fmt``
   (yuv420p) an odd width or height is padded by one replicated edge pixel, and
   a one-line notice says so.
-- A transform may also offer ``transform.i420(planes, t, src, dst) -> planes``
-  (:class:`PlanarTransform`):
-  the frame as I420 planes ``(y, u, v)`` (:mod:`marblevideo.media.yuv`; views of the
-  decoded frame's buffers, rows possibly padded: read them, do not keep them)
-  with colours in the :class:`~marblevideo.media.yuv.YuvMatrix` ``src``, the result as
-  I420 in ``dst``, packed or as planes, in arrays of its own (a packed result
-  is encoded without a copy). With ``transform.i420_start(planes, t, src, dst)
-  -> finish`` as well (:class:`PlanarStart`), the pipeline keeps one frame in
-  flight: it starts frame n + 1 before calling frame n's ``finish()``, which returns what ``i420``
-  would have, so a device renders while the host prepares the next frame
-  (:meth:`marblevideo.marbler.FrameTransform.i420_start`); the planes stay the
-  pipeline's until ``finish`` returns. ``transform.rgba_start(rgba, t) ->
-  finish`` (:class:`RgbaStart`) does the same for frames that go the RGBA way.
-  It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
-  a supported matrix, when the output is yuv420p of even size. The marbler
-  warps the planes themselves when ``src`` and ``dst`` are the same matrix
+- A transform may also be a :class:`~marblevideo.jobs.transforms.PipelinedTransform`
+  (as :meth:`marblevideo.marbler.Marbler.transform`'s is): the pipeline keeps one
+  frame in flight, starting frame n + 1 before it finishes frame n, so a device
+  renders while the host prepares the next frame; and where it is ``planar`` it
+  takes the frame as I420 planes ``(y, u, v)`` (:mod:`marblevideo.media.yuv`)
+  with colours in the input's :class:`~marblevideo.media.yuv.YuvMatrix` and gives
+  packed I420 in the output's. Which way frames go is the job's
+  :class:`~marblevideo.jobs.route.Route`, decided once
+  (:func:`~marblevideo.jobs.route.video_route`): I420 for every frame that is
+  8-bit 4:2:0, upright and even-sized, with a supported matrix, when the output
+  is yuv420p of even size. The marbler
+  warps the planes themselves when the input and output matrices are the same
   (the usual case: the output keeps the input's tags), else it converts on
   the OpenCL device; either way neither swscale conversion runs. Luma differs
   from the RGBA path by a level or two (swscale rounds with less precision);
@@ -75,11 +71,16 @@ import numpy as np
 
 from marblevideo.errors import UsageError
 from marblevideo.jobs.retime import rate_fraction, retimed
+from marblevideo.jobs.route import sheet_route, video_route
 from marblevideo.jobs.stages import Writer, run_stages
 from marblevideo.jobs.transforms import (
+    PipelinedSource,
+    PipelinedTransform,
     SheetStage,
     TransformStage,
     check_frame,
+    pipelined,
+    sheet_source,
 )
 from marblevideo.media.decode import Reader, estimate_frames, open_input
 from marblevideo.media.encode import COLOR_FIELDS, OutputPlan, audio_plan, plan_output
@@ -97,17 +98,16 @@ from marblevideo.media.video import (
     job_notify,
     notify,
 )
-from marblevideo.media.yuv import YuvMatrix
 
 RgbaTransform = Callable[[np.ndarray, float], np.ndarray]
-"""``transform(rgba, t) -> rgba``; it may also be a :class:`PlanarTransform`, a
-:class:`PlanarStart` and a :class:`RgbaStart` (see the module)."""
+"""``transform(rgba, t) -> rgba``, or a
+:class:`~marblevideo.jobs.transforms.PipelinedTransform` (see the module)."""
 
 
 def transcode(
     src: str | os.PathLike | Input,
     dst: str | os.PathLike,
-    transform: RgbaTransform,
+    transform: RgbaTransform | PipelinedTransform,
     options: VideoOptions | None = None,
     *,
     plan: OutputPlan | None = None,
@@ -118,17 +118,16 @@ def transcode(
     ``src`` is a file, an image sequence, ``-`` (standard input) or a URL, by
     name or classified (:class:`~marblevideo.media.inputs.Input`); ``dst`` a
     file, an image sequence or ``-`` (standard output, in ``options.format``).
-    With ``options.fps`` the frame rate is converted (:mod:`marblevideo.jobs.retime`);
-    for an image sequence it is the rate the images are read at instead.
+    With ``options.fps`` the frame rate is converted (:mod:`marblevideo.jobs.retime`),
+    or an image sequence read at it.
 
     Raises UsageError (bad options, output = input), OutputExistsError,
     MediaError (unreadable input, encoder failure); exceptions from
     ``transform`` and KeyboardInterrupt propagate, leaving no output file.
-    ``plan`` is :func:`plan_output`'s for ``dst`` and ``options``, where the
-    caller has checked them and the output already. ``pts_origin``: see
-    :class:`~marblevideo.media.decode.Reader` (segments of a split render).
+    ``plan``: :func:`plan_output`'s, where the caller has checked the options and
+    output. ``pts_origin``: :class:`~marblevideo.media.decode.Reader`'s (segments).
     """
-    options = options or VideoOptions()
+    transform, options = pipelined(transform), options or VideoOptions()
     began = time.monotonic()
     source = classify(src)
     if plan is None:
@@ -140,8 +139,9 @@ def transcode(
         own, audio = _audio(container, sound, dst, plan, options, stats)
         vin = container.streams.video[0]
         colors = {k: getattr(vin.codec_context, k) for k in COLOR_FIELDS}
-        marble = TransformStage(transform, _out_matrix(colors, plan, options), options, notify)
-        reader = Reader(container, options.start, options.end, own, marble.planar, pts_origin)
+        route = video_route(transform, colors, plan, options.size)
+        marble = TransformStage(transform, route, options.size, options.fit, notify)
+        reader = Reader(container, options.start, options.end, own, route.planar, pts_origin)
         clock = _Clock(vin, None if source.kind == "sequence" else options.fps)
 
         def produce() -> Iterator[VideoItem | AudioItem]:
@@ -175,14 +175,6 @@ def _audio(container, sound, dst, plan: OutputPlan, options: VideoOptions, stats
     encoders = set(audio.values()) - {"copy"}
     stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
     return own, audio
-
-
-def _out_matrix(colors: dict, plan: OutputPlan, options: VideoOptions) -> YuvMatrix | None:
-    """The colours of an I420 result (the input's tags), or None where the output
-    cannot take I420 frames (another pix_fmt, an odd size)."""
-    if plan.pix_fmt != "yuv420p" or (options.size and any(v % 2 for v in options.size)):
-        return None
-    return YuvMatrix.of(colors["colorspace"], colors["color_range"])
 
 
 class _Clock:
@@ -230,7 +222,7 @@ def iter_frames(
 
 def render_sheet(
     dst: str | os.PathLike,
-    render_at: Callable[[float], np.ndarray],
+    render_at: Callable[[float], np.ndarray] | PipelinedSource,
     duration: float,
     fps: float,
     options: VideoOptions | None = None,
@@ -244,11 +236,10 @@ def render_sheet(
 
     Constant frame rate (time base 1/fps for integer rates), no audio but
     ``options.soundtrack``, colours untagged (BT.601, limited range). For a
-    yuv420p output, ``render_at.i420(t, matrix)``, where present, gives the frame
-    as I420 in ``matrix`` (None where it cannot, e.g. odd sizes) and swscale is
-    skipped; ``render_at.i420_start(t, matrix)``, where present, is used instead:
-    it returns a function giving that frame (or None where it cannot), called once
-    the next frame is started. ``plan`` as for :func:`transcode`.
+    yuv420p output from a ``planar``
+    :class:`~marblevideo.jobs.transforms.PipelinedSource`, the frames are made as
+    I420 (:func:`~marblevideo.jobs.route.sheet_route`), one in flight, and swscale
+    is skipped. ``plan`` as for :func:`transcode`.
     """
     options = options or VideoOptions()
     if duration <= 0 or fps <= 0:
@@ -262,7 +253,8 @@ def render_sheet(
         notify(options, stats, note)
     rate = rate_fraction(fps)
     count = int(np.ceil(duration * fps - 1e-9))
-    render = SheetStage(render_at, plan.pix_fmt == "yuv420p")
+    source = sheet_source(render_at)
+    render = SheetStage(source, sheet_route(source.planar, source.moves, plan))
 
     def produce() -> Iterator[VideoItem]:
         items = (VideoItem(None, i, 1, i / fps) for i in range(count))

@@ -1,75 +1,94 @@
-"""The transform stage of a video render (:mod:`marblevideo.jobs.pipeline`): what
-a transform may offer besides ``transform(rgba, t) -> rgba`` (the protocols
-below, probed once per job), and the adapters that call it on one decoded item
-in place, checking what it returns.
+"""The transform stage of a video render (:mod:`marblevideo.jobs.pipeline`): what it
+calls (a :class:`PipelinedTransform` of an input's frames, a :class:`PipelinedSource`
+of a sheet's), and the stages that call it on one decoded item in place, the way
+the job's :class:`~marblevideo.jobs.route.Route` says.
 
-I420 frames are packed or as planes (:func:`marblevideo.media.yuv.split_i420`);
-an RGBA frame is a C-contiguous ``(h, w, 4)`` uint8 array. A ``*_start`` method
-returns the function that finishes its frame, called once the next frame has
-been started (one frame in flight).
+I420 frames travel as planes ``(y, u, v)`` (:mod:`marblevideo.media.yuv`; views of
+the decoded frame's buffers: read them, do not keep them) and come back packed;
+an RGBA frame is a C-contiguous ``(h, w, 4)`` uint8 array. A ``start_*`` method
+returns the function that finishes its frame, called once the next frame has been
+started (one frame in flight): the planes stay the pipeline's until then.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable
-from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from marblevideo.media.video import VideoItem, VideoOptions
-from marblevideo.media.yuv import YuvMatrix, split_i420
+from marblevideo.jobs.route import Route
+from marblevideo.media.video import VideoItem
+from marblevideo.media.yuv import YuvMatrix
 from marblevideo.recipe.frame import stretch_note
 
-
-@runtime_checkable
-class PlanarTransform(Protocol):
-    """A transform that takes and gives 8-bit 4:2:0 frames (see the module)."""
-
-    def i420(self, planes, t: float, src: YuvMatrix, dst: YuvMatrix): ...
+Finish = Callable[[], np.ndarray]
 
 
-@runtime_checkable
-class PlanarStart(Protocol):
-    """:class:`PlanarTransform` with one frame in flight: returns a function that
-    finishes the frame."""
+class PipelinedTransform:
+    """A transform of an input's frames with one frame in flight. ``planar``: it
+    takes I420 frames too; ``moves``: the recipe is animated; ``lattice``: it may
+    interpolate animated frames from a lattice (what :func:`~marblevideo.jobs.route.video_route`
+    decides the route from). A plain function ``(rgba, t) -> rgba`` is one through
+    :func:`pipelined`."""
 
-    def i420_start(self, planes, t: float, src: YuvMatrix, dst: YuvMatrix) -> Callable: ...
+    planar = False
+    moves = True
+    lattice = False
 
+    def start_rgba(self, rgba: np.ndarray, t: float, route: Route) -> Finish:
+        """Start the frame ``rgba`` at ``t``: the function that returns it marbled."""
+        raise NotImplementedError
 
-@runtime_checkable
-class RgbaStart(Protocol):
-    """A transform with one RGBA frame in flight: returns a function that finishes it."""
-
-    def rgba_start(self, rgba: np.ndarray, t: float) -> Callable[[], np.ndarray]: ...
-
-
-@runtime_checkable
-class PlanarSource(Protocol):
-    """Frames of a blank sheet (:func:`~marblevideo.jobs.pipeline.render_sheet`)
-    that can come as I420."""
-
-    def i420(self, t: float, matrix: YuvMatrix) -> np.ndarray | None: ...
+    def start_i420(self, planes, t: float, src: YuvMatrix, route: Route) -> Finish:
+        """Start the I420 ``planes`` (colours in ``src``) at ``t``: the function that
+        returns the frame as packed I420 in ``route.i420``."""
+        raise NotImplementedError
 
 
-@runtime_checkable
-class PlanarSourceStart(Protocol):
-    """:class:`PlanarSource` with one frame in flight."""
+class _Function(PipelinedTransform):
+    """A plain ``(rgba, t) -> rgba`` function, run as its frame starts."""
 
-    def i420_start(self, t: float, matrix: YuvMatrix) -> Callable | None: ...
+    def __init__(self, function: Callable[[np.ndarray, float], np.ndarray]):
+        self.function = function
 
-
-def check_i420(planes):
-    try:
-        split_i420(planes)
-    except ValueError as exc:
-        raise ValueError(f"transform.i420 returned no I420 frame: {exc}") from None
-    return planes
+    def start_rgba(self, rgba: np.ndarray, t: float, route: Route) -> Finish:
+        result = self.function(rgba, t)
+        return lambda: result
 
 
-def _started(finish, kind: str) -> Callable[[], object]:
-    if not callable(finish):
-        raise TypeError(f"transform.{kind}_start must return a function")
-    return finish
+def pipelined(transform) -> PipelinedTransform:
+    """``transform`` as a :class:`PipelinedTransform` (a plain function wrapped)."""
+    return transform if isinstance(transform, PipelinedTransform) else _Function(transform)
+
+
+class PipelinedSource:
+    """The frames of a sheet (a blank sheet's or a still's), called as ``(t) -> rgba``;
+    ``planar``: :meth:`start_i420` makes them as I420; ``moves``: the recipe is
+    animated. A plain function ``(t) -> rgba`` is one through :func:`sheet_source`."""
+
+    planar = False
+    moves = True
+
+    def __call__(self, t: float) -> np.ndarray:
+        raise NotImplementedError
+
+    def start_i420(self, t: float, matrix: YuvMatrix) -> Finish:
+        """Start the frame at ``t``: the function that returns it as packed I420 in
+        ``matrix``."""
+        raise NotImplementedError
+
+
+class _SheetFunction(PipelinedSource):
+    def __init__(self, function: Callable[[float], np.ndarray]):
+        self.function = function
+
+    def __call__(self, t: float) -> np.ndarray:
+        return self.function(t)
+
+
+def sheet_source(render_at) -> PipelinedSource:
+    """``render_at`` as a :class:`PipelinedSource` (a plain function wrapped)."""
+    return render_at if isinstance(render_at, PipelinedSource) else _SheetFunction(render_at)
 
 
 def check_frame(rgba) -> np.ndarray:
@@ -80,74 +99,49 @@ def check_frame(rgba) -> np.ndarray:
     return np.ascontiguousarray(rgba)
 
 
+def _finished(finish, kind: str) -> Finish:
+    if not callable(finish):
+        raise TypeError(f"transform.start_{kind} must return a function")
+    return finish
+
+
 class TransformStage:
     """The transform stage of :func:`~marblevideo.jobs.pipeline.transcode`: one
-    decoded item marbled in place, as I420 planes where the transform and output
-    allow (:attr:`planar`), else as RGBA; returns the function that finishes a
-    frame in flight, or None."""
+    decoded item marbled in place, as I420 planes where the reader gave them (the
+    route's choice), else as RGBA; returns the function that finishes the frame.
+    ``size`` and ``fit`` (the options') say whether an input is stretched, which
+    the first frame notes through ``notify``."""
 
-    def __init__(self, transform, out_matrix: YuvMatrix | None, options: VideoOptions, notify):
-        self.transform, self.out_matrix, self.options, self.notify = (
-            transform,
-            out_matrix,
-            options,
-            notify,
-        )
-        planar = isinstance(transform, PlanarTransform) and out_matrix is not None
-        self.planar = planar
-        self.i420 = transform.i420 if planar else None
-        self.i420_start = (
-            transform.i420_start if planar and isinstance(transform, PlanarStart) else None
-        )
-        self.rgba_start = transform.rgba_start if isinstance(transform, RgbaStart) else None
+    def __init__(self, transform: PipelinedTransform, route: Route, size, fit, notify):
+        self.transform, self.route = transform, route
+        self.size, self.fit, self.notify = size, fit, notify
         self.first = True
 
-    def __call__(self, item: VideoItem) -> Callable[[], None] | None:
-        options = self.options
-        if self.first and options.size is not None and options.fit is None:
-            note = stretch_note(item.shape[::-1], tuple(options.size))
+    def __call__(self, item: VideoItem) -> Callable[[], None]:
+        if self.first and self.size is not None and self.fit is None:
+            note = stretch_note(item.shape[::-1], tuple(self.size))
             if note:
                 self.notify(note)
         self.first = False
         if item.i420 is not None:
-            args = (item.i420, item.t, item.matrix, self.out_matrix)
-            if self.i420_start is None:
-                item.i420 = check_i420(self.i420(*args))
-                return None
-            started = _started(self.i420_start(*args), "i420")
-            return lambda: setattr(item, "i420", check_i420(started()))
-        if self.rgba_start is None:
-            item.rgba = check_frame(self.transform(item.rgba, item.t))
-            return None
-        started = _started(self.rgba_start(item.rgba, item.t), "rgba")
+            started = self.transform.start_i420(item.i420, item.t, item.matrix, self.route)
+            started = _finished(started, "i420")
+            return lambda: setattr(item, "i420", started())
+        started = _finished(self.transform.start_rgba(item.rgba, item.t, self.route), "rgba")
         return lambda: setattr(item, "rgba", check_frame(started()))
 
 
 class SheetStage:
     """The transform stage of :func:`~marblevideo.jobs.pipeline.render_sheet`: each
-    item's frame rendered at its time, as I420 (BT.601, limited range) where the
-    source and output allow."""
+    item's frame made at its time by ``source``, as I420 in the route's matrix where
+    the route says so, else as RGBA."""
 
-    MATRIX = YuvMatrix.of(None, None)
-
-    def __init__(self, render_at, i420: bool):
-        self.render_at = render_at
-        self.planar = render_at.i420 if i420 and isinstance(render_at, PlanarSource) else None
-        self.start = None
-        if self.planar is not None and isinstance(render_at, PlanarSourceStart):
-            self.start = render_at.i420_start
+    def __init__(self, source: PipelinedSource, route: Route):
+        self.source, self.route = source, route
 
     def __call__(self, item: VideoItem) -> Callable[[], None] | None:
-        if self.start is not None:
-            started = self.start(item.t, self.MATRIX)
-            if started is not None:
-                started = _started(started, "i420")
-                return lambda: setattr(item, "i420", check_i420(started()))
-        planes = None
-        if self.planar is not None and self.start is None:
-            planes = self.planar(item.t, self.MATRIX)
-        if planes is not None:
-            item.i420 = check_i420(planes)
-        else:
-            item.rgba = check_frame(self.render_at(item.t))
+        if self.route.planar:
+            started = _finished(self.source.start_i420(item.t, self.route.i420), "i420")
+            return lambda: setattr(item, "i420", started())
+        item.rgba = check_frame(self.source(item.t))
         return None

@@ -13,7 +13,7 @@ import av
 import numpy as np
 
 from marblevideo.errors import UsageError
-from marblevideo.media.yuv import YuvMatrix, split_i420
+from marblevideo.media.yuv import YuvMatrix
 
 QUEUE_FRAMES = 4
 AUDIO_MODES = ("copy", "aac", "none")
@@ -86,8 +86,10 @@ class VideoItem:
     @property
     def shape(self) -> tuple[int, int]:
         """(height, width) of the frame."""
-        if self.i420 is not None:
-            return split_i420(self.i420)[0].shape
+        if isinstance(self.i420, np.ndarray):  # packed: the rows of Y, then U and V
+            return self.i420.shape[0] * 2 // 3, self.i420.shape[1]
+        if self.i420 is not None:  # planes (y, u, v)
+            return self.i420[0].shape
         return self.rgba.shape[:2]
 
 

@@ -29,7 +29,9 @@ from pathlib import Path
 
 from marblevideo.errors import MediaError, UsageError
 from marblevideo.jobs.pipeline import transcode
+from marblevideo.jobs.route import Route
 from marblevideo.jobs.segments import Segment, join_segments, plan_segments, segment_plan
+from marblevideo.jobs.transforms import PipelinedTransform
 from marblevideo.marbler import Marbler, RecipeLike, as_recipe
 from marblevideo.media.encode import plan_output
 from marblevideo.media.formats import is_local
@@ -55,30 +57,25 @@ class SegmentJob:
     options: dict  # VideoOptions fields of the encoder, size and walk
 
 
-class Primed:
+class Primed(PipelinedTransform):
     """A video transform whose first frame is preceded by one drawn at ``before``
     (and dropped): the renderer then knows the frame shown before it."""
 
-    def __init__(self, transform, before: float | None):
+    def __init__(self, transform: PipelinedTransform, before: float | None):
         self.transform, self.before = transform, before
+        self.planar, self.moves, self.lattice = transform.planar, transform.moves, transform.lattice
 
-    def __call__(self, frame, t: float):
-        return self.rgba_start(frame, t)()
-
-    def rgba_start(self, frame, t: float):
+    def start_rgba(self, frame, t: float, route: Route):
         if self.before is not None:
-            self.transform.rgba_start(frame, self.before)()
+            self.transform.start_rgba(frame, self.before, route)()
             self.before = None
-        return self.transform.rgba_start(frame, t)
+        return self.transform.start_rgba(frame, t, route)
 
-    def i420(self, planes, t: float, src, dst):
-        return self.i420_start(planes, t, src, dst)()
-
-    def i420_start(self, planes, t: float, src, dst):
+    def start_i420(self, planes, t: float, src, route: Route):
         if self.before is not None:
-            self.transform.i420_start(planes, self.before, src, dst)()
+            self.transform.start_i420(planes, self.before, src, route)()
             self.before = None
-        return self.transform.i420_start(planes, t, src, dst)
+        return self.transform.start_i420(planes, t, src, route)
 
 
 def render_segment(
