@@ -69,7 +69,6 @@ from pathlib import Path
 
 import numpy as np
 
-from marblevideo.errors import UsageError
 from marblevideo.jobs.retime import rate_fraction, retimed
 from marblevideo.jobs.route import sheet_route, video_route
 from marblevideo.jobs.stages import Writer, run_stages
@@ -232,7 +231,8 @@ def render_sheet(
 ) -> Stats:
     """Write ``dst`` from frames ``render_at(i / fps)``, ``i = 0 .. ceil(duration * fps) - 1``
     (a blank sheet's, or a still's: :class:`marblevideo.marbler.SheetSource`),
-    telling ``notes`` first.
+    telling ``notes`` first; ``duration`` and ``fps`` > 0 (as
+    :func:`marblevideo.jobs.options.video_options` checks).
 
     Constant frame rate (time base 1/fps for integer rates), no audio but
     ``options.soundtrack``, colours untagged (BT.601, limited range). For a
@@ -242,8 +242,6 @@ def render_sheet(
     is skipped. ``plan`` as for :func:`transcode`.
     """
     options = options or VideoOptions()
-    if duration <= 0 or fps <= 0:
-        raise UsageError(f"duration and fps must be positive, got {duration} s at {fps} fps")
     began = time.monotonic()
     if plan is None:
         plan = plan_output(dst, options)

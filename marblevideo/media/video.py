@@ -39,6 +39,7 @@ class VideoOptions:
     verbose: bool = False  # --verbose: the encoder libraries' and FFmpeg's own log lines
     format: str | None = None  # --format: the output format by name (needed for -o -)
     fps: float | None = None  # --fps: convert a video's rate; an image sequence's input rate
+    duration: float | None = None  # --duration: seconds written (a video's: from start)
     fit: str | None = None  # --fit stretch|crop|pad: an input of another aspect than --size
     soundtrack: str | None = None  # --soundtrack FILE: the output's audio (first sample at t = 0)
     exact_walk: bool = False  # --exact-walk: animated frames walk every subsample (no lattice)

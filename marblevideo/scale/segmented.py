@@ -23,11 +23,12 @@ import os
 import shutil
 import tempfile
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 
 from marblevideo.errors import MediaError, UsageError
+from marblevideo.jobs.options import as_options
 from marblevideo.jobs.pipeline import transcode
 from marblevideo.jobs.route import Route
 from marblevideo.jobs.segments import Segment, join_segments, plan_segments, segment_plan
@@ -45,7 +46,7 @@ from marblevideo.signals.follow import check as check_signals
 from marblevideo.signals.follow import follow
 
 CLUSTERS = ("serial", "ray")
-NOT_SPLIT = {"start": "--start", "end": "--end", "fps": "--fps"}
+NOT_SPLIT = {"start": "--start", "end": "--end", "duration": "--duration", "fps": "--fps"}
 
 
 @dataclass(frozen=True)
@@ -123,22 +124,21 @@ def render_split(
     segments: int | None = None,
     jobs: int | None = None,
     device: str | None = None,
-    **options,
+    options: VideoOptions | None = None,
+    **fields,
 ) -> Stats:
     """Render video ``src`` to ``dst`` in segments (see the module) on ``cluster``:
     "ray" (:class:`~marblevideo.scale.cluster.RayPool`: ``$RAY_ADDRESS``'s cluster or a
     local one, ``jobs`` workers) or "serial" (here, one segment after another).
-    ``segments``: how many to cut (default: one per about 45 s); ``options`` as
-    :func:`marblevideo.api.render_video`'s, but no ``start``, ``end`` or ``fps``.
+    ``segments``: how many to cut (default: one per about 45 s); ``options`` (or
+    ``fields``) as :func:`marblevideo.api.render_video`'s, but no ``start``, ``end``,
+    ``duration`` or ``fps``.
     Returns the joined output's :class:`~marblevideo.media.video.Stats`.
     Raises UsageError before any work; MediaError naming a segment that failed."""
     began = time.monotonic()
     if cluster not in CLUSTERS:
         raise UsageError(f"--cluster: expected one of {', '.join(CLUSTERS)}, got {cluster!r}")
-    names = {f.name for f in fields(VideoOptions)}
-    if set(options) - names:
-        raise UsageError(f"render_split: unknown options {', '.join(sorted(set(options) - names))}")
-    opts = VideoOptions(**options)
+    opts = options if options is not None else as_options(fields, "render_split")
     recipe = as_recipe(recipe)
     source = check_split(src, opts)
     check_signals(recipe, source)
