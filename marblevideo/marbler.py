@@ -137,7 +137,7 @@ class Marbler:
         ``animated``: a frame of a video or live session, which interpolates
         from a lattice when :attr:`lattice` allows and the recipe moves."""
         spec, geom = self.frame_at(image_size(image), time, size, view)
-        lattice = animated and self.lattice and self.recipe.is_animated
+        lattice = animated and frames_route(self.recipe.is_animated, self.lattice).lattice
         return self.renderer.render(spec, geom, image, static=static, lattice=lattice)
 
     def frame_at(self, input_size, time, size, view) -> tuple[FrameSpec, Geometry]:

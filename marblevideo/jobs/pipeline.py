@@ -86,6 +86,7 @@ from marblevideo.media.encode import COLOR_FIELDS, OutputPlan, audio_plan, plan_
 from marblevideo.media.encoders import library_logs
 from marblevideo.media.inputs import Input, classify
 from marblevideo.media.output import check_output
+from marblevideo.media.progress import progress_mode
 from marblevideo.media.sinks import video_writer
 from marblevideo.media.soundtrack import opened
 from marblevideo.media.video import (
@@ -158,7 +159,7 @@ def transcode(
             video_writer(dst, plan, options, stats, source.names) as writer,
             library_logs(options.verbose),
         ):
-            run_stages(writer, plan, options, produce, marble, setup, total)
+            run_stages(writer, plan, _progress(options), produce, marble, setup, total)
         _tell_reader(reader, source.name, stats, notify)
     stats.seconds = time.monotonic() - began
     return stats
@@ -174,6 +175,10 @@ def _audio(container, sound, dst, plan: OutputPlan, options: VideoOptions, stats
     encoders = set(audio.values()) - {"copy"}
     stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
     return own, audio
+
+
+def _progress(options: VideoOptions) -> str:
+    return progress_mode(options.progress, options.quiet)
 
 
 class _Clock:
@@ -271,6 +276,6 @@ def render_sheet(
     ):
         audio = {} if sound is None else sound.plan(plan, options, job_notify(options, stats))
         stats.audio = next(iter(audio.values()), "none")
-        run_stages(writer, plan, options, produce, render, setup, count)
+        run_stages(writer, plan, _progress(options), produce, render, setup, count)
     stats.seconds = time.monotonic() - began
     return stats
