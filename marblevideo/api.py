@@ -279,9 +279,8 @@ def render_video(
     source = classify(src)  # standard input: read to tell a still from a video
     if source.kind == "blank":
         blank_canvas(recipe)
-    if options is None:
-        options = as_options({**fields, "fps": fps, "duration": duration}, "render_video")
-    opts = video_options(source, options)
+    fields = {**fields, "fps": fps, "duration": duration}
+    opts = video_options(source, as_options(fields, "render_video", options))
     # the cheap checks first (the encoder is tried too): an exit during the build
     # below waits for it
     plan = plan_output(dst, opts)

@@ -26,9 +26,15 @@ def positive(flag: str, value: float | None) -> None:
         raise UsageError(f"{flag}: must be > 0, got {value:g}")
 
 
-def as_options(fields: dict, caller: str) -> VideoOptions:
-    """:class:`VideoOptions` of an API call's keywords; UsageError naming ``caller``
-    and the keywords it does not know."""
+def as_options(fields: dict, caller: str, options: VideoOptions | None = None) -> VideoOptions:
+    """:class:`VideoOptions` of an API call's keywords (``options`` where it was
+    given one instead); UsageError naming ``caller`` and the keywords it does not
+    know, or both given."""
+    given = sorted(k for k, v in fields.items() if v is not None)
+    if options is not None:
+        if given:
+            raise UsageError(f"{caller}: give options or keywords ({', '.join(given)}), not both")
+        return options
     names = {f.name for f in dataclasses.fields(VideoOptions)}
     unknown = sorted(set(fields) - names)
     if unknown:

@@ -138,7 +138,7 @@ def render_split(
     began = time.monotonic()
     if cluster not in CLUSTERS:
         raise UsageError(f"--cluster: expected one of {', '.join(CLUSTERS)}, got {cluster!r}")
-    opts = options if options is not None else as_options(fields, "render_split")
+    opts = as_options(fields, "render_split", options)
     recipe = as_recipe(recipe)
     source = check_split(src, opts)
     check_signals(recipe, source)
