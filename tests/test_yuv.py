@@ -18,8 +18,10 @@ from tolerances import (
 )
 
 from marblevideo.jobs.pipeline import render_sheet, transcode
-from marblevideo.jobs.transforms import PipelinedSource, PipelinedTransform
+from marblevideo.jobs.route import SHEET_MATRIX, sheet_route, video_route
+from marblevideo.jobs.transforms import PipelinedSource, PipelinedTransform, pipelined
 from marblevideo.marbler import Marbler
+from marblevideo.media.encode import plan_output
 from marblevideo.media.video import VideoOptions
 from marblevideo.media.yuv import YuvMatrix, packed_i420, split_i420
 from marblevideo.recipe import parse_recipe
@@ -587,3 +589,26 @@ def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, plan
             for i, frame in enumerate(container.decode(video=0)):
                 want = rgba_to_i420(marbler.render(None, i / 10, size), MATRICES[0])
                 assert np.abs(frame.to_ndarray().astype(int) - want).max() <= 1
+
+
+def test_a_jobs_route_is_decided_once_from_transform_input_plan_and_recipe(tmp_path, renderer):
+    """I420 (in the input's tags) only for a planar transform, a yuv420p output and
+    an even size; a lattice only for a recipe that moves and allows it; tables for
+    one that does not; a blank sheet's I420 is BT.601 limited."""
+    colors = {"colorspace": 1, "color_range": 2}  # BT.709, full range
+    mp4 = plan_output(tmp_path / "o.mp4", VideoOptions())
+    yuv444 = plan_output(tmp_path / "o.mkv", VideoOptions(pix_fmt="yuv444p"))
+    keyed = {**RECIPE["ops"][2], "alpha": {"keys": [{"t": 0, "v": 0}, {"t": 1, "v": 60}]}}
+    moves = {**RECIPE, "ops": [*RECIPE["ops"][:2], keyed]}
+    moving = Marbler(moves, renderer).transform()
+    route = video_route(moving, colors, mp4, None)
+    assert route.i420 == YuvMatrix.of(1, 2) and route.lattice and not route.static
+    assert not video_route(moving, colors, mp4, (96, 63)).planar  # odd output
+    assert not video_route(moving, colors, yuv444, None).planar
+    assert not video_route(pipelined(lambda rgba, t: rgba), colors, mp4, None).planar
+    route = video_route(Marbler(RECIPE, renderer).transform(), colors, mp4, None)
+    assert route.static and not route.lattice
+    exact = Marbler(moves, renderer, lattice=False).transform()
+    assert not video_route(exact, colors, mp4, None).lattice
+    assert sheet_route(True, True, mp4).i420 == YuvMatrix.of(None, None) == SHEET_MATRIX
+    assert not sheet_route(False, True, mp4).planar and not sheet_route(True, True, yuv444).planar
