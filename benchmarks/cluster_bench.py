@@ -11,12 +11,12 @@ import time
 from pathlib import Path
 
 from marblevideo import api
-from marblevideo.cluster import RayPool, SerialPool, connect, require_ray
+from marblevideo.jobs.segments import join_segments, plan_segments
 from marblevideo.media.encode import plan_output
-from marblevideo.media.segments import join_segments, plan_segments
 from marblevideo.media.video import VideoOptions
 from marblevideo.recipe import parse_recipe
-from marblevideo.segmented import SegmentJob, render_segment, render_split
+from marblevideo.scale.cluster import RayPool, SerialPool, connect, require_ray
+from marblevideo.scale.segmented import SegmentJob, render_segment, render_split
 
 ENCODER = {"preset": "veryfast", "crf": 23}
 

@@ -70,7 +70,7 @@ def bench(
     from marblevideo.cli.arguments import parse_size
     from marblevideo.live.session import LiveSession
     from marblevideo.live.sources import TestPattern
-    from marblevideo.server import Server
+    from marblevideo.serve.server import Server
 
     w, h = parse_size(size)
     with tempfile.TemporaryDirectory() as tmp:

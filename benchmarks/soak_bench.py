@@ -267,7 +267,7 @@ def trace(args) -> dict:
     from marblevideo.design.live import LiveDesign
     from marblevideo.live.session import LiveSession
     from marblevideo.live.sources import TestPattern
-    from marblevideo.server import Server
+    from marblevideo.serve.server import Server
 
     tracemalloc.start(10)
     w, h = map(int, args.size.split("x"))

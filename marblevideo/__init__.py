@@ -27,8 +27,8 @@ _LAZY = {
     "render_still": "marblevideo.api",
     "render_video": "marblevideo.api",
     "marbled_frames": "marblevideo.api",
-    "run_batch": "marblevideo.batch",
-    "render_split": "marblevideo.segmented",
+    "run_batch": "marblevideo.scale.batch",
+    "render_split": "marblevideo.scale.segmented",
 }
 
 

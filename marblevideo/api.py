@@ -15,11 +15,12 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import UsageError
+from marblevideo.jobs.options import VIDEO_KINDS, as_options, positive, video_options
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.marbler import (
     Marbler,
     RecipeLike,
-    SheetFrames,
+    SheetSource,
     as_recipe,
     blank_canvas,
     blank_size,
@@ -36,14 +37,12 @@ from marblevideo.media.output import atomic_output, check_output
 from marblevideo.media.progress import Progress
 from marblevideo.media.tiled import TILED_ABOVE, can_stream, check_still_size, write_bands
 from marblevideo.media.tiled import band_rows as tiled_rows
+from marblevideo.media.video import VideoOptions
 from marblevideo.opencl.program import Structure
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.outputs.svg import VectorStats, design_svg, pdf_writer
 from marblevideo.reference.motion import rest_note
-from marblevideo.signals.follow import check_soundtrack, follow
-
-#: The kinds of input (:mod:`marblevideo.media.inputs`) marbled frame by frame.
-VIDEO_KINDS = ("video", "sequence")
+from marblevideo.signals.follow import follow
 
 
 def render_image(
@@ -96,6 +95,7 @@ def render_still(
     given ``band_rows``) are rendered in bands and written progressively, so
     their size is not bounded by memory; ``progress`` (a
     :class:`~marblevideo.media.progress.Progress` mode) reports the bands."""
+    positive("--fps", rate)
     recipe, ext, to_stdout = as_recipe(recipe), still_extension(dst, format), is_stdio(dst)
     source = classify(src)  # standard input: read to tell a still from a video
     dst, source = _check_still(source, recipe, dst, ext, size, overwrite)
@@ -238,15 +238,6 @@ def render_uv_pass(
     return dst
 
 
-def _video_options(options: dict):
-    from marblevideo.media.video import VideoOptions
-
-    try:
-        return VideoOptions(**options)
-    except TypeError as exc:
-        raise UsageError(f"render_video: {exc}") from None
-
-
 def render_video(
     src: str | os.PathLike | None,
     recipe: RecipeLike,
@@ -256,7 +247,8 @@ def render_video(
     duration: float | None = None,
     fps: float | None = None,
     renderer: Renderer | None = None,
-    **options,
+    options: VideoOptions | None = None,
+    **fields,
 ):
     """Write a video (any output of :mod:`marblevideo.media.formats`: a file, a GIF,
     an image sequence ``name_%04d.png``, or ``-`` for standard output in
@@ -270,8 +262,9 @@ def render_video(
     - ``src=None``: the recipe's process on a blank sheet;
 
     the last two for ``duration`` seconds (default: the animation plus one
-    second) at ``fps`` (default 30). ``options`` are the fields of
-    :class:`marblevideo.media.video.VideoOptions` (codec, crf, preset, pix_fmt,
+    second) at ``fps`` (default 30). ``options`` is a
+    :class:`~marblevideo.media.video.VideoOptions` (as the command line builds), or
+    ``fields`` are its fields as keywords (codec, crf, preset, pix_fmt,
     encoder_opts, audio, start, end, size, fit, format, overwrite, quiet,
     progress, verbose, notify, soundtrack: a sound file that replaces the
     input's audio, its first sample at t = 0, and that parameters following
@@ -279,54 +272,43 @@ def render_video(
     instead of interpolating from a lattice). ``renderer`` as for
     :func:`render_still`.
     Returns the job's :class:`marblevideo.media.video.Stats`."""
+    from marblevideo.jobs.pipeline import transcode
     from marblevideo.media.encode import plan_output
-    from marblevideo.media.pipeline import transcode
 
     recipe = as_recipe(recipe)
     source = classify(src)  # standard input: read to tell a still from a video
     if source.kind == "blank":
         blank_canvas(recipe)
-    opts = _video_options({**options, "fps": fps})
-    _video_range(source, opts, duration)
+    fields = {**fields, "fps": fps, "duration": duration}
+    opts = video_options(source, as_options(fields, "render_video", options))
     # the cheap checks first (the encoder is tried too): an exit during the build
     # below waits for it
     plan = plan_output(dst, opts)
     check_output(dst, opts.overwrite, source.names)
     source = source.checked()
-    if opts.soundtrack is not None:
-        check_soundtrack(opts.soundtrack)
-    recipe = follow(recipe, source, opts.soundtrack)
+    recipe = follow(recipe, source, opts.soundtrack)  # the soundtrack checked there
     marbler = Marbler(recipe, renderer, device=device, fit=opts.fit, lattice=not opts.exact_walk)
     # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, source.kind != "blank"))
     if source.kind in VIDEO_KINDS:
         return transcode(source, dst, marbler.transform(opts.size), opts, plan=plan)
-    return _animated(source, marbler, dst, duration, fps, opts, plan)
+    return _animated(source, marbler, dst, opts, plan)
 
 
-def _video_range(source: Input, opts, duration: float | None) -> None:
-    """``duration`` of a video input as its ``end``; refuse a range without one."""
-    if source.kind in VIDEO_KINDS and duration is not None:
-        if opts.end is not None:
-            raise UsageError("--duration and --end: give one")
-        opts.end = (opts.start or 0) + duration
-    if source.kind not in VIDEO_KINDS and (opts.start is not None or opts.end is not None):
-        raise UsageError("--start and --end apply to a video input; use --duration")
-
-
-def _animated(source: Input, marbler: Marbler, dst, duration, fps, opts, plan):
+def _animated(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
     """A still (or a blank sheet) animated by the recipe for ``duration`` seconds
     (default: the animation plus one second) at ``fps`` (default 30)."""
-    from marblevideo.media.pipeline import render_sheet
+    from marblevideo.jobs.pipeline import render_sheet
 
     recipe = marbler.recipe
     image = None if source.kind == "blank" else read_image(source)[0]
-    duration = recipe.end_time() + 1.0 if duration is None else duration
+    duration = recipe.end_time() + 1.0 if opts.duration is None else opts.duration
     size = opts.size or (blank_size(recipe) if image is None else image.shape[1::-1])
-    frames = SheetFrames(marbler, tuple(size), image)
+    frames = SheetSource(marbler, tuple(size), image)
     note = fit_note(recipe, None if image is None else image.shape[1::-1], opts.size, opts.fit)
     notes = (note,) if note else ()
-    return render_sheet(dst, frames, duration, fps or DEFAULT_FPS, opts, plan=plan, notes=notes)
+    fps = opts.fps or DEFAULT_FPS
+    return render_sheet(dst, frames, duration, fps, opts, plan=plan, notes=notes)
 
 
 def marbled_frames(
@@ -340,8 +322,8 @@ def marbled_frames(
 ):
     """Iterate ``(t, rgba)``: the frames of video ``src`` marbled at their own times
     (audio signals follow its audio)."""
-    from marblevideo.media.pipeline import iter_frames
+    from marblevideo.jobs.pipeline import iter_frames
 
     marbler = Marbler(follow(as_recipe(recipe), src), device=device)
-    opts = _video_options({"start": start, "end": end})
+    opts = VideoOptions(start=start, end=end)
     yield from iter_frames(src, marbler.transform(size), opts)

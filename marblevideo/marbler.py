@@ -1,6 +1,6 @@
 """A recipe bound to an OpenCL renderer (:class:`Marbler`), and its forms for the
-video pipeline: an input's frames (:class:`VideoTransform`) and a still's or a
-blank sheet's (:class:`SheetFrames`).
+video pipeline: an input's frames (:class:`FrameTransform`) and a still's or a
+blank sheet's (:class:`SheetSource`).
 
 Times are seconds; images are RGBA uint8 arrays (H, W, 4). A still is rendered
 at ``time`` or, without it, at the recipe's end (the finished design).
@@ -15,7 +15,9 @@ from collections.abc import Callable
 import numpy as np
 
 from marblevideo.errors import RecipeError, UsageError
-from marblevideo.media.yuv import YuvMatrix, split_i420
+from marblevideo.jobs.route import Route, frames_route
+from marblevideo.jobs.transforms import PipelinedSource, PipelinedTransform
+from marblevideo.media.yuv import YuvMatrix
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
 from marblevideo.recipe.frame import (
@@ -61,6 +63,11 @@ def fit_note(
     if input_size is not None:
         return stretch_note(input_size, size)
     return canvas_note(blank_canvas(recipe), size)
+
+
+def image_size(image: np.ndarray | None) -> tuple[int, int] | None:
+    """(w, h) of an image, or None for none (a blank sheet)."""
+    return None if image is None else (image.shape[1], image.shape[0])
 
 
 class Marbler:
@@ -129,18 +136,14 @@ class Marbler:
         ``static``: later frames repeat these values (see :class:`Renderer`);
         ``animated``: a frame of a video or live session, which interpolates
         from a lattice when :attr:`lattice` allows and the recipe moves."""
-        spec, geom = self.frame(image, time, size, view)
-        lattice = animated and self.lattice and self.recipe.is_animated
+        spec, geom = self.frame_at(image_size(image), time, size, view)
+        lattice = animated and frames_route(self.recipe.is_animated, self.lattice).lattice
         return self.renderer.render(spec, geom, image, static=static, lattice=lattice)
 
-    def frame(self, image, time, size, view) -> tuple[FrameSpec, Geometry]:
+    def frame_at(self, input_size, time, size, view) -> tuple[FrameSpec, Geometry]:
         """The recipe's values at ``time`` (default: its end) and the geometry of a
-        render of ``image`` (or of the blank sheet) at ``size``."""
-        input_size = None if image is None else (image.shape[1], image.shape[0])
-        return self.frame_for(input_size, time, size, view)
-
-    def frame_for(self, input_size, time, size, view) -> tuple[FrameSpec, Geometry]:
-        """:meth:`frame` for an input of ``input_size`` (w, h), or None."""
+        render at ``size`` of an input of ``input_size`` (w, h), or of the blank
+        sheet (None)."""
         t = self.recipe.end_time() if time is None else float(time)
         if size is None:
             size = input_size or blank_size(self.recipe)
@@ -158,73 +161,78 @@ class Marbler:
         rows: int | None = None,
     ):
         """Iterate the frame of :meth:`render` as bands of ``rows`` rows, top to bottom
-        (see :mod:`marblevideo.media.tiled`); each band is (n, w, 4) RGBA uint8."""
-        from marblevideo.media.tiled import bands
+        (default :func:`marblevideo.media.tiled.band_rows`; see
+        :func:`marblevideo.recipe.geometry.bands`); each band is (n, w, 4) RGBA uint8."""
+        from marblevideo.media.tiled import band_rows
+        from marblevideo.recipe.geometry import bands
 
-        spec, geom = self.frame(image, time, size, view)
+        spec, geom = self.frame_at(image_size(image), time, size, view)
+        rows = rows or band_rows(geom.out_w)
         for _, band in bands(lambda g: self.renderer.render(spec, g, image), geom, rows):
             yield band
 
-    def transform(self, size: tuple[int, int] | None = None) -> VideoTransform:
+    def transform(self, size: tuple[int, int] | None = None) -> FrameTransform:
         """(frame, t) -> marbled frame for the video pipeline, with its I420 form."""
-        return VideoTransform(self, size)
+        return FrameTransform(self, size)
 
 
-class VideoTransform:
-    """A :class:`Marbler` as the video pipeline's transform, at output ``size``
-    (default: the input's).
+class FrameTransform(PipelinedTransform):
+    """A :class:`Marbler` as the video pipeline's transform of an input's frames, at
+    output ``size`` (default: the input's): called as ``(rgba, t) -> rgba``, or
+    with one frame in flight on the device, RGBA or I420 (converted on the
+    device, or warped plane by plane: see :mod:`marblevideo.jobs.pipeline`), the
+    way the job's :class:`~marblevideo.jobs.route.Route` says."""
 
-    Called as ``(rgba, t) -> rgba``; :meth:`i420` takes and gives 8-bit 4:2:0
-    frames and converts on the device, which the pipeline prefers when the
-    input and output are both yuv420p (see :mod:`marblevideo.media.pipeline`).
-    """
+    planar = True
 
     def __init__(self, marbler: Marbler, size: tuple[int, int] | None = None):
         self.marbler, self.size = marbler, size
-        #: a static recipe lands every frame where the first did: its maps are kept
-        #: from the first frame on (see :class:`~marblevideo.opencl.renderer.Renderer`)
-        self.static = not marbler.recipe.is_animated
-        #: animated frames interpolate from a lattice (see :class:`Marbler`)
-        self.lattice = marbler.lattice and not self.static
+        self.moves = marbler.recipe.is_animated
+        self.lattice = marbler.lattice
+        #: the route of frames called one by one (``transform(rgba, t)``)
+        self.route = frames_route(self.moves, self.lattice)
 
     def __call__(self, frame: np.ndarray, t: float) -> np.ndarray:
-        return self.rgba_start(frame, t)()
+        return self.start_rgba(frame, t, self.route)()
 
-    def rgba_start(self, frame: np.ndarray, t: float) -> Callable[[], np.ndarray]:
-        """The call queued on the device: returns a function that waits for the
-        frame and returns it (see :meth:`i420_start`)."""
-        spec, geom = self.marbler.frame(frame, t, self.size, None)
-        return self.marbler.renderer.render(
-            spec, geom, frame, static=self.static, wait=False, lattice=self.lattice
-        )
-
-    def i420(self, planes, t: float, src: YuvMatrix, dst: YuvMatrix) -> np.ndarray:
-        """The marbled frame of I420 ``planes``, packed or as planes (colours in
-        ``src``), as packed I420 in ``dst``."""
-        return self.i420_start(planes, t, src, dst)()
-
-    def i420_start(
-        self, planes, t: float, src: YuvMatrix, dst: YuvMatrix
-    ) -> Callable[[], np.ndarray]:
-        """:meth:`i420` queued on the device: returns a function that waits for the
+    def start_rgba(self, frame: np.ndarray, t: float, route: Route) -> Callable[[], np.ndarray]:
+        """The frame queued on the device: returns a function that waits for the
         frame and returns it. The video pipeline queues the next frame before
         waiting, so the device works while the host prepares that frame."""
-        planes = split_i420(planes)
+        spec, geom = self.marbler.frame_at(image_size(frame), t, self.size, None)
+        return self.marbler.renderer.render(
+            spec, geom, frame, static=route.static, wait=False, lattice=route.lattice
+        )
+
+    def start_i420(
+        self, planes, t: float, src: YuvMatrix, route: Route
+    ) -> Callable[[], np.ndarray]:
+        """:meth:`start_rgba` for I420 ``planes`` (y, u, v) in ``src``; the frame
+        comes back as packed I420 in ``route.i420``."""
         input_size = planes[0].shape[::-1]
-        spec, geom = self.marbler.frame_for(input_size, t, self.size, None)
+        spec, geom = self.marbler.frame_at(input_size, t, self.size, None)
         return self.marbler.renderer.render_i420(
-            spec, geom, planes, src, dst, static=self.static, wait=False, lattice=self.lattice
+            spec,
+            geom,
+            planes,
+            src,
+            route.i420,
+            static=route.static,
+            wait=False,
+            lattice=route.lattice,
         )
 
 
-class SheetFrames:
+class SheetSource(PipelinedSource):
     """A :class:`Marbler`'s frames at ``size`` over one still ``image`` (RGBA), or
     over the blank sheet when it is None, as the frames of a video: called as
-    ``(t) -> rgba``; :meth:`i420` renders and converts on the device (blank
-    sheet only)."""
+    ``(t) -> rgba``; a blank sheet of even size is :attr:`planar`: its frames are
+    rendered and converted to I420 on the device."""
 
     def __init__(self, marbler: Marbler, size: tuple[int, int], image: np.ndarray | None = None):
         self.marbler, self.size, self.image = marbler, size, image
+        self.moves = marbler.recipe.is_animated
+        self.planar = image is None and size[0] % 2 == 0 and size[1] % 2 == 0
         #: a recipe that does not move makes one frame, given again
         self.still: np.ndarray | None = None
 
@@ -232,20 +240,12 @@ class SheetFrames:
         if self.still is not None:
             return self.still
         frame = self.marbler.render(self.image, t, self.size, animated=True)
-        if not self.marbler.recipe.is_animated:
+        if not self.moves:
             self.still = frame
         return frame
 
-    def i420(self, t: float, matrix: YuvMatrix) -> np.ndarray | None:
-        """The frame at ``t`` as I420 in ``matrix``; None where it cannot (odd
-        sizes, an image)."""
-        started = self.i420_start(t, matrix)
-        return None if started is None else started()
-
-    def i420_start(self, t: float, matrix: YuvMatrix) -> Callable[[], np.ndarray] | None:
-        """:meth:`i420` queued on the device: a function that waits for the frame
-        and returns it, or None where it cannot."""
-        if self.image is not None or self.still is not None or self.size[0] % 2 or self.size[1] % 2:
-            return None
-        spec, geom = self.marbler.frame_for(None, t, self.size, None)
+    def start_i420(self, t: float, matrix: YuvMatrix) -> Callable[[], np.ndarray]:
+        """The frame at ``t`` queued on the device: a function that waits for it and
+        returns it as packed I420 in ``matrix``."""
+        spec, geom = self.marbler.frame_at(None, t, self.size, None)
         return self.marbler.renderer.render_i420(spec, geom, None, None, matrix, wait=False)

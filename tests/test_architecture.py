@@ -1,6 +1,6 @@
-"""The package's shape: imports run one way (cli -> live/api -> render -> recipe ->
-ops), no cycles, no private name used outside its module (the size limits are
-test_code_limits.py's)."""
+"""The package's shape: imports run one way (cli -> live/api -> render -> jobs ->
+recipe -> ops, media), no cycles, no private name used outside its module (the size
+limits are test_code_limits.py's)."""
 
 from __future__ import annotations
 
@@ -18,30 +18,31 @@ LAYERS = {
     "errors": 0,
     "limits": 0,
     "bundled": 0,
+    "version": 0,
+    "media": 1,
     "ops": 1,
     "recipe": 2,
-    "media": 3,
+    "jobs": 3,
     "reference": 4,
     "signals": 4,
     "pstmarble": 4,
-    "recipefile": 4,
     "controllers": 5,
     "opencl": 5,
     "outputs": 5,
     "marbler": 6,
     "api": 7,
-    "cluster": 8,
-    "server": 8,
+    "serve": 8,
     "live": 9,
-    "batch": 9,
-    "segmented": 9,
+    "scale": 9,
     "design": 10,
     "cli": 11,
     "gallery": 12,
-    "version": 0,
     "__init__": 13,
     "__main__": 13,
 }
+#: Files and codecs know nothing of recipes and ops: what reaches up from media/
+#: (rendering geometry, colours as codes) lives in recipe/.
+MEDIA_NEVER_IMPORTS = ("recipe", "ops", "jobs", "opencl", "reference", "marbler")
 
 
 def _modules() -> dict[str, ast.Module]:
@@ -103,6 +104,17 @@ def test_imports_run_one_way():
                 continue
             if here != there and LAYERS[there] >= LAYERS[here]:
                 wrong.append(f"{name} -> {target}")
+    assert not wrong, wrong
+
+
+def test_media_knows_no_recipe_nor_op():
+    wrong = [
+        f"{name} -> {target}"
+        for name, targets in _graph().items()
+        if _part(name) == "media"
+        for target in targets
+        if _part(target) in MEDIA_NEVER_IMPORTS
+    ]
     assert not wrong, wrong
 
 

@@ -16,7 +16,7 @@ from helpers import files, one_line, subprocess_env
 from interrupts import interrupt, wait_until
 
 from marblevideo import api
-from marblevideo.batch import MANIFEST_NAME, run_batch
+from marblevideo.scale.batch import MANIFEST_NAME, run_batch
 
 pytestmark = pytest.mark.tier("integration")
 

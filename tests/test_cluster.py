@@ -15,10 +15,10 @@ from helpers import ROOT, files, one_line
 from recipes import BRIEF
 
 from marblevideo import api
-from marblevideo.batch import MANIFEST_NAME
-from marblevideo.cluster import CRASH_ENV, CRASH_MARKER_ENV, RayPool, connect
-from marblevideo.media.segments import plan_segments
-from marblevideo.segmented import render_split
+from marblevideo.jobs.segments import plan_segments
+from marblevideo.scale.batch import MANIFEST_NAME
+from marblevideo.scale.cluster import CRASH_ENV, CRASH_MARKER_ENV, RayPool, connect
+from marblevideo.scale.segmented import render_split
 
 pytestmark = pytest.mark.tier("integration")
 

@@ -196,10 +196,12 @@ def animated(**extra) -> dict:
 
 
 def test_video_frames_use_the_lattice_unless_turned_off(walker):
-    assert Marbler(animated(), walker).transform().lattice
-    assert not Marbler(animated(), walker, lattice=False).transform().lattice
-    assert not Marbler(animated(lattice=False), walker).transform().lattice
-    assert not Marbler(recipe_of(SCENES["drop edge"][0]), walker).transform().lattice  # static
+    assert Marbler(animated(), walker).transform().route.lattice
+    assert not Marbler(animated(), walker, lattice=False).transform().route.lattice
+    assert not Marbler(animated(lattice=False), walker).transform().route.lattice
+    assert (
+        not Marbler(recipe_of(SCENES["drop edge"][0]), walker).transform().route.lattice
+    )  # static
 
 
 def test_stills_walk_every_subsample():
@@ -274,7 +276,7 @@ def test_segments_keep_exact_walk(tmp_path):
     from clips import write_clip
 
     from marblevideo.api import render_video
-    from marblevideo.segmented import render_split
+    from marblevideo.scale.segmented import render_split
 
     clip = write_clip(tmp_path / "in.mp4", size=(W, H), frames=12, audio=False)
     ops = [*SCENES["thin filament"][0], *animated()["ops"]]

@@ -21,7 +21,7 @@ from marblevideo.errors import UsageError
 from marblevideo.live.playback import Clock
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import Latest, TestPattern
-from marblevideo.server import Server
+from marblevideo.serve.server import Server
 
 pytestmark = pytest.mark.tier("integration")
 
@@ -317,7 +317,7 @@ def test_the_designers_api_over_a_live_session(session):
 def test_a_save_is_known_by_its_stamp_and_another_programs_change_is_seen(session):
     """The page's save takes the recipe it saved, known by the file's stamp (taken
     before the rename), so a change another program makes right after is reloaded."""
-    from marblevideo.recipefile import file_stamp, save_stamped
+    from marblevideo.serve.recipefile import file_stamp, save_stamped
 
     path = session.recipe_path
     doc = {**RECIPE, "ops": RECIPE["ops"][1:]}

@@ -22,7 +22,8 @@ from PIL import Image
 from tolerances import KERNEL_LEVELS, KERNEL_SHARE
 
 from marblevideo import api
-from marblevideo.media.pipeline import iter_frames
+from marblevideo.errors import UsageError
+from marblevideo.jobs.pipeline import iter_frames
 from marblevideo.recipe import load_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
@@ -441,3 +442,42 @@ def test_options_that_do_not_apply(cli, tmp_path, clip, recipe, args, fault):
     assert proc.returncode == 2, proc.stderr
     assert fault in one_line(proc)
     assert files(tmp_path) == before  # refused before any work: nothing written
+
+
+# ------------------------------------------------- option values: one check, CLI and API alike
+
+
+@pytest.mark.parametrize(
+    "src, args, keywords, fault",
+    [
+        (None, ["--start", "1"], {"start": 1.0},
+         "--start: a blank sheet has no timeline; use --duration"),
+        ("img.png", ["--end", "1"], {"end": 1.0},
+         "--end: img.png, a still has no timeline; use --duration"),
+        ("in.mp4", ["--duration", "1", "--end", "2"], {"duration": 1.0, "end": 2.0},
+         "--duration and --end: give one"),
+        ("in.mp4", ["--fps", "0"], {"fps": 0.0}, "--fps: must be > 0, got 0"),
+        (None, ["--duration", "-1"], {"duration": -1.0}, "--duration: must be > 0, got -1"),
+    ],
+)  # fmt: skip
+def test_option_values_are_refused_alike_by_the_cli_and_the_api(
+    cli, tmp_path, clip, recipe, src, args, keywords, fault
+):
+    """One check of the options' values against the input: the command line and
+    render_video refuse in the same words, before any work."""
+    cv2.imwrite(str(tmp_path / "img.png"), np.zeros((16, 16, 3), np.uint8))
+    before = files(tmp_path)
+    source = [] if src is None else [src]
+    proc = cli(*source, "--ops", "r.json", "-o", "o.mp4", *args)
+    assert proc.returncode == 2 and one_line(proc) == f"marblevideo: {fault}"
+    with pytest.raises(UsageError) as err:
+        api.render_video(
+            None if src is None else tmp_path / src, recipe, tmp_path / "o.mp4", **keywords
+        )  # fmt: skip
+    assert str(err.value) == fault.replace("img.png", str(tmp_path / "img.png"))
+    assert files(tmp_path) == before
+
+
+def test_unknown_keywords_are_refused(tmp_path, clip, recipe):
+    with pytest.raises(UsageError, match="render_video: unknown options bogus"):
+        api.render_video(clip, recipe, tmp_path / "o.mp4", bogus=1)

@@ -17,7 +17,7 @@ from marblevideo.ops import LAYOUTS, REGISTRY, recipe_types
 from marblevideo.ops.base import slider_range, slider_spec, spec_range
 from marblevideo.ops.gestures import GESTURES, evaluate, gesture_env, make_op
 from marblevideo.recipe import parse_recipe
-from marblevideo.server import static_file
+from marblevideo.serve.server import static_file
 
 pytestmark = pytest.mark.tier("fast")
 

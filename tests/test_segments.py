@@ -15,8 +15,8 @@ from helpers import files, one_line, subprocess_env
 from recipes import BRIEF
 
 from marblevideo import api
-from marblevideo.media.segments import plan_segments
-from marblevideo.segmented import render_split
+from marblevideo.jobs.segments import plan_segments
+from marblevideo.scale.segmented import render_split
 
 pytestmark = pytest.mark.tier("integration")
 
@@ -139,7 +139,7 @@ def test_without_ray_the_cluster_asks_for_the_extra(tmp_path):
 
 def test_the_core_never_imports_ray():
     code = (
-        "import sys, marblevideo.segmented, marblevideo.batch, marblevideo.cli.render; "
+        "import sys, marblevideo.scale.segmented, marblevideo.scale.batch, marblevideo.cli.render; "
         "print('ray' in sys.modules)"
     )
     proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True,

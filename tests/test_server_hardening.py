@@ -26,7 +26,7 @@ from marblevideo.design.live import LiveDesign
 from marblevideo.limits import MAX_DEPTH
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import TestPattern
-from marblevideo.server import Server, json_depth
+from marblevideo.serve.server import Server, json_depth
 
 pytestmark = pytest.mark.tier("fast")
 

@@ -22,10 +22,10 @@ from sound import (
     write_wav,
 )
 
+from marblevideo.jobs.pipeline import iter_frames
 from marblevideo.marbler import Marbler
-from marblevideo.media.pipeline import iter_frames
 from marblevideo.recipe import load_recipe
-from marblevideo.segmented import render_split
+from marblevideo.scale.segmented import render_split
 from marblevideo.signals import AudioSignals, analyse
 from marblevideo.signals.follow import follow
 

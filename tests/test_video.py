@@ -18,9 +18,9 @@ from helpers import subprocess_env
 from tolerances import LOSSY_MEAN, LOSSY_MEAN_RESAMPLED
 
 from marblevideo.errors import MediaError, OutputExistsError, UsageError
-from marblevideo.media.pipeline import iter_frames, render_sheet, transcode
+from marblevideo.jobs.pipeline import iter_frames, render_sheet, transcode
+from marblevideo.jobs.stages import Stages, Stopped
 from marblevideo.media.progress import Progress
-from marblevideo.media.stages import Stages, Stopped
 from marblevideo.media.video import QUEUE_FRAMES, VideoOptions
 
 pytestmark = pytest.mark.tier("fast")
@@ -383,7 +383,7 @@ def test_queues_are_bounded():
 
 INTERRUPT_SCRIPT = """
 import sys, time
-from marblevideo.media.pipeline import transcode
+from marblevideo.jobs.pipeline import transcode
 from marblevideo.media.video import VideoOptions
 def slow(rgba, t):
     print("frame", flush=True)

@@ -18,7 +18,7 @@ from helpers import fresh_renderer
 from tolerances import KERNEL_LEVELS, KERNEL_SHARE
 
 from marblevideo.api import marbled_frames
-from marblevideo.media.pipeline import iter_frames
+from marblevideo.jobs.pipeline import iter_frames
 from marblevideo.recipe import load_recipe
 from marblevideo.recipe.frame import geometry
 from marblevideo.reference import render as reference_render
@@ -147,7 +147,7 @@ def test_a_static_recipe_keeps_its_maps_from_the_first_frame(tmp_path):
     for recipe, expect_static in ((static, True), (RECIPE, False)):
         marbler = Marbler(recipe, fresh_renderer())  # fresh: no table filled before
         transform = marbler.transform()
-        assert transform.static is expect_static
+        assert transform.route.static is expect_static
         for t, image in iter_frames(clip):
             ours = transform(image, t)
             assert marbler.renderer.last_reused is expect_static  # animated: new maps

@@ -17,12 +17,16 @@ from tolerances import (
     SWSCALE_MEAN,
 )
 
+from marblevideo.jobs.pipeline import render_sheet, transcode
+from marblevideo.jobs.route import SHEET_MATRIX, sheet_route, video_route
+from marblevideo.jobs.transforms import PipelinedSource, PipelinedTransform, pipelined
 from marblevideo.marbler import Marbler
-from marblevideo.media.pipeline import render_sheet, transcode
+from marblevideo.media.encode import plan_output
 from marblevideo.media.video import VideoOptions
-from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, packed_i420, split_i420
+from marblevideo.media.yuv import YuvMatrix, packed_i420, split_i420
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
+from marblevideo.recipe.geometry import chroma_geometry, coded_spec
 from marblevideo.reference import render as reference_render
 from marblevideo.reference.yuv import i420_to_rgba, render_planes, rgba_to_i420
 
@@ -331,7 +335,7 @@ def test_render_i420_refuses_odd_sizes(renderer, out_size, planes_shape):
 
 
 class RgbaOnly:
-    """The same marbling without an i420 method: the pipeline's swscale path."""
+    """The same marbling as a plain function: the pipeline's swscale path."""
 
     def __init__(self, transform):
         self.transform = transform
@@ -403,14 +407,20 @@ def test_i420_planes_that_are_not_a_frame_are_refused(planes):
         split_i420(planes)
 
 
-class PlanesBack:
-    """An i420 transform that returns the decoded planes as planes, in arrays of its own."""
+class PlanesBack(PipelinedTransform):
+    """A planar transform that returns the decoded planes as planes, in arrays of its own."""
 
-    def __call__(self, rgba, t):
-        return rgba
+    planar = True
 
-    def i420(self, planes, t, src, dst):
+    def start_rgba(self, rgba, t, route):
+        return lambda: rgba
+
+    def i420(self, planes):
         return tuple(plane.copy() for plane in planes)
+
+    def start_i420(self, planes, t, src, route):
+        result = self.i420(planes)
+        return lambda: result
 
 
 @pytest.mark.parametrize("size", [(128, 64), (90, 34)], ids=["packed-rows", "padded-rows"])
@@ -453,24 +463,23 @@ class Logged:
 
 
 class InFlight(Logged, PlanesBack):
-    """PlanesBack with i420_start."""
+    """PlanesBack, logged."""
 
-    def i420_start(self, planes, t, src, dst):
-        return self.started(t, self.i420(planes, t, src, dst))
-
-
-class RgbaInFlight(Logged):
-    """An RGBA transform (no i420) with rgba_start."""
-
-    def __call__(self, rgba, t):
-        return 255 - rgba
-
-    def rgba_start(self, rgba, t):
-        return self.started(t, self(rgba, t))
+    def start_i420(self, planes, t, src, route):
+        return self.started(t, self.i420(planes))
 
 
-class BlankInFlight(Logged):
-    """Blank frames, as render_sheet's render_at, with i420 and i420_start."""
+class RgbaInFlight(Logged, PipelinedTransform):
+    """An RGBA transform (not planar), logged."""
+
+    def start_rgba(self, rgba, t, route):
+        return self.started(t, 255 - rgba)
+
+
+class BlankInFlight(Logged, PipelinedSource):
+    """Blank frames, as render_sheet's render_at, planar, logged."""
+
+    planar = True
 
     def __init__(self):
         super().__init__()
@@ -479,11 +488,11 @@ class BlankInFlight(Logged):
     def __call__(self, t):
         return i420_to_rgba(self.planes, MATRICES[0])
 
-    def i420(self, t, matrix):
+    def i420(self, t):
         return self.planes + int(t * 10)
 
-    def i420_start(self, t, matrix):
-        return self.started(t, self.i420(t, matrix))
+    def start_i420(self, t, matrix):
+        return self.started(t, self.i420(t))
 
 
 #: frames n + 1 and n: started, then finished, one frame in flight
@@ -497,8 +506,8 @@ IN_FLIGHT_LOG += [("start", 3), ("finish", 2), ("finish", 3)]
     ids=["i420", "rgba"],
 )
 def test_pipeline_keeps_one_frame_in_flight(tmp_path, flight, alone, i420_frames):
-    """With i420_start (or rgba_start) the pipeline starts frame n + 1 before it
-    finishes frame n, and the file is the one the plain call writes: frames,
+    """A pipelined transform (planar or RGBA) has frame n + 1 started before frame
+    n is finished, and the file is the one the plain call writes: frames,
     timing and audio alike."""
     clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=4, audio=True)
     transform = flight()
@@ -517,14 +526,14 @@ def test_blank_video_keeps_one_frame_in_flight(tmp_path):
     stats = render_sheet(tmp_path / "blank.mkv", render_at, 0.4, 10, _lossless())
     assert stats.frames == stats.i420_frames == 4 and render_at.log == IN_FLIGHT_LOG
     for i, frame in enumerate(_planes(tmp_path / "blank.mkv")):
-        assert np.array_equal(frame, render_at.i420(i / 10, MATRICES[0]))
+        assert np.array_equal(frame, render_at.i420(i / 10))
 
 
 class StartsBadly(PlanesBack):
-    def i420_start(self, planes, t, src, dst):
-        return self.i420(planes, t, src, dst)  # the frame, not a function
+    def start_i420(self, planes, t, src, route):
+        return self.i420(planes)  # the frame, not a function
 
-    def rgba_start(self, rgba, t):
+    def start_rgba(self, rgba, t, route):
         return rgba
 
 
@@ -532,7 +541,7 @@ class StartsBadly(PlanesBack):
 def test_a_start_that_returns_no_function_is_refused(tmp_path, kind):
     clip = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=2, audio=False)
     options = _lossless(pix_fmt="yuv444p") if kind == "rgba" else _lossless()
-    with pytest.raises(TypeError, match=f"{kind}_start must return a function"):
+    with pytest.raises(TypeError, match=f"start_{kind} must return a function"):
         transcode(clip, tmp_path / "out.mp4", StartsBadly(), options)
     assert not (tmp_path / "out.mp4").exists()
 
@@ -582,3 +591,26 @@ def test_blank_sheet_video_is_rendered_as_i420_where_it_can(tmp_path, size, plan
             for i, frame in enumerate(container.decode(video=0)):
                 want = rgba_to_i420(marbler.render(None, i / 10, size), MATRICES[0])
                 assert np.abs(frame.to_ndarray().astype(int) - want).max() <= 1
+
+
+def test_a_jobs_route_is_decided_once_from_transform_input_plan_and_recipe(tmp_path, renderer):
+    """I420 (in the input's tags) only for a planar transform, a yuv420p output and
+    an even size; a lattice only for a recipe that moves and allows it; tables for
+    one that does not; a blank sheet's I420 is BT.601 limited."""
+    colors = {"colorspace": 1, "color_range": 2}  # BT.709, full range
+    mp4 = plan_output(tmp_path / "o.mp4", VideoOptions())
+    yuv444 = plan_output(tmp_path / "o.mkv", VideoOptions(pix_fmt="yuv444p"))
+    keyed = {**RECIPE["ops"][2], "alpha": {"keys": [{"t": 0, "v": 0}, {"t": 1, "v": 60}]}}
+    moves = {**RECIPE, "ops": [*RECIPE["ops"][:2], keyed]}
+    moving = Marbler(moves, renderer).transform()
+    route = video_route(moving, colors, mp4, None)
+    assert route.i420 == YuvMatrix.of(1, 2) and route.lattice and not route.static
+    assert not video_route(moving, colors, mp4, (96, 63)).planar  # odd output
+    assert not video_route(moving, colors, yuv444, None).planar
+    assert not video_route(pipelined(lambda rgba, t: rgba), colors, mp4, None).planar
+    route = video_route(Marbler(RECIPE, renderer).transform(), colors, mp4, None)
+    assert route.static and not route.lattice
+    exact = Marbler(moves, renderer, lattice=False).transform()
+    assert not video_route(exact, colors, mp4, None).lattice
+    assert sheet_route(True, True, mp4).i420 == YuvMatrix.of(None, None) == SHEET_MATRIX
+    assert not sheet_route(False, True, mp4).planar and not sheet_route(True, True, yuv444).planar

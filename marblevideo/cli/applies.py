@@ -1,5 +1,7 @@
 """Which options a job takes: every option given applies to the job the files
-make, or the command exits 2 saying why (no option is ignored in silence).
+make, or the command exits 2 saying why (no option is ignored in silence). What
+an option's value may be for the job's input (a range, a rate, a length) the job
+checks itself (:mod:`marblevideo.jobs.options`).
 
 Jobs: a *still* (an image output; from an image, a blank sheet, or a frame of
 a video), a *video* (a video output; from a video, a still, or a blank sheet),
@@ -56,15 +58,10 @@ def check_options(args: argparse.Namespace) -> tuple[str, str]:
     else:
         if args.time is not None:
             raise UsageError(f"--time: makes stills; for {out} use --start and --end")
-        if source in ("blank", "image"):
+        soundtrack = getattr(args, "soundtrack", None)
+        if source in ("blank", "image") and args.audio is not None and soundtrack is None:
             what = "a blank sheet" if source == "blank" else f"{args.input}, a still"
-            for name, flag in (("start", "--start"), ("end", "--end")):
-                if getattr(args, name) is not None:
-                    raise UsageError(f"{flag}: {what} has no timeline; use --duration")
-            if args.audio is not None and getattr(args, "soundtrack", None) is None:
-                raise UsageError(f"--audio: {what} has no audio (give one with --soundtrack)")
-        if args.duration is not None and args.end is not None:
-            raise UsageError("--duration and --end: give one")
+            raise UsageError(f"--audio: {what} has no audio (give one with --soundtrack)")
     if args.fit is not None:
         if job in ("vectors", "uv"):
             raise UsageError(f"--fit: places a raster's input or canvas; {out} is not one")

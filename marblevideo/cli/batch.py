@@ -1,5 +1,5 @@
 """``marblevideo batch PATTERN... --ops RECIPE -o TEMPLATE``: many inputs through
-one recipe (:mod:`marblevideo.batch`)."""
+one recipe (:mod:`marblevideo.scale.batch`)."""
 
 from __future__ import annotations
 
@@ -54,7 +54,7 @@ def build_parser() -> Parser:
 
 
 def batch_command(argv: list[str]) -> int:
-    from marblevideo.batch import run_batch
+    from marblevideo.scale.batch import run_batch
 
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose)

@@ -109,8 +109,8 @@ def design_command(argv: list[str]) -> int:
     from marblevideo.design.backdrop import open_backdrop
     from marblevideo.design.session import DesignSession
     from marblevideo.recipe import load_recipe
-    from marblevideo.recipefile import DEFAULT_CANVAS, RecipeFile
-    from marblevideo.server import Server
+    from marblevideo.serve.recipefile import DEFAULT_CANVAS, RecipeFile
+    from marblevideo.serve.server import Server
 
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose)

@@ -261,7 +261,7 @@ class _Live:
 def _preview(session: LiveSession, port: int):
     """The designer's page, live, served on ``port`` (started; its URL printed)."""
     from marblevideo.design.live import LiveDesign
-    from marblevideo.server import Server
+    from marblevideo.serve.server import Server
 
     server = Server(LiveDesign(session), port)  # the designer, live
     server.start()

@@ -27,6 +27,7 @@ from marblevideo.cli.vectors import render_extra
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.media.formats import is_stdio, output_kinds
+from marblevideo.media.video import VideoOptions
 from marblevideo.recipe.frame import FIT_MODES
 from marblevideo.version import __version__
 
@@ -230,7 +231,7 @@ def _render_parser() -> argparse.ArgumentParser:
     return p
 
 
-def _say(message: str) -> None:
+def _notify(message: str) -> None:
     print(f"marblevideo: {message}", file=sys.stderr)
 
 
@@ -241,22 +242,17 @@ def _where(dst) -> str:
 def render_command(argv: list[str]) -> int:
     from marblevideo.api import as_recipe, render_still
     from marblevideo.signals.follow import check as check_signals
-    from marblevideo.signals.follow import check_soundtrack, follow
+    from marblevideo.signals.follow import follow
 
     args = _render_parser().parse_args(argv)
     configure_logging(args.verbose)
     recipe = as_recipe(args.ops)  # validated before any input is opened
     size = parse_size(args.size) if args.size else None
     job, _ = check_options(args)
-    if args.soundtrack is not None:
-        check_soundtrack(args.soundtrack)
     check_signals(recipe, args.input, args.soundtrack)  # refusals before any work
     if job in ("vectors", "uv") or args.tolerance is not None:
         recipe = follow(recipe, args.input, args.soundtrack)
         return render_extra(args, recipe, size, Path(args.output).suffix.lower())
-    for flag, value in (("--fps", args.fps), ("--duration", args.duration)):
-        if value is not None and not value > 0:
-            raise UsageError(f"{flag}: must be > 0, got {value:g}")
     if job == "still":
         dst = render_still(
             args.input,
@@ -271,7 +267,7 @@ def render_command(argv: list[str]) -> int:
             overwrite=args.overwrite,
             device=args.device,
             progress="off" if args.quiet else args.progress,
-            notify=None if args.quiet else _say,
+            notify=None if args.quiet else _notify,
             soundtrack=args.soundtrack,
         )
         if not args.quiet:
@@ -280,7 +276,7 @@ def render_command(argv: list[str]) -> int:
     if args.view:
         raise UsageError(f"{args.output}: --view makes stills; give an image output")
     if args.cluster:
-        from marblevideo.segmented import render_split
+        from marblevideo.scale.segmented import render_split
 
         render = functools.partial(
             render_split, cluster=args.cluster, segments=args.segments, jobs=args.jobs
@@ -288,17 +284,18 @@ def render_command(argv: list[str]) -> int:
     else:
         from marblevideo.api import render_video
 
-        render = functools.partial(render_video, duration=args.duration, fps=args.fps)
+        render = render_video
     stats = render(
-        args.input, recipe, args.output, device=args.device, **_video_options(args, size)
+        args.input, recipe, args.output, device=args.device, options=_video_options(args, size)
     )
     if not args.quiet:
         print(f"marblevideo: {stats.summary(_where(args.output))}", file=sys.stderr)
     return 0
 
 
-def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> dict:
-    return dict(
+def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> VideoOptions:
+    """The job's options of the flags, checked by the job against its input."""
+    return VideoOptions(
         codec=args.codec,
         crf=args.crf,
         preset=args.preset,
@@ -316,4 +313,6 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         progress=args.progress,
         verbose=args.verbose,
         exact_walk=args.exact_walk,
+        fps=args.fps,
+        duration=args.duration,
     )

@@ -2,7 +2,7 @@
 sheet, a photo, a video frame or a live source.
 
 The page (``web/index.html`` and its ES modules, ``GET /web/NAME``) is served
-by the HTTP server of both modes (:class:`marblevideo.server.Server`) on
+by the HTTP server of both modes (:class:`marblevideo.serve.server.Server`) on
 127.0.0.1 only, and does
 everything through this HTTP API, which scripts and tests may use too:
 
@@ -47,7 +47,7 @@ sheet shows the live frames, and edits go to the live recipe file.
 
 Errors are JSON ``{"error": "..."}`` with status 400 (a bad request or recipe,
 a body nested deeper than :data:`~marblevideo.limits.MAX_DEPTH` levels), 403 (a
-write from another origin: :mod:`marblevideo.server`), 404/405 (no such
+write from another origin: :mod:`marblevideo.serve.server`), 404/405 (no such
 route), 409 (FILE is broken on disk) or 500. Hot reload: FILE is polled; when another
 program saves it, ``version`` moves on and the page follows.
 """

@@ -12,7 +12,7 @@ edit the live recipe file:
 - ``GET /api/ops``: every op and layout type with its parameters.
 - ``GET /api/recipe``: the live recipe file as the session took it; 409 while
   the file on disk is broken: ``{"error": ..., "last_good": ...}``
-  (:meth:`~marblevideo.recipefile.RecipeFile.answer`).
+  (:meth:`~marblevideo.serve.recipefile.RecipeFile.answer`).
 - ``PUT /api/recipe``: validated, saved atomically, taken from the next frame;
   400 with the one-line JSON-path error and nothing saved when invalid. It
   answers ``/api/info`` with the new ``version``.
@@ -31,7 +31,7 @@ from marblevideo.controllers.api import controllers_api
 from marblevideo.design.describe import describe_ops
 from marblevideo.design.session import WEB, page_info
 from marblevideo.errors import MediaError, RecipeError
-from marblevideo.server import json_answer, request_json
+from marblevideo.serve.server import json_answer, request_json
 
 
 class LiveDesign:

@@ -25,7 +25,7 @@ from marblevideo.errors import MarbleError, RecipeError, UsageError
 from marblevideo.marbler import Marbler, blank_size
 from marblevideo.recipe import Recipe, parse_recipe
 from marblevideo.recipe.frame import fit
-from marblevideo.server import json_answer, request_json
+from marblevideo.serve.server import json_answer, request_json
 
 RELOAD_POLL = 0.25
 RAW = "application/octet-stream"
@@ -91,7 +91,7 @@ def _only(query: dict, count: int) -> tuple[int, ...] | None:
 
 
 class DesignSession:
-    """The recipe file (:class:`~marblevideo.recipefile.RecipeFile`) drawn over
+    """The recipe file (:class:`~marblevideo.serve.recipefile.RecipeFile`) drawn over
     a backdrop (:mod:`marblevideo.design.backdrop`) by one OpenCL renderer."""
 
     def __init__(self, document, backdrop, *, device: str | None = None, renderer=None):

@@ -32,7 +32,7 @@ from marblevideo.live.jpeg import JpegPreview
 from marblevideo.live.meters import Meters
 from marblevideo.live.playback import Playback
 from marblevideo.live.sources import Source
-from marblevideo.recipefile import RecipeFile
+from marblevideo.serve.recipefile import RecipeFile
 from marblevideo.signals.live import FrameTimed
 
 RELOAD_POLL = 0.5
@@ -94,7 +94,7 @@ class LiveSession:
     # -- recipe -------------------------------------------------------------
     @property
     def recipe(self):
-        """The recipe now (:class:`~marblevideo.recipefile.RecipeFile`'s)."""
+        """The recipe now (:class:`~marblevideo.serve.recipefile.RecipeFile`'s)."""
         return self.file.recipe
 
     @property

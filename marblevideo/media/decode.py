@@ -120,7 +120,7 @@ class Reader:
     ``audio`` maps input audio stream index -> "copy" (packets) or an encoder
     name (decoded frames). Undecodable packets are counted in ``corrupt``.
     ``pts_origin``: video timestamps are given as ``pts - pts_origin`` whatever
-    the range (a segment of a split render, :mod:`marblevideo.media.segments`);
+    the range (a segment of a split render, :mod:`marblevideo.jobs.segments`);
     by default they are unchanged without a range, else start at 0 at the
     first kept frame.
     """

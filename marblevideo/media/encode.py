@@ -206,11 +206,17 @@ def frame_of(array: np.ndarray, format: str, height: int) -> av.VideoFrame:
 class Encoder:
     """Owns an open output container: :meth:`open_video` (then :meth:`open_audio`)
     adds the streams, :meth:`video` and :meth:`audio` encode and mux items,
-    :meth:`flush` drains the encoders. ``say`` takes one-line notices
-    (:func:`notifier`). Used by the file pipeline and by live recording."""
+    :meth:`flush` drains the encoders. ``notify`` takes one-line notices
+    (:func:`job_notify`). Used by the file pipeline and by live recording."""
 
-    def __init__(self, out, plan: OutputPlan, options: VideoOptions, stats: Stats, say):
-        self.out, self.plan, self.options, self.stats, self.say = out, plan, options, stats, say
+    def __init__(self, out, plan: OutputPlan, options: VideoOptions, stats: Stats, notify):
+        self.out, self.plan, self.options, self.stats, self.notify = (
+            out,
+            plan,
+            options,
+            stats,
+            notify,
+        )
         self.stream = None
         self.shape: tuple[int, int] | None = None
         self.pad = (0, 0)
@@ -227,7 +233,7 @@ class Encoder:
         pad_w = width % 2 if self.plan.even[0] else 0
         pad_h = height % 2 if self.plan.even[1] else 0
         if pad_w or pad_h:
-            self.say(
+            self.notify(
                 f"{width}x{height} padded to {width + pad_w}x{height + pad_h} "
                 f"(edge pixels repeated): {self.plan.pix_fmt} needs even sizes"
             )
@@ -332,7 +338,7 @@ def _ordered(layout: av.AudioLayout) -> str:
 
 
 def audio_plan(
-    container, plan: OutputPlan, options: VideoOptions, name: str, say
+    container, plan: OutputPlan, options: VideoOptions, name: str, notify
 ) -> dict[int, str]:
     """Input audio stream index -> "copy" or the encoder to re-encode it with.
     ``name`` names the output in notices."""
@@ -340,7 +346,7 @@ def audio_plan(
         return {}
     if plan.audio_encoder is None:
         what = "an image sequence" if plan.sequence else f"{plan.format} output"
-        say(f"{what} holds no audio: the input's audio is left out")
+        notify(f"{what} holds no audio: the input's audio is left out")
         return {}
     audio = {}
     for stream in container.streams.audio:
@@ -349,6 +355,6 @@ def audio_plan(
             audio[stream.index] = "copy"
         else:
             if options.audio == "copy":
-                say(f"{name} cannot hold {codec} audio: re-encoding it to {plan.audio_encoder}")
+                notify(f"{name} cannot hold {codec} audio: re-encoding it to {plan.audio_encoder}")
             audio[stream.index] = plan.audio_encoder
     return audio

@@ -25,7 +25,7 @@ from marblevideo.media.encode import Encoder, OutputPlan
 from marblevideo.media.formats import sequence_name
 from marblevideo.media.images import write_image
 from marblevideo.media.output import atomic_output
-from marblevideo.media.video import AudioItem, Span, Stats, VideoItem, VideoOptions, notifier
+from marblevideo.media.video import AudioItem, Span, Stats, VideoItem, VideoOptions, job_notify
 
 
 class SequenceWriter:
@@ -110,15 +110,15 @@ def video_writer(
         finally:
             writer.discard()
         return
-    say = notifier(options, stats)
+    notify = job_notify(options, stats)
     if plan.stream:
         out = av.open(sys.stdout.buffer, "w", format=plan.format, options=plan.container_options)
         try:
-            yield from _closing(Encoder(out, plan, options, stats, say), out)
+            yield from _closing(Encoder(out, plan, options, stats, notify), out)
         finally:
             with contextlib.suppress(OSError):
                 sys.stdout.buffer.flush()
         return
     with atomic_output(dst, options.overwrite, inputs) as tmp:
         out = av.open(str(tmp), "w", format=plan.format, options=plan.container_options)
-        yield from _closing(Encoder(out, plan, options, stats, say), out)
+        yield from _closing(Encoder(out, plan, options, stats, notify), out)

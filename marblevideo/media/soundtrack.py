@@ -44,10 +44,10 @@ class Soundtrack:
     def __exit__(self, *exc) -> None:
         self.container.close()
 
-    def plan(self, plan: OutputPlan, options: VideoOptions, say) -> dict[int, str]:
+    def plan(self, plan: OutputPlan, options: VideoOptions, notify) -> dict[int, str]:
         """{stream index: "copy" or the encoder} for the output, or {} (no audio)."""
         name = "standard output" if plan.stream else "the output"
-        full = audio_plan(self.container, plan, options, name, say)
+        full = audio_plan(self.container, plan, options, name, notify)
         self.how = full.get(self.stream.index)
         return {} if self.how is None else {self.stream.index: self.how}
 

@@ -1,11 +1,6 @@
 """Outputs larger than memory: render in bands of rows, write them as they come.
 
-A band of rows j0..j1 of a w x h render is itself a render of w x (j1 - j0)
-pixels whose output->canvas map is the full one shifted by j0 rows
-(to_canvas[3] + j0 * to_canvas[1]); the kernel needs no change. The closed
-form makes every band exact: it is the same function of the same canvas
-points, up to the float32 rounding of the shifted offset (a last-bit
-difference at a few boundary subsamples at most).
+A band of rows is itself a render (:func:`marblevideo.recipe.geometry.bands`).
 
 Bands go straight to a streaming writer: :class:`PngStream` (pure Python,
 zlib + struct: IHDR, one IDAT chunk per band, IEND; rows use PNG's "Up"
@@ -18,13 +13,12 @@ from __future__ import annotations
 import os
 import struct
 import zlib
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 
 import numpy as np
 
 from marblevideo.errors import UsageError
 from marblevideo.limits import MAX_ONE_PIECE, WEBP_MAX_SIDE
-from marblevideo.recipe.frame import Geometry
 
 #: Pixels per band (about 64 MiB of RGBA); ``MARBLEVIDEO_BAND_PIXELS`` sets another
 #: (the tests' way to make small outputs take the banded path).
@@ -71,22 +65,6 @@ def check_still_size(
 
 def band_rows(width: int, band_pixels: int = BAND_PIXELS) -> int:
     return max(1, band_pixels // max(1, width))
-
-
-def band_geometry(geom: Geometry, y0: int, rows: int) -> Geometry:
-    """The geometry of output rows y0..y0+rows of ``geom``."""
-    kx, ky, tx, ty = geom.to_canvas
-    return Geometry(geom.out_w, rows, (kx, ky, tx, ty + y0 * ky), geom.to_input)
-
-
-def bands(
-    render: Callable[[Geometry], np.ndarray], geom: Geometry, rows: int | None = None
-) -> Iterator[tuple[int, np.ndarray]]:
-    """Yield (y0, band) for the whole output, ``render`` called once per band."""
-    rows = rows or band_rows(geom.out_w)
-    for y0 in range(0, geom.out_h, rows):
-        n = min(rows, geom.out_h - y0)
-        yield y0, render(band_geometry(geom, y0, n))
 
 
 def _chunk(kind: bytes, data: bytes) -> bytes:

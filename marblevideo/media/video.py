@@ -1,6 +1,6 @@
 """What a video job is: its options, what it did (:class:`Stats`), the items
 that travel through the pipeline (a frame, or an audio packet or frame), and
-its one-line notices. Conventions of the whole job: :mod:`~marblevideo.media.pipeline`."""
+its one-line notices. Conventions of the whole job: :mod:`~marblevideo.jobs.pipeline`."""
 
 from __future__ import annotations
 
@@ -13,7 +13,7 @@ import av
 import numpy as np
 
 from marblevideo.errors import UsageError
-from marblevideo.media.yuv import YuvMatrix, split_i420
+from marblevideo.media.yuv import YuvMatrix
 
 QUEUE_FRAMES = 4
 AUDIO_MODES = ("copy", "aac", "none")
@@ -39,6 +39,7 @@ class VideoOptions:
     verbose: bool = False  # --verbose: the encoder libraries' and FFmpeg's own log lines
     format: str | None = None  # --format: the output format by name (needed for -o -)
     fps: float | None = None  # --fps: convert a video's rate; an image sequence's input rate
+    duration: float | None = None  # --duration: seconds written (a video's: from start)
     fit: str | None = None  # --fit stretch|crop|pad: an input of another aspect than --size
     soundtrack: str | None = None  # --soundtrack FILE: the output's audio (first sample at t = 0)
     exact_walk: bool = False  # --exact-walk: animated frames walk every subsample (no lattice)
@@ -86,8 +87,10 @@ class VideoItem:
     @property
     def shape(self) -> tuple[int, int]:
         """(height, width) of the frame."""
-        if self.i420 is not None:
-            return split_i420(self.i420)[0].shape
+        if isinstance(self.i420, np.ndarray):  # packed: the rows of Y, then U and V
+            return self.i420.shape[0] * 2 // 3, self.i420.shape[1]
+        if self.i420 is not None:  # planes (y, u, v)
+            return self.i420[0].shape
         return self.rgba.shape[:2]
 
 
@@ -118,9 +121,9 @@ class Span:
         return float((self.bounds[2] - self.bounds[0]) * time_base) if self.bounds else 0.0
 
 
-def say(options: VideoOptions, stats: Stats, message: str) -> None:
-    """Note ``message`` in ``stats`` and tell it (``options.notify``, else stderr
-    unless quiet)."""
+def notify(options: VideoOptions, stats: Stats, message: str) -> None:
+    """A job's one-line notice: noted in ``stats`` and told (``options.notify``, else
+    stderr unless quiet)."""
     stats.notes.append(message)
     if options.notify is not None:
         options.notify(message)
@@ -128,10 +131,10 @@ def say(options: VideoOptions, stats: Stats, message: str) -> None:
         print(f"marblevideo: {message}", file=sys.stderr, flush=True)
 
 
-def notifier(options: VideoOptions, stats: Stats) -> Callable[[str], None]:
-    """The one-line notice function of a job: ``options.notify`` or stderr, noted in
-    ``stats``."""
-    return lambda message: say(options, stats, message)
+def job_notify(options: VideoOptions, stats: Stats) -> Callable[[str], None]:
+    """:func:`notify` bound to a job's ``options`` and ``stats``: the ``notify(message)``
+    handed to its parts."""
+    return lambda message: notify(options, stats, message)
 
 
 def check_range(start: float | None, end: float | None) -> None:

@@ -24,8 +24,9 @@ Conventions
   a frame's input and output share one matrix) warps the planes themselves:
   luma at full resolution, both chroma planes at half, where chroma sample (i, j) covers
   luma pixels 2i..2i+1 x 2j..2j+1 (centred, as the 2x2 conventions above), so
-  its centre is at luma (2i + 1, 2j + 1). Ink and background colours become
-  their 8-bit codes (:func:`coded_spec`). The luma equals the RGBA path's
+  its centre is at luma (2i + 1, 2j + 1) (:mod:`marblevideo.recipe.geometry`). Ink and
+  background colours become their 8-bit codes
+  (:func:`marblevideo.recipe.geometry.coded_spec`). The luma equals the RGBA path's
   up to that path's rounding and clamping of the intermediate RGB; the
   chroma is sampled at chroma resolution instead of being the mean of four
   RGBA pixels, as ffmpeg's filters do on yuv420p.
@@ -33,13 +34,10 @@ Conventions
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import cache, cached_property
 
 import numpy as np
-
-from marblevideo.ops import is_ink
-from marblevideo.recipe.frame import FrameSpec, Geometry, OpState
 
 # AVColorSpace -> (name, Kr, Kb); 2 is "unspecified", taken as BT.601 like swscale
 _MATRICES = {
@@ -153,35 +151,3 @@ def packed_i420(frame) -> np.ndarray:
         return np.ascontiguousarray(frame)
     y, u, v = split_i420(frame)
     return np.concatenate([y.ravel(), u.ravel(), v.ravel()]).reshape(-1, y.shape[1])
-
-
-@cache
-def _codes(matrix: YuvMatrix, rgb: tuple[float, ...]) -> tuple[float, float, float]:
-    m = matrix.to_yuv().astype(np.float64)
-    yuv = m[:, :3] @ np.asarray(rgb, np.float64) + m[:, 3]
-    return tuple(float(v) for v in np.clip(np.floor(yuv + 0.5), 0.0, 255.0))
-
-
-def coded_spec(spec: FrameSpec, matrix: YuvMatrix) -> FrameSpec:
-    """``spec`` with every ink colour and the background as ``matrix``'s 8-bit
-    codes (Y, Cb, Cr) in place of (r, g, b): what planar rendering blends."""
-    ops = tuple(
-        OpState(op.type, {**op.values, "color": _codes(matrix, tuple(op["color"]))})
-        if is_ink(op.type)
-        else op
-        for op in spec.ops
-    )
-    return replace(spec, ops=ops, background=_codes(matrix, tuple(spec.background)))
-
-
-def chroma_geometry(geom: Geometry) -> Geometry:
-    """The maps of a render's chroma planes (half the size of ``geom``'s even
-    output, over an input's half-size chroma planes)."""
-    kx, ky, tx, ty = geom.to_canvas
-    sx, sy, ox, oy = geom.to_input
-    return Geometry(
-        geom.out_w // 2,
-        geom.out_h // 2,
-        (2.0 * kx, 2.0 * ky, tx, ty),
-        (sx / 2.0, sy / 2.0, ox / 2.0, oy / 2.0),
-    )

@@ -10,29 +10,29 @@ from collections.abc import Callable
 
 import numpy as np
 
-from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec
+from marblevideo.media.yuv import YuvMatrix
 from marblevideo.opencl.lattice import LatticeWalk
 from marblevideo.opencl.program import Programs, Structure, pack_params
 from marblevideo.opencl.queue import DeviceQueue, float4, geometry_args
 from marblevideo.opencl.tables import ReusedMaps
 from marblevideo.recipe.frame import FrameSpec, Geometry
+from marblevideo.recipe.geometry import chroma_geometry, coded_spec
 
 
 class PlanarFrames:
-    """Renders I420 frames plane by plane on ``queue`` with ``programs``, reusing
-    maps through ``tables`` when ``reuse_maps``; animated frames that ask for it
-    interpolate from ``lattice`` (one lattice for the three planes)."""
+    """Renders I420 frames plane by plane on ``queue`` with ``programs``, from the
+    ``tables`` of reused maps, a walked ``lattice`` (one for the three planes) or
+    a fresh walk, as the renderer's strategy chooser says."""
 
     def __init__(
         self,
         queue: DeviceQueue,
         programs: Programs,
         tables: ReusedMaps,
-        reuse_maps: bool,
         lattice: LatticeWalk,
     ):
         self.queue, self.programs, self.tables = queue, programs, tables
-        self.reuse_maps, self.lattice = reuse_maps, lattice
+        self.lattice = lattice
 
     def render(
         self,
@@ -41,14 +41,14 @@ class PlanarFrames:
         planes: tuple[np.ndarray, np.ndarray, np.ndarray],
         matrix: YuvMatrix,
         out: np.ndarray | None,
-        static: bool,
         wait: bool,
         errors: Callable,
-        lattice: bool = False,
+        choose: Callable[..., str],
     ):
         """(frame or finishing function, reused): see Renderer.render_i420;
-        ``errors`` turns OpenCL errors into DeviceError; ``lattice``: interpolate
-        from a walked lattice unless the maps are reused."""
+        ``errors`` turns OpenCL errors into DeviceError; ``choose(key, nbytes,
+        packed)``: the strategy (Renderer.strategy: "tables", "lattice" or
+        "fresh")."""
         queue = self.queue
         w, h = geom.out_w, geom.out_h
         sh, sw = planes[0].shape
@@ -59,11 +59,9 @@ class PlanarFrames:
         luma, chroma = geom, chroma_geometry(geom)
         (luma_maps, geo), (chroma_maps, _) = geometry_args(luma), geometry_args(chroma)
         key = ("planes", structure, packed.key, geo.tobytes(), w, h, sw, sh)
-        reuse = self.reuse_maps and self.tables.decide(
-            key,
-            sum(self.tables.nbytes(spec.antialias, g.out_w, g.out_h) for g in (luma, chroma)),
-            static,
-        )
+        nbytes = sum(self.tables.nbytes(spec.antialias, g.out_w, g.out_h) for g in (luma, chroma))
+        drawn = choose(key, nbytes, packed)
+        reuse = drawn == "tables"
         result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
         with errors():
             # the uploads' events hold their host arrays until the copies are done
@@ -83,8 +81,7 @@ class PlanarFrames:
             chroma_job = (chroma, chroma_maps, chroma_offsets, (cw, ch), *quads[1:], 1)
             chroma_job += (("ctaps", "cwts"),)
             walk = reuse and not self.tables.holds(key)
-            lattice = lattice and not reuse and self.lattice.worth(packed)
-            walked = self.lattice.walk(built, luma, pbuf, lbuf) if lattice else None
+            walked = self.lattice.walk(built, luma, pbuf, lbuf) if drawn == "lattice" else None
             for g, maps, offsets, in_size, q0, q1, is_chroma, names in (luma_job, chroma_job):
                 head = (dst, *map(np.int32, offsets), np.int32(g.out_w), np.int32(g.out_h))
                 head += (q0, q1, np.int32(is_chroma))

@@ -20,6 +20,7 @@ copies from :class:`~marblevideo.opencl.queue.DeviceQueue`.
 
 from __future__ import annotations
 
+import functools
 from contextlib import contextmanager
 
 import numpy as np
@@ -32,9 +33,9 @@ from marblevideo.opencl.lattice import LatticeWalk
 from marblevideo.opencl.planar import PlanarFrames
 from marblevideo.opencl.program import Built, Programs, Structure, pack_params
 from marblevideo.opencl.queue import DeviceQueue, float4, geometry_args
+from marblevideo.opencl.strategy import Strategies
 from marblevideo.opencl.tables import ReusedMaps
 from marblevideo.opencl.walks import AdaptiveWalk, FreshWalk
-from marblevideo.recipe.antialias import pattern
 from marblevideo.recipe.frame import FrameSpec, Geometry
 
 
@@ -182,9 +183,8 @@ class Renderer:
         self.fresh = FreshWalk(self.device_queue, self.lanes)
         self.adaptive_walk = AdaptiveWalk(self.device_queue, self.lanes)
         self.lattice_walk = LatticeWalk(self.device_queue, self.lanes, "GPU" in self.info.kind)
-        self.planar = PlanarFrames(
-            self.device_queue, self.programs, self.tables, reuse_maps, self.lattice_walk
-        )
+        self.planar = PlanarFrames(self.device_queue, self.programs, self.tables, self.lattice_walk)
+        self.strategies = Strategies(self)
         #: whether the last render came from the table of reused maps
         self.last_reused = False
 
@@ -199,12 +199,6 @@ class Renderer:
         stay valid; only which frame came last is forgotten)."""
         self.tables.forget_last()
         self.adaptive_walk.forget()
-
-    def _adaptive(self, has_input: bool, w: int, h: int, structure: Structure) -> bool:
-        """Whether a frame with more than one subsample is sampled adaptively."""
-        if self.adaptive is not None:
-            return self.adaptive
-        return not has_input and self.adaptive_walk.worth(w, h, structure)
 
     def prebuild(self, structure: Structure) -> None:
         """Build ``structure``'s program in the background (see Programs.prebuild)."""
@@ -290,21 +284,15 @@ class Renderer:
             sh, sw = planes[0].shape
             if src_matrix == dst_matrix:
                 check_size(geom.out_w, geom.out_h)
+                choose = functools.partial(self.strategies.choose, static=static, lattice=lattice)
                 frame, self.last_reused = self.planar.render(
-                    spec, geom, planes, dst_matrix, out, static, wait, self.errors, lattice
+                    spec, geom, planes, dst_matrix, out, wait, self.errors, choose
                 )
                 return frame
             size, to_rgb = (sw, sh), src_matrix.kernel_args[0]
-        put, fetch = i420_io(
-            self.device_queue,
-            self.yuv_lanes,
-            planes,
-            (to_rgb, dst_matrix.kernel_args[1]),
-            out,
-            wait,
-            self.errors,
-        )
-        return self._render(spec, geom, size, put, fetch, static, lattice and planes is not None)
+        matrices = (to_rgb, dst_matrix.kernel_args[1])
+        io = i420_io(self.device_queue, self.yuv_lanes, planes, matrices, out, wait, self.errors)
+        return self._render(spec, geom, size, *io, static, lattice)  # a blank sheet: no lattice
 
     def _render(
         self,
@@ -336,11 +324,16 @@ class Renderer:
         maps, geo = geometry_args(geom)
         sw, sh = size if has_input else (1, 1)
         bg = [float(c) for c in spec.background]
-        reuse = False
-        if has_input and self.reuse_maps:
-            key = (structure, packed.key, geo.tobytes(), w, h, sw, sh)
-            reuse = self.tables.decide(key, self.tables.nbytes(spec.antialias, w, h), static)
-        self.last_reused = reuse
+        key = (structure, packed.key, geo.tobytes(), w, h, sw, sh) if has_input else None
+        drawn = self.strategies.choose(
+            key,
+            self.tables.nbytes(spec.antialias, w, h),
+            packed,
+            static=static,
+            lattice=lattice,
+            adaptive=lambda: self.strategies.adaptive(spec, has_input, w, h, structure),
+        )
+        self.last_reused = drawn == "tables"
         with self.errors():
             uploads: list = []
             pbuf, lbuf = queue.put_params(packed, uploads)
@@ -349,12 +342,12 @@ class Renderer:
             samples = queue.samples(spec.antialias)
             common = (src, np.int32(sw), np.int32(sh), pbuf, samples, *maps, float4(bg + [255.0]))
             common += (lbuf,)
-            if reuse:
+            if drawn == "tables":
                 self.tables.render(built, dst, w, h, common, key)
-            elif lattice and has_input and self.lattice_walk.worth(packed):
+            elif drawn == "lattice":
                 walked = self.lattice_walk.walk(built, geom, pbuf, lbuf)
                 self.lattice_walk.render(built, dst, w, h, walked, common)
-            elif len(pattern(spec.antialias)) > 1 and self._adaptive(has_input, w, h, structure):
+            elif drawn == "adaptive":
                 self.adaptive_walk.render(built, dst, w, h, common, pbuf, maps, has_input)
             else:
                 self.fresh.render(built, dst, w, h, common)

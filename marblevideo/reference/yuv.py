@@ -6,8 +6,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from marblevideo.media.yuv import YuvMatrix, chroma_geometry, coded_spec, packed_i420, split_i420
+from marblevideo.media.yuv import YuvMatrix, packed_i420, split_i420
 from marblevideo.recipe.frame import FrameSpec, Geometry
+from marblevideo.recipe.geometry import chroma_geometry, coded_spec
 from marblevideo.reference.shading import render as reference_render
 
 

@@ -1,7 +1,7 @@
-"""A batch's workers (:mod:`marblevideo.batch`): one item's render, and every
+"""A batch's workers (:mod:`marblevideo.scale.batch`): one item's render, and every
 item of a batch on local worker processes or on Ray workers.
 
-Items are :class:`marblevideo.batch.Item` (``src``, ``dst`` paths); each
+Items are :class:`marblevideo.scale.batch.Item` (``src``, ``dst`` paths); each
 finished one is told to ``finished(item, error)``, ``error`` None when it was
 written, else its one-line message.
 """
@@ -17,9 +17,9 @@ import time
 from dataclasses import replace
 from pathlib import Path
 
-from marblevideo.cluster import RayPool
 from marblevideo.errors import MarbleError, MediaError
 from marblevideo.media.formats import output_kind
+from marblevideo.scale.cluster import RayPool
 
 
 def render_item(recipe, item, options: dict, overwrite: bool, renderer=None) -> str | None:

@@ -27,22 +27,18 @@ Conventions
   for the RGBA <-> YUV conversions. With a chroma-subsampled ``pix_fmt``
   (yuv420p) an odd width or height is padded by one replicated edge pixel, and
   a one-line notice says so.
-- A transform may also offer ``transform.i420(planes, t, src, dst) -> planes``
-  (:class:`PlanarTransform`):
-  the frame as I420 planes ``(y, u, v)`` (:mod:`marblevideo.media.yuv`; views of the
-  decoded frame's buffers, rows possibly padded: read them, do not keep them)
-  with colours in the :class:`~marblevideo.media.yuv.YuvMatrix` ``src``, the result as
-  I420 in ``dst``, packed or as planes, in arrays of its own (a packed result
-  is encoded without a copy). With ``transform.i420_start(planes, t, src, dst)
-  -> finish`` as well (:class:`PlanarStart`), the pipeline keeps one frame in
-  flight: it starts frame n + 1 before calling frame n's ``finish()``, which returns what ``i420``
-  would have, so a device renders while the host prepares the next frame
-  (:meth:`marblevideo.marbler.VideoTransform.i420_start`); the planes stay the
-  pipeline's until ``finish`` returns. ``transform.rgba_start(rgba, t) ->
-  finish`` (:class:`RgbaStart`) does the same for frames that go the RGBA way.
-  It is used for every frame that is 8-bit 4:2:0, upright and even-sized, with
-  a supported matrix, when the output is yuv420p of even size. The marbler
-  warps the planes themselves when ``src`` and ``dst`` are the same matrix
+- A transform may also be a :class:`~marblevideo.jobs.transforms.PipelinedTransform`
+  (as :meth:`marblevideo.marbler.Marbler.transform`'s is): the pipeline keeps one
+  frame in flight, starting frame n + 1 before it finishes frame n, so a device
+  renders while the host prepares the next frame; and where it is ``planar`` it
+  takes the frame as I420 planes ``(y, u, v)`` (:mod:`marblevideo.media.yuv`)
+  with colours in the input's :class:`~marblevideo.media.yuv.YuvMatrix` and gives
+  packed I420 in the output's. Which way frames go is the job's
+  :class:`~marblevideo.jobs.route.Route`, decided once
+  (:func:`~marblevideo.jobs.route.video_route`): I420 for every frame that is
+  8-bit 4:2:0, upright and even-sized, with a supported matrix, when the output
+  is yuv420p of even size. The marbler
+  warps the planes themselves when the input and output matrices are the same
   (the usual case: the output keeps the input's tags), else it converts on
   the OpenCL device; either way neither swscale conversion runs. Luma differs
   from the RGBA path by a level or two (swscale rounds with less precision);
@@ -57,9 +53,9 @@ Conventions
   (:mod:`marblevideo.media.encoders`); the encoder libraries' own log lines are off
   unless ``verbose``.
 - Decode, transform and encode run in three threads joined by bounded queues
-  (``QUEUE_FRAMES`` frames each; :mod:`marblevideo.media.stages`), so memory
+  (``QUEUE_FRAMES`` frames each; :mod:`marblevideo.jobs.stages`), so memory
   stays flat; the transform runs in the calling thread
-  (:mod:`marblevideo.media.transforms`). An error in any stage stops the others and is re-raised;
+  (:mod:`marblevideo.jobs.transforms`). An error in any stage stops the others and is re-raised;
   KeyboardInterrupt propagates after cleanup. Output goes through
   :func:`marblevideo.media.output.atomic_output`: nothing is left on failure.
 """
@@ -73,41 +69,45 @@ from pathlib import Path
 
 import numpy as np
 
-from marblevideo.errors import UsageError
+from marblevideo.jobs.retime import rate_fraction, retimed
+from marblevideo.jobs.route import sheet_route, video_route
+from marblevideo.jobs.stages import Writer, run_stages
+from marblevideo.jobs.transforms import (
+    PipelinedSource,
+    PipelinedTransform,
+    SheetStage,
+    TransformStage,
+    check_frame,
+    pipelined,
+    sheet_source,
+)
 from marblevideo.media.decode import Reader, estimate_frames, open_input
 from marblevideo.media.encode import COLOR_FIELDS, OutputPlan, audio_plan, plan_output
 from marblevideo.media.encoders import library_logs
 from marblevideo.media.inputs import Input, classify
 from marblevideo.media.output import check_output
-from marblevideo.media.retime import rate_fraction, retimed
+from marblevideo.media.progress import progress_mode
 from marblevideo.media.sinks import video_writer
 from marblevideo.media.soundtrack import opened
-from marblevideo.media.stages import Writer, run_stages
-from marblevideo.media.transforms import (
-    FrameMarbler,
-    SheetRenderer,
-    check_frame,
-)
 from marblevideo.media.video import (
     AudioItem,
     Stats,
     VideoItem,
     VideoOptions,
     check_range,
-    notifier,
-    say,
+    job_notify,
+    notify,
 )
-from marblevideo.media.yuv import YuvMatrix
 
-Transform = Callable[[np.ndarray, float], np.ndarray]
-"""``transform(rgba, t) -> rgba``; it may also be a :class:`PlanarTransform`, a
-:class:`PlanarStart` and a :class:`RgbaStart` (see the module)."""
+RgbaTransform = Callable[[np.ndarray, float], np.ndarray]
+"""``transform(rgba, t) -> rgba``, or a
+:class:`~marblevideo.jobs.transforms.PipelinedTransform` (see the module)."""
 
 
 def transcode(
     src: str | os.PathLike | Input,
     dst: str | os.PathLike,
-    transform: Transform,
+    transform: RgbaTransform | PipelinedTransform,
     options: VideoOptions | None = None,
     *,
     plan: OutputPlan | None = None,
@@ -118,17 +118,16 @@ def transcode(
     ``src`` is a file, an image sequence, ``-`` (standard input) or a URL, by
     name or classified (:class:`~marblevideo.media.inputs.Input`); ``dst`` a
     file, an image sequence or ``-`` (standard output, in ``options.format``).
-    With ``options.fps`` the frame rate is converted (:mod:`marblevideo.media.retime`);
-    for an image sequence it is the rate the images are read at instead.
+    With ``options.fps`` the frame rate is converted (:mod:`marblevideo.jobs.retime`),
+    or an image sequence read at it.
 
     Raises UsageError (bad options, output = input), OutputExistsError,
     MediaError (unreadable input, encoder failure); exceptions from
     ``transform`` and KeyboardInterrupt propagate, leaving no output file.
-    ``plan`` is :func:`plan_output`'s for ``dst`` and ``options``, where the
-    caller has checked them and the output already. ``pts_origin``: see
-    :class:`~marblevideo.media.decode.Reader` (segments of a split render).
+    ``plan``: :func:`plan_output`'s, where the caller has checked the options and
+    output. ``pts_origin``: :class:`~marblevideo.media.decode.Reader`'s (segments).
     """
-    options = options or VideoOptions()
+    transform, options = pipelined(transform), options or VideoOptions()
     began = time.monotonic()
     source = classify(src)
     if plan is None:
@@ -136,12 +135,13 @@ def transcode(
         check_output(dst, options.overwrite, source.names)
     stats = Stats()
     with open_input(source, options.fps) as container, opened(options.soundtrack) as sound:
-        say = notifier(options, stats)
+        notify = job_notify(options, stats)
         own, audio = _audio(container, sound, dst, plan, options, stats)
         vin = container.streams.video[0]
         colors = {k: getattr(vin.codec_context, k) for k in COLOR_FIELDS}
-        marble = FrameMarbler(transform, _out_matrix(colors, plan, options), options, say)
-        reader = Reader(container, options.start, options.end, own, marble.planar, pts_origin)
+        route = video_route(transform, colors, plan, options.size)
+        marble = TransformStage(transform, route, options.size, options.fit, notify)
+        reader = Reader(container, options.start, options.end, own, route.planar, pts_origin)
         clock = _Clock(vin, None if source.kind == "sequence" else options.fps)
 
         def produce() -> Iterator[VideoItem | AudioItem]:
@@ -159,8 +159,8 @@ def transcode(
             video_writer(dst, plan, options, stats, source.names) as writer,
             library_logs(options.verbose),
         ):
-            run_stages(writer, plan, options, produce, marble, setup, total)
-        _tell_reader(reader, source.name, stats, say)
+            run_stages(writer, plan, _progress(options), produce, marble, setup, total)
+        _tell_reader(reader, source.name, stats, notify)
     stats.seconds = time.monotonic() - began
     return stats
 
@@ -168,21 +168,17 @@ def transcode(
 def _audio(container, sound, dst, plan: OutputPlan, options: VideoOptions, stats: Stats):
     """(the input's audio streams read: index -> "copy" or an encoder, the output's
     audio: the input's, else the soundtrack's), with ``stats.audio`` told."""
-    say = notifier(options, stats)
+    notify = job_notify(options, stats)
     name = "standard output" if plan.stream else f"{Path(dst).suffix} files"
-    own = audio_plan(container, plan, options, name, say) if sound is None else {}
-    audio = own or (sound.plan(plan, options, say) if sound else {})
+    own = audio_plan(container, plan, options, name, notify) if sound is None else {}
+    audio = own or (sound.plan(plan, options, notify) if sound else {})
     encoders = set(audio.values()) - {"copy"}
     stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
     return own, audio
 
 
-def _out_matrix(colors: dict, plan: OutputPlan, options: VideoOptions) -> YuvMatrix | None:
-    """The colours of an I420 result (the input's tags), or None where the output
-    cannot take I420 frames (another pix_fmt, an odd size)."""
-    if plan.pix_fmt != "yuv420p" or (options.size and any(v % 2 for v in options.size)):
-        return None
-    return YuvMatrix.of(colors["colorspace"], colors["color_range"])
+def _progress(options: VideoOptions) -> str:
+    return progress_mode(options.progress, options.quiet)
 
 
 class _Clock:
@@ -200,17 +196,19 @@ class _Clock:
         return items if self.fps is None else retimed(items, self.vin.time_base, self.fps)
 
 
-def _tell_reader(reader: Reader, src, stats: Stats, say) -> None:
+def _tell_reader(reader: Reader, src, stats: Stats, notify) -> None:
     """The reader's notices: a rotated input, skipped corrupt packets."""
     if reader.rotation:
-        say(f"input rotated {reader.rotation} degrees: frames turned upright")
+        notify(f"input rotated {reader.rotation} degrees: frames turned upright")
     stats.corrupt_packets = reader.corrupt
     if reader.corrupt:
-        say(f"{src}: skipped {reader.corrupt} corrupt packet(s)")
+        notify(f"{src}: skipped {reader.corrupt} corrupt packet(s)")
 
 
 def iter_frames(
-    src: str | os.PathLike, transform: Transform | None = None, options: VideoOptions | None = None
+    src: str | os.PathLike,
+    transform: RgbaTransform | None = None,
+    options: VideoOptions | None = None,
 ) -> Iterator[tuple[float, np.ndarray]]:
     """Yield ``(t, rgba)`` for each upright frame of ``src`` in ``start``..``end``,
     through ``transform`` when given. Only ``start``/``end``/``notify`` of ``options`` apply."""
@@ -223,12 +221,12 @@ def iter_frames(
             rgba = item.rgba if transform is None else check_frame(transform(item.rgba, item.t))
             yield item.t, rgba
         if reader.corrupt:
-            say(options, stats, f"{src}: skipped {reader.corrupt} corrupt packet(s)")
+            notify(options, stats, f"{src}: skipped {reader.corrupt} corrupt packet(s)")
 
 
 def render_sheet(
     dst: str | os.PathLike,
-    render_at: Callable[[float], np.ndarray],
+    render_at: Callable[[float], np.ndarray] | PipelinedSource,
     duration: float,
     fps: float,
     options: VideoOptions | None = None,
@@ -237,30 +235,29 @@ def render_sheet(
     notes: tuple[str, ...] = (),
 ) -> Stats:
     """Write ``dst`` from frames ``render_at(i / fps)``, ``i = 0 .. ceil(duration * fps) - 1``
-    (a blank sheet's, or a still's: :class:`marblevideo.marbler.SheetFrames`),
-    telling ``notes`` first.
+    (a blank sheet's, or a still's: :class:`marblevideo.marbler.SheetSource`),
+    telling ``notes`` first; ``duration`` and ``fps`` > 0 (as
+    :func:`marblevideo.jobs.options.video_options` checks).
 
     Constant frame rate (time base 1/fps for integer rates), no audio but
     ``options.soundtrack``, colours untagged (BT.601, limited range). For a
-    yuv420p output, ``render_at.i420(t, matrix)``, where present, gives the frame
-    as I420 in ``matrix`` (None where it cannot, e.g. odd sizes) and swscale is
-    skipped; ``render_at.i420_start(t, matrix)``, where present, is used instead:
-    it returns a function giving that frame (or None where it cannot), called once
-    the next frame is started. ``plan`` as for :func:`transcode`.
+    yuv420p output from a ``planar``
+    :class:`~marblevideo.jobs.transforms.PipelinedSource`, the frames are made as
+    I420 (:func:`~marblevideo.jobs.route.sheet_route`), one in flight, and swscale
+    is skipped. ``plan`` as for :func:`transcode`.
     """
     options = options or VideoOptions()
-    if duration <= 0 or fps <= 0:
-        raise UsageError(f"duration and fps must be positive, got {duration} s at {fps} fps")
     began = time.monotonic()
     if plan is None:
         plan = plan_output(dst, options)
         check_output(dst, options.overwrite)
     stats = Stats()
     for note in notes:
-        say(options, stats, note)
+        notify(options, stats, note)
     rate = rate_fraction(fps)
     count = int(np.ceil(duration * fps - 1e-9))
-    render = SheetRenderer(render_at, plan.pix_fmt == "yuv420p")
+    source = sheet_source(render_at)
+    render = SheetStage(source, sheet_route(source.planar, source.moves, plan))
 
     def produce() -> Iterator[VideoItem]:
         items = (VideoItem(None, i, 1, i / fps) for i in range(count))
@@ -277,8 +274,8 @@ def render_sheet(
         video_writer(dst, plan, options, stats) as writer,
         library_logs(options.verbose),
     ):
-        audio = {} if sound is None else sound.plan(plan, options, notifier(options, stats))
+        audio = {} if sound is None else sound.plan(plan, options, job_notify(options, stats))
         stats.audio = next(iter(audio.values()), "none")
-        run_stages(writer, plan, options, produce, render, setup, count)
+        run_stages(writer, plan, _progress(options), produce, render, setup, count)
     stats.seconds = time.monotonic() - began
     return stats

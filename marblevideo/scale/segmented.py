@@ -1,12 +1,12 @@
 """A video rendered in segments, in this process or on a Ray cluster, then
 joined (:func:`render_split`).
 
-The input is cut at its keyframes (:func:`marblevideo.media.segments.plan_segments`);
+The input is cut at its keyframes (:func:`marblevideo.jobs.segments.plan_segments`);
 each segment is rendered by :func:`render_segment` through the normal decode
 -> kernel -> encode pipeline into an MP4 in a temporary folder beside the
 output (workers on other machines must see both paths: shared storage, at the
 same path), and the segments are joined by packet copy with the source's
-audio (:func:`~marblevideo.media.segments.join_segments`), atomically: on any
+audio (:func:`~marblevideo.jobs.segments.join_segments`), atomically: on any
 failure nothing is left at the output and the folder is removed.
 
 Every frame is marbled at its own time on the whole input's clock, as in a
@@ -23,27 +23,30 @@ import os
 import shutil
 import tempfile
 import time
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
 
-from marblevideo.cluster import RayPool, SerialPool, require_ray
 from marblevideo.errors import MediaError, UsageError
+from marblevideo.jobs.options import as_options
+from marblevideo.jobs.pipeline import transcode
+from marblevideo.jobs.route import Route
+from marblevideo.jobs.segments import Segment, join_segments, plan_segments, segment_plan
+from marblevideo.jobs.transforms import PipelinedTransform
 from marblevideo.marbler import Marbler, RecipeLike, as_recipe
 from marblevideo.media.encode import plan_output
 from marblevideo.media.formats import is_local
 from marblevideo.media.inputs import Input, classify, name_kind
 from marblevideo.media.output import check_output
-from marblevideo.media.pipeline import transcode
 from marblevideo.media.progress import Progress, progress_mode
-from marblevideo.media.segments import Segment, join_segments, plan_segments, segment_plan
-from marblevideo.media.video import Stats, VideoOptions, notifier
+from marblevideo.media.video import Stats, VideoOptions, job_notify
 from marblevideo.recipe import Recipe
+from marblevideo.scale.cluster import RayPool, SerialPool, require_ray
 from marblevideo.signals.follow import check as check_signals
 from marblevideo.signals.follow import follow
 
 CLUSTERS = ("serial", "ray")
-NOT_SPLIT = {"start": "--start", "end": "--end", "fps": "--fps"}
+NOT_SPLIT = {"start": "--start", "end": "--end", "duration": "--duration", "fps": "--fps"}
 
 
 @dataclass(frozen=True)
@@ -55,30 +58,25 @@ class SegmentJob:
     options: dict  # VideoOptions fields of the encoder, size and walk
 
 
-class Primed:
+class Primed(PipelinedTransform):
     """A video transform whose first frame is preceded by one drawn at ``before``
     (and dropped): the renderer then knows the frame shown before it."""
 
-    def __init__(self, transform, before: float | None):
+    def __init__(self, transform: PipelinedTransform, before: float | None):
         self.transform, self.before = transform, before
+        self.planar, self.moves, self.lattice = transform.planar, transform.moves, transform.lattice
 
-    def __call__(self, frame, t: float):
-        return self.rgba_start(frame, t)()
-
-    def rgba_start(self, frame, t: float):
+    def start_rgba(self, frame, t: float, route: Route):
         if self.before is not None:
-            self.transform.rgba_start(frame, self.before)()
+            self.transform.start_rgba(frame, self.before, route)()
             self.before = None
-        return self.transform.rgba_start(frame, t)
+        return self.transform.start_rgba(frame, t, route)
 
-    def i420(self, planes, t: float, src, dst):
-        return self.i420_start(planes, t, src, dst)()
-
-    def i420_start(self, planes, t: float, src, dst):
+    def start_i420(self, planes, t: float, src, route: Route):
         if self.before is not None:
-            self.transform.i420_start(planes, self.before, src, dst)()
+            self.transform.start_i420(planes, self.before, src, route)()
             self.before = None
-        return self.transform.i420_start(planes, t, src, dst)
+        return self.transform.start_i420(planes, t, src, route)
 
 
 def render_segment(
@@ -126,22 +124,21 @@ def render_split(
     segments: int | None = None,
     jobs: int | None = None,
     device: str | None = None,
-    **options,
+    options: VideoOptions | None = None,
+    **fields,
 ) -> Stats:
     """Render video ``src`` to ``dst`` in segments (see the module) on ``cluster``:
-    "ray" (:class:`~marblevideo.cluster.RayPool`: ``$RAY_ADDRESS``'s cluster or a
+    "ray" (:class:`~marblevideo.scale.cluster.RayPool`: ``$RAY_ADDRESS``'s cluster or a
     local one, ``jobs`` workers) or "serial" (here, one segment after another).
-    ``segments``: how many to cut (default: one per about 45 s); ``options`` as
-    :func:`marblevideo.api.render_video`'s, but no ``start``, ``end`` or ``fps``.
+    ``segments``: how many to cut (default: one per about 45 s); ``options`` (or
+    ``fields``) as :func:`marblevideo.api.render_video`'s, but no ``start``, ``end``,
+    ``duration`` or ``fps``.
     Returns the joined output's :class:`~marblevideo.media.video.Stats`.
     Raises UsageError before any work; MediaError naming a segment that failed."""
     began = time.monotonic()
     if cluster not in CLUSTERS:
         raise UsageError(f"--cluster: expected one of {', '.join(CLUSTERS)}, got {cluster!r}")
-    names = {f.name for f in fields(VideoOptions)}
-    if set(options) - names:
-        raise UsageError(f"render_split: unknown options {', '.join(sorted(set(options) - names))}")
-    opts = VideoOptions(**options)
+    opts = as_options(fields, "render_split", options)
     recipe = as_recipe(recipe)
     source = check_split(src, opts)
     check_signals(recipe, source)
@@ -154,8 +151,8 @@ def render_split(
         require_ray()
     parts = plan_segments(src, segments)
     if segments and len(parts) < segments:
-        say = notifier(opts, Stats())
-        say(f"{src}: {segments} segments asked; its keyframes allow {len(parts)}")
+        notify = job_notify(opts, Stats())
+        notify(f"{src}: {segments} segments asked; its keyframes allow {len(parts)}")
     job = SegmentJob(str(source.path.resolve()), recipe, _shared(opts, plan))
     make_pool = partial(RayPool, jobs, device) if cluster == "ray" else partial(SerialPool, device)
     stats = _run_segments(make_pool, job, parts, (src, dst), plan, opts)
@@ -189,9 +186,9 @@ def _run_segments(make_pool, job: SegmentJob, parts: list[Segment], src_dst, pla
         notes = run_calls(pool, calls, parts, progress_mode(opts.progress, opts.quiet))
         pool.close()  # the workers' part is done: the join runs here
         pool = None
-        say = notifier(opts, Stats())
+        notify = job_notify(opts, Stats())
         for note in notes:
-            say(note)
+            notify(note)
         pieces = [(Path(p), s.origin) for p, s in zip(paths, parts, strict=True)]
         stats = join_segments(src, pieces, dst, plan, opts)
         stats.notes[:0] = notes

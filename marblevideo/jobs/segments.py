@@ -5,10 +5,10 @@ the segments joined back into one output.
   (no frame is decoded, the file is not read through): about
   :data:`SEGMENT_SECONDS` seconds a segment, or ``count`` segments.
   Segment *i* owns the frames with ``start <= t < end`` (``t`` on the
-  input's clock, as the pipeline's: :mod:`marblevideo.media.pipeline`), so
+  input's clock, as the pipeline's: :mod:`marblevideo.jobs.pipeline`), so
   no frame is lost or doubled; the first has no ``start``, the last no
   ``end``.
-- A segment is rendered by :func:`~marblevideo.media.pipeline.transcode`
+- A segment is rendered by :func:`~marblevideo.jobs.pipeline.transcode`
   with the segment's range and ``pts_origin``: video only, in MP4
   (:data:`SEGMENT_FORMAT`), its frames marbled at their times on the whole
   input's clock, written with the source's own timestamps less the
@@ -40,7 +40,7 @@ from marblevideo.media.decode import Reader, input_name, open_input, packets
 from marblevideo.media.encode import Encoder, OutputPlan, audio_plan
 from marblevideo.media.encoders import library_logs
 from marblevideo.media.output import atomic_output
-from marblevideo.media.video import AudioItem, Stats, VideoOptions, notifier
+from marblevideo.media.video import AudioItem, Stats, VideoOptions, job_notify
 
 SEGMENT_SECONDS = 45.0  # aim of a segment's length; keyframes make it about 30-60 s
 SEGMENT_FORMAT = "mp4"
@@ -238,10 +238,10 @@ def join_segments(
     ((path, origin) in order, see the module) and the audio of ``src`` as the
     options say. Returns what was written."""
     stats = Stats()
-    say = notifier(options, stats)
+    notify = job_notify(options, stats)
     with open_input(src) as container:
         vin = container.streams.video[0]
-        audio = audio_plan(container, plan, options, f"{Path(dst).suffix} files", say)
+        audio = audio_plan(container, plan, options, f"{Path(dst).suffix} files", notify)
         encoders = set(audio.values()) - {"copy"}
         stats.audio = encoders.pop() if encoders else "copy" if audio else "none"
         reader = Reader(container, None, None, audio)
@@ -256,7 +256,7 @@ def join_segments(
                 try:
                     video = out.add_stream_from_template(template)
                     video.time_base = vin.time_base
-                    writer = Encoder(out, plan, options, stats, say)
+                    writer = Encoder(out, plan, options, stats, notify)
                     writer.open_audio({i: (container.streams[i], how) for i, how in audio.items()})
                     out.start_encoding()
                     stats.size = (template.codec_context.width, template.codec_context.height)
@@ -267,7 +267,7 @@ def join_segments(
                 finally:
                     out.close()
     if reader.corrupt:
-        say(f"{input_name(container)}: skipped {reader.corrupt} corrupt audio packet(s)")
+        notify(f"{input_name(container)}: skipped {reader.corrupt} corrupt audio packet(s)")
     return stats
 
 

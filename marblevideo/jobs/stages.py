@@ -20,9 +20,9 @@ import av
 
 from marblevideo.errors import MediaError
 from marblevideo.media.encode import Encoder, OutputPlan
-from marblevideo.media.progress import Progress, progress_mode
+from marblevideo.media.progress import Progress
 from marblevideo.media.sinks import SequenceWriter
-from marblevideo.media.video import QUEUE_FRAMES, AudioItem, VideoItem, VideoOptions
+from marblevideo.media.video import QUEUE_FRAMES, AudioItem, VideoItem
 
 END = object()
 """The item after the last one in a queue."""
@@ -131,7 +131,7 @@ def _transform(
     transform: Callable[[VideoItem], Callable[[], None] | None],
     bar: Progress,
 ) -> None:
-    """Transform each frame in order, keeping one frame in flight: a frame's
+    """RgbaTransform each frame in order, keeping one frame in flight: a frame's
     finish is called after the next frame has been started."""
     flight: list = []  # (item, finish or None), in order; one frame among them
 
@@ -157,19 +157,20 @@ def _transform(
 def run_stages(
     writer: Writer,
     plan: OutputPlan,
-    options: VideoOptions,
+    progress: str,
     produce: Callable[[], Iterator[VideoItem | AudioItem]],
     transform: Callable[[VideoItem], Callable[[], None] | None],
     setup: Callable[[Writer, VideoItem], None],
     total: int | None,
 ) -> None:
     """Decode (``produce``) -> transform (this thread, in place) -> encode
-    (``writer``), with a progress bar of ``total`` frames (None: unknown)."""
+    (``writer``), with a ``progress`` bar (a :class:`Progress` mode) of ``total``
+    frames (None: unknown)."""
     pipe = Stages()
     decoded: queue.Queue = queue.Queue(QUEUE_FRAMES)
     marbled: queue.Queue = queue.Queue(QUEUE_FRAMES)
     try:
-        with Progress(total, mode=progress_mode(options.progress, options.quiet)) as bar:
+        with Progress(total, mode=progress) as bar:
             pipe.start("decode", lambda: _decode(pipe, produce, decoded))
             pipe.start("encode", lambda: _encode(pipe, marbled, writer, plan, setup))
             _transform(pipe, decoded, marbled, transform, bar)

@@ -24,7 +24,7 @@ template, serially or on a local process pool.
   OpenCL context each), each with ``POCL_MAX_PTHREAD_COUNT`` set to its share
   of the CPUs so that PoCL workers do not oversubscribe them.
 - With ``cluster="ray"``, each item is one call on a Ray cluster's workers
-  (:class:`marblevideo.cluster.RayPool`: ``$RAY_ADDRESS``'s, else a local one;
+  (:class:`marblevideo.scale.cluster.RayPool`: ``$RAY_ADDRESS``'s, else a local one;
   ``jobs`` workers, default one per GPU or CPU), each worker keeping one
   OpenCL context for all its items; paths are sent, never pixels, so the
   cluster's machines must see the inputs and outputs at the same paths. A
@@ -43,12 +43,12 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from marblevideo.batch.workers import on_processes, on_ray, render_item
-from marblevideo.cluster import require_ray
 from marblevideo.errors import UsageError
 from marblevideo.media.formats import is_sequence, output_format, output_kind, output_kinds
 from marblevideo.media.progress import Progress
 from marblevideo.media.tiled import check_still_size
+from marblevideo.scale.batch.workers import on_processes, on_ray, render_item
+from marblevideo.scale.cluster import require_ray
 
 MANIFEST_NAME = "marblevideo-batch.json"
 TEMPLATE_FIELDS = ("stem", "name", "suffix", "parent", "index")
