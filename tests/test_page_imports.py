@@ -14,6 +14,8 @@ from pathlib import Path
 import pytest
 from helpers import ROOT
 
+pytestmark = pytest.mark.tier("fast")
+
 WEB = ROOT / "marblevideo" / "design" / "web"
 #: A static import or re-export of a relative module (its names may span lines).
 IMPORT = re.compile(

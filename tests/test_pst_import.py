@@ -26,6 +26,8 @@ from marblevideo.pstmarble import import_design
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 
+pytestmark = pytest.mark.tier("fast")
+
 DATA = Path(__file__).resolve().parent / "data" / "pst"
 LEVELS, SHARE = 24, 0.995
 #: Designs whose every action has the same model in marblevideo.

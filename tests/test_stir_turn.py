@@ -17,6 +17,8 @@ from marblevideo.errors import RecipeError
 from marblevideo.recipe import parse_recipe
 from marblevideo.reference import forward, inverse
 
+pytestmark = pytest.mark.tier("fast")
+
 STIR = {"type": "stir", "center": [100, 100], "radii": [30, -60, 90], "turn": 120, "falloff": 0.2}
 
 

@@ -9,8 +9,11 @@ import json
 import subprocess
 import sys
 
+import pytest
 from helpers import ROOT, one_line, subprocess_env
 from live_helpers import LiveProcess
+
+pytestmark = pytest.mark.tier("integration")
 
 SAMPLES = ROOT / "samples"
 

@@ -66,12 +66,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"preview port ({DEFAULT_PORT})")
     p.add_argument("--vcam", action="store_true", help="send frames to a virtual camera")
     p.add_argument("-o", "--output", help="record what is shown (.mp4 .mov .mkv .webm)")
-    p.add_argument(
-        "-y",
-        "--overwrite",
-        action="store_true",
-        help="replace an existing recording (and a preset's copy, with --preview)",
-    )
+    p.add_argument("-y", "--overwrite", action="store_true", help="replace existing outputs")
     p.add_argument("--size", metavar="WxH", help="test pattern size, or the size asked of a camera")
     p.add_argument(
         "--fps", type=float, help=f"test pattern rate ({DEFAULT_FPS:g}), or asked of a camera"
