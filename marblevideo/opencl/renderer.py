@@ -155,6 +155,7 @@ class Renderer:
     built once), so that a recipe whose ops change is never rebuilt: for
     editors (``marblevideo design``); otherwise a program is built per recipe
     structure with its ops unrolled, and the loop is for long recipes only.
+    ``profile``: time each kernel (DeviceQueue.kernel_times; for benchmarks).
     """
 
     def __init__(
@@ -166,6 +167,7 @@ class Renderer:
         adaptive: bool | None = None,
         reuse_maps: bool = True,
         loop_walk: bool = False,
+        profile: bool = False,
     ):
         import pyopencl as cl
 
@@ -176,7 +178,7 @@ class Renderer:
         except cl.Error as exc:
             raise DeviceError(f"cannot open OpenCL device {self.info.name}: {exc}") from None
         is_cpu = bool(self.info.device.type & cl.device_type.CPU)
-        self.device_queue = DeviceQueue(self.context, self.info, is_cpu)
+        self.device_queue = DeviceQueue(self.context, self.info, is_cpu, profile)
         self.programs = Programs(self.context, self.info, lanes, chains, loop_walk)
         self.lanes, self.chains = self.programs.lanes, self.programs.chains
         self.yuv_lanes = self.programs.yuv_lanes
