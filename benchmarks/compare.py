@@ -34,7 +34,8 @@ FIGURES = ("wall s", "CPU s", "peak RSS MB")
 @contextmanager
 def checked_out(ref: str | None, folder: Path):
     """The tree of ``ref`` in a temporary worktree under ``folder`` (removed
-    after), or this checkout for None; yields (label, path)."""
+    after; a folder of its own, so BASE and HEAD may be the same commit), or
+    this checkout for None; yields (label, path)."""
     if ref is None:
         yield "this checkout", ROOT
         return
@@ -44,8 +45,17 @@ def checked_out(ref: str | None, folder: Path):
     )
     if commit.returncode:
         raise SystemExit(f"benchmarks compare: no commit {ref!r} in {ROOT}")
-    path = folder / f"tree-{commit.stdout.strip()}"
-    add = [*git, "worktree", "add", "--detach", "--quiet", str(path), commit.stdout.strip()]
+    path = Path(tempfile.mkdtemp(prefix=f"tree-{commit.stdout.strip()}-", dir=folder))
+    add = [
+        *git,
+        "worktree",
+        "add",
+        "--detach",
+        "--quiet",
+        "--force",
+        str(path),
+        commit.stdout.strip(),
+    ]
     subprocess.run(add, check=True)
     try:
         yield f"{ref} ({commit.stdout.strip()})", path

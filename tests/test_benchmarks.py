@@ -49,6 +49,7 @@ def test_compare_runs_two_commits_side_by_side_on_a_tiny_clip(capsys):
     """HEAD checked out into a temporary worktree against this checkout, one round."""
     from benchmarks.compare import compare
 
+    before = temporary_trees()
     compare(None, ["HEAD"], seconds=1, rounds=1, size=(96, 64))
     out = capsys.readouterr().out
     assert "this checkout against HEAD (" in out
@@ -57,10 +58,15 @@ def test_compare_runs_two_commits_side_by_side_on_a_tiny_clip(capsys):
     assert [r[1] for r in rows] == ["wall s", "CPU s", "peak RSS MB"] * 2
     assert all(float(r[2]) > 0 and float(r[3]) > 0 for r in rows)
     assert "load average" in out
-    worktrees = subprocess.run(
+    assert temporary_trees() == before  # its worktree removed after
+
+
+def temporary_trees() -> set[str]:
+    """The checkout's worktrees that compare made (named tree-COMMIT-...)."""
+    listed = subprocess.run(
         ["git", "-C", str(ROOT), "worktree", "list"], capture_output=True, text=True, check=True
     )
-    assert "tree-" not in worktrees.stdout  # removed after
+    return {line.split()[0] for line in listed.stdout.splitlines() if "/tree-" in line}
 
 
 def test_compare_needs_one_or_two_commits():
