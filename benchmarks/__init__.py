@@ -3,6 +3,8 @@
     python -m benchmarks                       # table1 e2e numpy memory (several minutes)
     python -m benchmarks table1 e2e --seconds 4 --device pocl
     python -m benchmarks.live_bench --record rec.mp4   # the parts with options of their own
+    python -m benchmarks compare 31a6cd2 --seconds 10  # that commit against this checkout
+    python -m benchmarks kernels --profile     # device time per kernel
 
 (``python benchmarks/bench.py PARTS`` before; the parts and options are the same.)
 
@@ -50,6 +52,14 @@
   (stroke_bench.py).
 - pst-stir: Jaffer's Wreath and Curl imported from pst-marble, their stirs with
   ``turn`` against the same stirs with ``alpha`` (pst_bench.py).
+- kernels: frames of the e2e clip through one renderer by route (I420 static
+  with reused maps, animated from the lattice and walked exactly, RGBA), ms
+  per frame; with --profile each kernel's device time from a profiling queue
+  (kernels_bench.py).
+- compare BASE [HEAD]: the CLI's static and animated e2e commands of two
+  commits (HEAD: default this checkout), each checked out into a temporary
+  worktree, paired and alternating (A B A B, --rounds), medians of wall time,
+  CPU time and peak RSS and of the paired ratios (compare.py).
 
 Benchmarks with options of their own run as modules of the package:
 ``python -m benchmarks.live_bench`` (live at 720p, --record, --twelve),

@@ -1,6 +1,8 @@
 """``python -m benchmarks [PART ...] [options]``, from the checkout: the parts
 named (the package's docstring says what each measures), one Markdown report on
-standard output. ``lanes-child`` is one process of ``lanes`` (internal)."""
+standard output. ``python -m benchmarks compare BASE [HEAD]`` runs the end-to-end
+commands of two commits side by side (benchmarks/compare.py). ``lanes-child`` is
+one process of ``lanes`` (internal)."""
 
 from __future__ import annotations
 
@@ -37,6 +39,7 @@ PARTS = {
     "live1080": [("lattice_bench", "live1080_part", "device")],
     "strokes": [("stroke_bench", "strokes_part", "device")],
     "pst-stir": [("pst_bench", "pst_stir_part", "device")],
+    "kernels": [("kernels_bench", "kernels_part", "profile")],
 }
 
 
@@ -49,6 +52,8 @@ def arguments(form: str, args: argparse.Namespace) -> list[tuple]:
         "cluster": lambda: [(args.device, make_clip, animated12)],
         "animated": lambda: [(args.device, animated12)],
         "cost": lambda: [(args.device, animated12, turn12)],
+        "profile": lambda: [(args.device, args.profile)],
+        "compare": lambda: [(args.device, args.parts[1:], s, args.rounds) for s in args.seconds],
     }[form]()
 
 
@@ -75,8 +80,14 @@ def parser() -> argparse.ArgumentParser:
         nargs="+",
         default=[4, 20],
         metavar="S",
-        help="lengths of the e2e and bounds clips in seconds (default 4 20)",
+        help="lengths of the e2e, bounds and compare clips in seconds (default 4 20)",
     )
+    p.add_argument(
+        "--profile",
+        action="store_true",
+        help="kernels: time each kernel on a profiling queue",
+    )
+    p.add_argument("--rounds", type=int, default=5, help="compare: paired rounds (default 5)")
     return p
 
 
@@ -84,6 +95,13 @@ def main(argv: list[str] | None = None) -> None:
     args = parser().parse_args(argv)
     if args.parts == ["lanes-child"]:
         return function("lanes", "lanes_child")(args.device)
+    if args.parts[:1] == ["compare"]:
+        if not 2 <= len(args.parts) <= 3 or args.rounds < 1:
+            parser().error("compare BASE [HEAD]: one or two commits, --rounds at least 1")
+        header()
+        for call in arguments("compare", args):
+            function("compare", "compare")(*call)
+        return None
     unknown = [p for p in args.parts if p not in PARTS]
     if unknown:
         parser().error(f"unknown part(s) {', '.join(unknown)}; parts: {' '.join(PARTS)}")

@@ -17,6 +17,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from marblevideo.opencl.kernel_args import set_args
 from marblevideo.opencl.program import Built, Packed
 from marblevideo.opencl.queue import DeviceQueue, float4
 from marblevideo.ops import PSTRIDE
@@ -54,12 +55,12 @@ GPU_MIN_WALKED_OPS = math.inf
 
 @dataclass(frozen=True)
 class Lattice:
-    """A frame's walked lattice: the trailing kernel arguments that the shading
-    kernels take (cell states, fine points' end points in canvas units, the
-    fine lattice's row stride, the coarse lattice's size, canvas -> fine
-    lattice units), and the number of cells."""
+    """A frame's walked lattice: the shading kernels' ``LATTICE_ARGS`` by name
+    (:mod:`~marblevideo.opencl.kernel_args`: cell states, fine points' end
+    points in canvas units, the fine lattice's row stride, the coarse lattice's
+    size, canvas -> fine lattice units), and the number of cells."""
 
-    args: tuple
+    args: dict
     cells: int
 
 
@@ -102,45 +103,35 @@ class LatticeWalk:
         # gi = identity keeps the end points in canvas units
         gc = float4([kx * half, ky * half, tx + 0.5 * half * kx, ty + 0.5 * half * ky])
         centres = built.kernels["marble_centres"]
-        centres.set_args(
-            ink, lx, ly, np.int32(gstride), np.int32(gh), pbuf, gc, float4([1, 1, 0, 0]), lbuf
-        )
+        grid = dict(inkmap=ink, sxmap=lx, symap=ly, gstride=np.int32(gstride))
+        gi = float4([1, 1, 0, 0])
+        set_args(centres, **grid, gh=np.int32(gh), params=pbuf, gc=gc, gi=gi, lists=lbuf)
         queue.launch(centres, gstride // lanes * -(-gh // built.chains))
         state = queue.buffer("lattice_state", ncx * ncy * 4)
         cells = built.kernels["marble_lattice_cells"]
         gi = float4([geom.to_input[0], geom.to_input[1], 0.0, 0.0])
         reach = self.reach * half * max(abs(kx), abs(ky))
-        cells.set_args(
-            state,
-            ink,
-            lx,
-            ly,
-            np.int32(gstride),
-            np.int32(ncx),
-            np.int32(ncy),
-            gi,
-            np.float32(self.tolerance),
-            np.float32(reach),
-            np.int32(self.rules),
-        )
+        size = dict(ncx=np.int32(ncx), ncy=np.int32(ncy))
+        limits = dict(tol=np.float32(self.tolerance), reach=np.float32(reach))
+        set_args(cells, **grid, state=state, **size, gi=gi, **limits, rules=np.int32(self.rules))
         queue.launch(cells, ncx * ncy)
         lat = float4([1.0 / (half * kx), 1.0 / (half * ky), tx, ty])
-        args = (state, lx, ly, np.int32(gstride), np.int32(ncx), np.int32(ncy), lat)
+        args = dict(state=state, lx=lx, ly=ly, lstride=np.int32(gstride), **size, lat=lat)
         self._last = Lattice(args, ncx * ncy)
         self.frames += 1
         return self._last
 
-    def render(self, built: Built, dst, w: int, h: int, lattice: Lattice, common: tuple) -> None:
+    def render(self, built: Built, dst, w: int, h: int, lattice: Lattice, common: dict) -> None:
         """An RGBA frame (marble's arguments ``common``) shaded from ``lattice``."""
         k = built.kernels["marble_lattice"]
-        k.set_args(dst, np.int32(w), np.int32(h), *lattice.args, *common)
+        set_args(k, common, dst=dst, w=np.int32(w), h=np.int32(h), **lattice.args)
         self.queue.launch(k, -(-w // self.lanes) * -(-h // built.rows))
 
-    def render_plane(self, built: Built, head: tuple, lattice: Lattice, common: tuple) -> None:
-        """A plane (marble_plane's arguments ``head`` and ``common``) from ``lattice``."""
-        pw, ph = int(head[3]), int(head[4])
+    def render_plane(self, built: Built, head: dict, lattice: Lattice, common: dict) -> None:
+        """A plane (marble_plane's arguments ``head`` and ``common``, by name) from ``lattice``."""
+        pw, ph = int(head["w"]), int(head["h"])
         k = built.kernels["marble_lattice_plane"]
-        k.set_args(*head, *lattice.args, *common)
+        set_args(k, common, **head, **lattice.args)
         self.queue.launch(k, -(-pw // self.lanes) * -(-ph // built.rows))
 
     def refined_share(self) -> float | None:
@@ -148,5 +139,5 @@ class LatticeWalk:
         queue; for benchmarks and tests), or None before any."""
         if self._last is None:
             return None
-        states = self.queue.read(np.empty(self._last.cells, np.int32), self._last.args[0])
+        states = self.queue.read(np.empty(self._last.cells, np.int32), self._last.args["state"])
         return float(np.mean(states == WALK_CELL))

@@ -11,12 +11,23 @@ from collections.abc import Callable
 import numpy as np
 
 from marblevideo.media.yuv import YuvMatrix
+from marblevideo.opencl.kernel_args import set_args, walk_args
 from marblevideo.opencl.lattice import LatticeWalk
 from marblevideo.opencl.program import Programs, Structure, pack_params
 from marblevideo.opencl.queue import DeviceQueue, float4, geometry_args
 from marblevideo.opencl.tables import ReusedMaps
 from marblevideo.recipe.frame import FrameSpec, Geometry
 from marblevideo.recipe.geometry import chroma_geometry, coded_spec
+
+
+def plane_head(dst, offsets, geom: Geometry, quads, chroma: int) -> dict:
+    """The plane kernels' ``PLANE_HEAD`` arguments by name: the output buffer, the
+    plane's ``offsets`` in it, its size, its input ``quads`` (q0, q1) and whether
+    it is ``chroma``."""
+    off0, off1 = map(np.int32, offsets)
+    w, h = np.int32(geom.out_w), np.int32(geom.out_h)
+    q0, q1 = quads
+    return dict(dst=dst, off0=off0, off1=off1, w=w, h=h, q0=q0, q1=q1, chroma=np.int32(chroma))
 
 
 class PlanarFrames:
@@ -83,9 +94,8 @@ class PlanarFrames:
             walk = reuse and not self.tables.holds(key)
             walked = self.lattice.walk(built, luma, pbuf, lbuf) if drawn == "lattice" else None
             for g, maps, offsets, in_size, q0, q1, is_chroma, names in (luma_job, chroma_job):
-                head = (dst, *map(np.int32, offsets), np.int32(g.out_w), np.int32(g.out_h))
-                head += (q0, q1, np.int32(is_chroma))
-                common = (q0, *map(np.int32, in_size), pbuf, samples, *maps, bgc, lbuf)
+                head = plane_head(dst, offsets, g, (q0, q1), is_chroma)
+                common = walk_args(q0, *map(np.int32, in_size), pbuf, samples, maps, bgc, lbuf)
                 plane = (g.out_w, g.out_h, names, spec.antialias, samples)
                 self.plane(built, head, common, plane, walked, reuse, walk)
             if reuse:
@@ -107,14 +117,15 @@ class PlanarFrames:
         k = built.kernels["marble_quads"]
         for name, off, pw, ph, code in planes_in:
             buf = queue.buffer(name, (pw + 2) * (ph + 2) * 4)
-            k.set_args(buf, staged, np.int32(off), np.int32(pw), np.int32(ph), np.uint32(code))
+            size = dict(off=np.int32(off), pw=np.int32(pw), ph=np.int32(ph))
+            set_args(k, quads=buf, yuv=staged, **size, bg=np.uint32(code))
             queue.launch(k, (pw + yl) // yl * (ph + 1))
             quads.append(buf)
         return quads
 
-    def plane(self, built, head: tuple, common: tuple, plane: tuple, walked, reuse, walk) -> None:
+    def plane(self, built, head: dict, common: dict, plane: tuple, walked, reuse, walk) -> None:
         """Queue one output plane (luma, or both chroma planes): ``head`` and
-        ``common``, the plane kernels' arguments; ``plane``: its width, height,
+        ``common``, the plane kernels' arguments by name; ``plane``: its width, height,
         table names, antialiasing and samples buffer; from the ``walked``
         lattice, the table of reused maps (``reuse``; ``walk``: fill it first) or
         a fresh walk."""
@@ -124,10 +135,11 @@ class PlanarFrames:
             self.lattice.render_plane(built, head, walked, common)
         elif not reuse:
             k = built.kernels["marble_plane"]
-            k.set_args(*head, *common)
+            set_args(k, common, **head)
             queue.launch(k, -(-pw // lanes) * -(-ph // built.rows))
         else:
             table = self.tables.table(built, names, pw, ph, antialias, common, walk)
             k = built.kernels["marble_apply_plane"]
-            k.set_args(*head, *table, samples)
+            taps, wts, tstride = table
+            set_args(k, head, taps=taps, wts=wts, tstride=tstride, samples=samples)
             queue.launch(k, -(-pw // lanes) * ph)

@@ -284,8 +284,8 @@ class Programs:
             built = self._built.get(structure)
             return built if built is not None else self.build(structure)
 
-    def build(self, structure: Structure) -> Built:
-        """Build and cache ``structure``'s program (the caller holds the lock)."""
+    def options(self, structure: Structure) -> tuple[list[str], int, int]:
+        """(build options, rows, chains) of ``structure``'s program."""
         nsamples = len(pattern(structure.antialias))
         rows, chains = self.layout(nsamples)
         options = [
@@ -297,8 +297,16 @@ class Programs:
             f"-DEDGES={edges_macro(structure.edges)}",
             f"-DYLANES={self.yuv_lanes}",
         ]
-        source = header_source() + walk_source(structure.types) + self.source
-        program = self.build_program(source, options)
+        return options, rows, chains
+
+    def full_source(self, structure: Structure) -> str:
+        """``structure``'s whole source: the generated header and walk, then :attr:`source`."""
+        return header_source() + walk_source(structure.types) + self.source
+
+    def build(self, structure: Structure) -> Built:
+        """Build and cache ``structure``'s program (the caller holds the lock)."""
+        options, rows, chains = self.options(structure)
+        program = self.build_program(self.full_source(structure), options)
         kernels = {k.function_name: k for k in program.all_kernels()}
         built = self._built[structure] = Built(kernels, rows, chains)
         return built

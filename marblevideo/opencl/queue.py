@@ -5,6 +5,10 @@ device memory every frame. Copies from the host are queued without waiting;
 their events hold the host arrays until copied (dropping one would wait for
 it, and so for every frame queued before it). One in-order queue runs
 everything, so frames in flight share the buffers safely.
+
+A profiling queue (``profile=True``, off by default: each launch then keeps its
+event) reports the device time of each kernel (:meth:`DeviceQueue.kernel_times`),
+for the benchmarks (``python -m benchmarks kernels --profile``).
 """
 
 from __future__ import annotations
@@ -43,14 +47,18 @@ def padded_size(n: int, multiple: int = 64) -> int:
 
 class DeviceQueue:
     """The queue of ``context`` on the device ``info``; ``is_cpu`` sets the
-    work-group size of :meth:`launch`."""
+    work-group size of :meth:`launch`; ``profile``: a profiling queue (see the
+    module)."""
 
-    def __init__(self, context, info: DeviceInfo, is_cpu: bool):
+    def __init__(self, context, info: DeviceInfo, is_cpu: bool, profile: bool = False):
         import pyopencl as cl
 
         self._cl, self.context, self.info = cl, context, info
+        properties = cl.command_queue_properties.PROFILING_ENABLE if profile else 0
+        #: (kernel name, event) of each launch since the last kernel_times, when profiling
+        self.launches: list[tuple[str, object]] | None = [] if profile else None
         try:
-            self.queue = cl.CommandQueue(context)
+            self.queue = cl.CommandQueue(context, properties=properties)
         except cl.Error as exc:
             raise DeviceError(f"cannot open OpenCL device {info.name}: {exc}") from None
         #: work-group size on CPUs; PoCL's own choice made 15 groups of a 720p
@@ -88,9 +96,24 @@ class DeviceQueue:
         """Enqueue ``n`` work-items of ``kernel`` (padded; surplus items return at
         once) in work-groups of ``group`` items (default: the queue's)."""
         group = group or self.group
-        self._cl.enqueue_nd_range_kernel(
+        event = self._cl.enqueue_nd_range_kernel(
             self.queue, kernel, (padded_size(n, group or 64),), None if group is None else (group,)
         )
+        if self.launches is not None:
+            self.launches.append((kernel.function_name, event))
+
+    def kernel_times(self) -> dict[str, tuple[int, float]]:
+        """Kernel name -> (launches, seconds on the device) of the launches since
+        the last call (waits for the queue); empty unless the queue profiles."""
+        if self.launches is None:
+            return {}
+        self.queue.finish()
+        times: dict[str, tuple[int, float]] = {}
+        for name, event in self.launches:
+            count, seconds = times.get(name, (0, 0.0))
+            times[name] = (count + 1, seconds + (event.profile.end - event.profile.start) * 1e-9)
+        self.launches.clear()
+        return times
 
     def upload(self, buffer, array: np.ndarray):
         """Queue a copy of ``array`` into ``buffer``; its event."""

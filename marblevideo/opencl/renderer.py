@@ -29,6 +29,7 @@ from marblevideo.errors import DeviceError, UsageError
 from marblevideo.limits import MAX_SIDE
 from marblevideo.media.yuv import YuvMatrix, split_i420
 from marblevideo.opencl.device import DeviceInfo, choose_device
+from marblevideo.opencl.kernel_args import set_args, walk_args
 from marblevideo.opencl.lattice import LatticeWalk
 from marblevideo.opencl.planar import PlanarFrames
 from marblevideo.opencl.program import Built, Programs, Structure, pack_params
@@ -94,14 +95,17 @@ def i420_io(queue: DeviceQueue, yl: int, planes, matrices, out, wait: bool, erro
         staged = queue.put_i420(planes, uploads)
         k = built.kernels["marble_from_i420"]
         first, row = np.int32(sw + 3), np.int32(sw + 2)  # pixel (0, 0) of the frame, a row
-        k.set_args(padded, first, row, staged, np.int32(sw), np.int32(sh), to_rgb.view(float16)[0])
+        size = dict(w=np.int32(sw), h=np.int32(sh))
+        set_args(
+            k, dst=padded, off=first, stride=row, yuv=staged, **size, m=to_rgb.view(float16)[0]
+        )
         queue.launch(k, -(-sw // yl) * (sh // 2))
 
     def fetch(built, dst, w: int, h: int, uploads: list):
         result = np.empty((h * 3 // 2, w), np.uint8) if out is None else out
         staged = queue.buffer("i420_out", result.nbytes)
         k = built.kernels["marble_to_i420"]
-        k.set_args(staged, dst, np.int32(w), np.int32(h), to_yuv.view(float16)[0])
+        set_args(k, yuv=staged, src=dst, w=np.int32(w), h=np.int32(h), m=to_yuv.view(float16)[0])
         queue.launch(k, -(-w // yl) * (h // 2))
         return queue.download(result, staged, wait, uploads, errors)
 
@@ -118,7 +122,7 @@ def padded_input(queue: DeviceQueue, built: Built, size, put, background, upload
     src = queue.buffer("padded", (sw + 2) * (sh + 2) * 4)
     put(built, src, uploads)
     k = built.kernels["marble_pad"]
-    k.set_args(src, np.int32(sw), np.int32(sh), np.uint32(packed_color(background)))
+    set_args(k, src=src, sw=np.int32(sw), sh=np.int32(sh), bg=np.uint32(packed_color(background)))
     queue.launch(k, 2 * (sw + 2) + 2 * sh)
     return src
 
@@ -152,6 +156,7 @@ class Renderer:
     built once), so that a recipe whose ops change is never rebuilt: for
     editors (``marblevideo design``); otherwise a program is built per recipe
     structure with its ops unrolled, and the loop is for long recipes only.
+    ``profile``: time each kernel (DeviceQueue.kernel_times; for benchmarks).
     """
 
     def __init__(
@@ -163,6 +168,7 @@ class Renderer:
         adaptive: bool | None = None,
         reuse_maps: bool = True,
         loop_walk: bool = False,
+        profile: bool = False,
     ):
         import pyopencl as cl
 
@@ -173,7 +179,7 @@ class Renderer:
         except cl.Error as exc:
             raise DeviceError(f"cannot open OpenCL device {self.info.name}: {exc}") from None
         is_cpu = bool(self.info.device.type & cl.device_type.CPU)
-        self.device_queue = DeviceQueue(self.context, self.info, is_cpu)
+        self.device_queue = DeviceQueue(self.context, self.info, is_cpu, profile)
         self.programs = Programs(self.context, self.info, lanes, chains, loop_walk)
         self.lanes, self.chains = self.programs.lanes, self.programs.chains
         self.yuv_lanes = self.programs.yuv_lanes
@@ -340,8 +346,8 @@ class Renderer:
             src = padded_input(queue, built, size, put, bg, uploads)
             dst = queue.buffer("dst", w * h * 4)
             samples = queue.samples(spec.antialias)
-            common = (src, np.int32(sw), np.int32(sh), pbuf, samples, *maps, float4(bg + [255.0]))
-            common += (lbuf,)
+            bgc = float4(bg + [255.0])
+            common = walk_args(src, np.int32(sw), np.int32(sh), pbuf, samples, maps, bgc, lbuf)
             if drawn == "tables":
                 self.tables.render(built, dst, w, h, common, key)
             elif drawn == "lattice":

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from marblevideo.opencl.kernel_args import set_args
 from marblevideo.opencl.program import Built
 from marblevideo.opencl.queue import DeviceQueue
 from marblevideo.recipe.antialias import pattern
@@ -66,24 +67,26 @@ class ReusedMaps:
 
     def table(self, built: Built, names, w, h, antialias, common, walk: bool) -> tuple:
         """(taps, wts, row stride) of the table of a w x h output in the buffers
-        ``names``, walked first by marble_table over ``common`` when ``walk``."""
+        ``names``, walked first by marble_table over ``common`` (the walk's
+        arguments by name) when ``walk``."""
         stride = self.stride(w)
         nbytes = self.nbytes(antialias, w, h)
         taps, wts = (self.queue.buffer(name, nbytes) for name in names)
         if walk:
             k = built.kernels["marble_table"]
-            k.set_args(taps, wts, np.int32(w), np.int32(h), np.int32(stride), *common)
+            size = dict(w=np.int32(w), h=np.int32(h), tstride=np.int32(stride))
+            set_args(k, common, taps=taps, wts=wts, **size)
             self.queue.launch(k, -(-w // self.lanes) * -(-h // built.rows))
         return taps, wts, np.int32(stride)
 
-    def render(self, built: Built, dst, w: int, h: int, common: tuple, key: tuple) -> None:
+    def render(self, built: Built, dst, w: int, h: int, common: dict, key: tuple) -> None:
         """An RGBA frame fetched and blended from the table, walked first if it
         holds other maps."""
         antialias = key[0].antialias
         walk = not self.holds(key)
         taps, wts, stride = self.table(built, ("taps", "wts"), w, h, antialias, common, walk)
         self.hold(key)
-        src, sw, samples = common[0], common[1], common[4]
         k = built.kernels["marble_apply"]
-        k.set_args(dst, np.int32(w), np.int32(h), taps, wts, stride, src, sw, samples)
+        size = dict(w=np.int32(w), h=np.int32(h), tstride=stride)
+        set_args(k, common, dst=dst, taps=taps, wts=wts, **size)
         self.queue.launch(k, -(-w // self.lanes) * h)

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from marblevideo.opencl.kernel_args import set_args
 from marblevideo.opencl.program import Built
 from marblevideo.opencl.queue import DeviceQueue
 
@@ -32,9 +33,10 @@ class FreshWalk:
     def __init__(self, queue: DeviceQueue, lanes: int):
         self.queue, self.lanes = queue, lanes
 
-    def render(self, built: Built, dst, w: int, h: int, common: tuple) -> None:
+    def render(self, built: Built, dst, w: int, h: int, common: dict) -> None:
+        """``common``: the walk's arguments by name (see kernel_args.walk_args)."""
         k = built.kernels["marble"]
-        k.set_args(dst, np.int32(w), np.int32(h), *common)
+        set_args(k, common, dst=dst, w=np.int32(w), h=np.int32(h))
         self.queue.launch(k, -(-w // self.lanes) * -(-h // built.rows))
 
 
@@ -66,7 +68,8 @@ class AdaptiveWalk:
         self._busy = None
 
     def render(self, built: Built, dst, w, h, common, pbuf, maps, has_input: bool) -> None:
-        """``maps``: the geometry's two float4 kernel arguments; ``pbuf``: the params."""
+        """``common``: the walk's arguments by name; ``maps``: the geometry's two
+        float4 kernel arguments; ``pbuf``: the params."""
         queue, lanes = self.queue, self.lanes
         nbx = -(-w // lanes)
         gstride, gh = nbx * lanes + 2 * lanes, h + 2
@@ -79,22 +82,13 @@ class AdaptiveWalk:
         zero = np.zeros(1, np.int32)
         cleared = queue.upload(counter, zero)
         centres = built.kernels["marble_centres"]
-        lbuf = common[-1]  # the lists, last of the walk's arguments
-        centres.set_args(inkmap, sxmap, symap, np.int32(gstride), np.int32(gh), pbuf, *maps, lbuf)
+        grid = dict(inkmap=inkmap, sxmap=sxmap, symap=symap, gstride=np.int32(gstride))
+        gc, gi = maps
+        set_args(centres, common, **grid, gh=np.int32(gh), params=pbuf, gc=gc, gi=gi)
         queue.launch(centres, gstride // lanes * -(-gh // built.chains))
         classify = built.kernels["marble_classify"]
-        classify.set_args(
-            dst,
-            np.int32(w),
-            np.int32(h),
-            inkmap,
-            sxmap,
-            symap,
-            np.int32(gstride),
-            listing,
-            counter,
-            *common,
-        )
+        size = dict(dst=dst, w=np.int32(w), h=np.int32(h))
+        set_args(classify, common, **size, **grid, list=listing, count=counter)
         queue.launch(classify, nbx * h, self.group)
         n = queue.count(counter)
         del cleared  # copied before the count was read
@@ -103,5 +97,5 @@ class AdaptiveWalk:
         self._full_since = 0
         if n:
             full = built.kernels["marble_list"]
-            full.set_args(dst, np.int32(w), listing, np.int32(n), *common)
+            set_args(full, common, dst=dst, w=np.int32(w), list=listing, count=np.int32(n))
             queue.launch(full, -(-n // (lanes * built.rows)))

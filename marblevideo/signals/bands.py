@@ -5,6 +5,9 @@
 high-pass at 4000 Hz, Q = 1/sqrt 2. Each runs from a zero state at the stream's
 first sample; :class:`FilterBank` carries the state from block to block, so a
 stream filtered in blocks equals it filtered whole. float64 throughout.
+SciPy is imported when a bank is made, not with this module: ``scipy.signal``
+costs every command about 80 MB and a second of start-up, and only a recipe
+that follows audio filters anything.
 """
 
 from __future__ import annotations
@@ -12,7 +15,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.signal import lfilter
 
 #: The bands, in the order of the signal names (audio.level, ...).
 BANDS = ("level", "low", "mid", "high")
@@ -45,6 +47,9 @@ class FilterBank:
     """Every band of one stream at ``sr`` Hz, block after block, state carried."""
 
     def __init__(self, sr: float):
+        from scipy.signal import lfilter  # here, not at import: see the module's docstring
+
+        self.lfilter = lfilter
         self.coefficients = {band: biquad(*spec, sr) for band, spec in FILTERS.items()}
         self.state = {band: np.zeros(2) for band in FILTERS}
 
@@ -52,5 +57,5 @@ class FilterBank:
         """The bands of the next block ``x`` (float64 mono samples)."""
         out = {"level": x}
         for band, (b, a) in self.coefficients.items():
-            out[band], self.state[band] = lfilter(b, a, x, zi=self.state[band])
+            out[band], self.state[band] = self.lfilter(b, a, x, zi=self.state[band])
         return out
