@@ -15,7 +15,7 @@ RENDER_MODULES = (
     "marblevideo.cli",
     "marblevideo.cli.render",
     "marblevideo.api",
-    "marblevideo.segmented",
+    "marblevideo.scale.segmented",
     "marblevideo.signals.follow",
     "marblevideo.signals.audio",
 )
