@@ -19,7 +19,6 @@ from marblevideo.cli.arguments import (
     add_encoder_arguments,
     add_log_arguments,
     configure_logging,
-    parse_encoder_opts,
     parse_size,
 )
 from marblevideo.cli.controllers import (
@@ -30,6 +29,7 @@ from marblevideo.cli.controllers import (
     start_controllers,
     write_take,
 )
+from marblevideo.cli.live_outputs import recorder_for, split_outputs, streamers_for
 from marblevideo.errors import MarbleError, UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_PORT
 from marblevideo.live.session import LiveSession
@@ -65,7 +65,16 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"preview port ({DEFAULT_PORT})")
     p.add_argument("--vcam", action="store_true", help="send frames to a virtual camera")
-    p.add_argument("-o", "--output", help="record what is shown (.mp4 .mov .mkv .webm)")
+    p.add_argument(
+        "-o",
+        "--output",
+        dest="outputs",
+        action="append",
+        default=[],
+        metavar="OUTPUT",
+        help="record what is shown (.mp4 .mov .mkv .webm), or stream it to an RTMP server "
+        "(rtmp://HOST/APP/KEY: FLV, H.264 + AAC); give -o twice to stream and record at once",
+    )
     p.add_argument("-y", "--overwrite", action="store_true", help="replace an existing recording")
     p.add_argument("--size", metavar="WxH", help="test pattern size, or the size asked of a camera")
     p.add_argument(
@@ -97,41 +106,14 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def recorder_for(args):
-    from marblevideo.live.recording import Recorder
-    from marblevideo.media.encode import PRESET_CODECS, default_codec
-    from marblevideo.media.video import VideoOptions
-
-    opts = parse_encoder_opts(args.encoder_opt)
-    codec = args.codec or default_codec(args.output)
-    preset = args.preset
-    if preset is None and codec in PRESET_CODECS:
-        preset = "veryfast"
-    if codec == "libvpx-vp9":
-        opts.setdefault("deadline", "realtime")
-        opts.setdefault("cpu-used", "8")
-    options = VideoOptions(
-        codec=args.codec,
-        crf=args.crf,
-        preset=preset,
-        pix_fmt=args.pix_fmt,
-        encoder_opts=opts,
-        audio="none",
-        overwrite=args.overwrite,
-        quiet=args.quiet,
-        verbose=args.verbose,
-        progress="off",
-    )
-    return Recorder(args.output, options)
-
-
 def run_live(argv: list[str]) -> int:
     """The ``live`` command; returns the exit status (MarbleError propagates)."""
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose)
     spec, recipe, size = _checked(args)
     recorder = recorder_for(args) if args.output else None  # settings checked up front
-    live = _Live(args, open_source(spec, size, args.fps, args.loop), recorder)
+    streams = streamers_for(args)
+    live = _Live(args, open_source(spec, size, args.fps, args.loop), recorder, streams)
     try:
         live.open(recipe)
         live.session.run(args.duration)
@@ -156,6 +138,7 @@ def _checked(args: argparse.Namespace):
 
     if args.source and args.source_opt and args.source != args.source_opt:
         raise UsageError("give the source once: SOURCE or --source")
+    args.output, args.streams = split_outputs(args.outputs)
     args.ops = recipe_file(args.ops)  # a preset's file, when no file of that name exists
     recipe = load_recipe(args.ops)
     size = parse_size(args.size) if args.size else None
@@ -182,8 +165,8 @@ class _Live:
     listens and watches (preview server, controllers, signal handlers); :meth:`close`
     ends them in order, whatever was opened."""
 
-    def __init__(self, args: argparse.Namespace, source, recorder):
-        self.args, self.source, self.recorder = args, source, recorder
+    def __init__(self, args: argparse.Namespace, source, recorder, streams: list):
+        self.args, self.source, self.recorder, self.streams = args, source, recorder, streams
         self.session = self.server = None
         self.listeners: list = []
         self.previous: dict[int, object] = {}
@@ -218,6 +201,9 @@ class _Live:
         if self.recorder is not None:
             self.recorder.start(width, height, source.fps)
             session.recorder = self.recorder
+        for stream in self.streams:
+            stream.start(width, height, source.fps)
+        session.streams = self.streams
         if args.preview:
             self.server = _preview(session, args.port)
         self.listeners = start_controllers(args, session)
@@ -240,6 +226,8 @@ class _Live:
             self.source.stop()
         if self.session is not None and self.session.vcam is not None:
             self.session.vcam.close()
+        for stream in self.streams:
+            stream.close()
         if self.recorder is not None:
             self.recorder.close(ok=self.ok)
         for signum, handler in self.previous.items():
