@@ -10,6 +10,7 @@ import subprocess
 import sys
 import time
 
+import av
 import numpy as np
 import pytest
 from clips import picture, probe, write_clip
@@ -144,3 +145,29 @@ def test_a_bad_stream_output_is_one_line_and_exit_2(tmp_path, outputs, fault):
     assert proc.returncode == 2
     assert fault in one_line(proc)
     assert not list(tmp_path.glob("*.mp4"))
+
+
+def keyframe_times(path) -> list[float]:
+    with av.open(str(path)) as container:
+        stream = container.streams.video[0]
+        return [
+            float(p.pts * p.time_base)
+            for p in container.demux(stream)
+            if p.is_keyframe and p.pts is not None
+        ]
+
+
+def test_a_file_render_plays_at_its_own_pace_with_a_keyframe_every_2_s(tmp_path, server):
+    clip = write_clip(tmp_path / "clip.mp4", size=SIZE, frames=60, fps=15, audio=False)
+    (tmp_path / "still.json").write_text(json.dumps(STILL))
+    start = time.monotonic()
+    proc = marblevideo(
+        clip, "--ops", "still.json", "-o", server.url("k5"), "--realtime", cwd=tmp_path
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert time.monotonic() - start > 4, "not played at the clip's pace"
+    [received] = server.recordings()
+    got = probe(received)
+    assert got.times[-1] - got.times[0] == pytest.approx(59 / 15, abs=0.5)
+    keys = keyframe_times(received)
+    assert len(keys) == 2 and keys[1] - keys[0] == pytest.approx(2.0, abs=0.15), keys

@@ -23,6 +23,7 @@ from marblevideo.cli.arguments import (
     parse_size,
     parse_view,
 )
+from marblevideo.cli.realtime import render_realtime, wants_realtime
 from marblevideo.cli.vectors import render_extra
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
@@ -167,6 +168,14 @@ _VIDEO = (
             "false too)",
         ),
     ),
+    (
+        ("--realtime",),
+        dict(
+            action="store_true",
+            help="play the render at the input's own pace to a stream (-o rtmp://HOST/APP/KEY; "
+            "a stream output implies it), as a live session of the file",
+        ),
+    ),
 )
 #: After the encoder's flags (:func:`.arguments.add_encoder_arguments`) in the video group.
 _PROGRESS = (
@@ -244,6 +253,8 @@ def render_command(argv: list[str]) -> int:
     from marblevideo.signals.follow import check_soundtrack, follow
 
     args = _render_parser().parse_args(argv)
+    if wants_realtime(args):
+        return render_realtime(args)
     configure_logging(args.verbose)
     recipe = as_recipe(args.ops)  # validated before any input is opened
     size = parse_size(args.size) if args.size else None
