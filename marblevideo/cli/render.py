@@ -20,10 +20,10 @@ from marblevideo.cli.arguments import (
     add_log_arguments,
     configure_logging,
     parse_encoder_opts,
-    parse_size,
     parse_view,
 )
 from marblevideo.cli.realtime import render_realtime, wants_realtime
+from marblevideo.cli.sizes import resolve_size
 from marblevideo.cli.vectors import render_extra
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
@@ -70,7 +70,14 @@ _MAIN = (
         ),
     ),
     (("-y", "--overwrite"), dict(action="store_true", help="replace an existing output")),
-    (("--size",), dict(metavar="WxH", help="output size (default: input or canvas)")),
+    (
+        ("--size",),
+        dict(
+            metavar="WxH",
+            help="output size (default: input or canvas); W or xH: the other side keeps "
+            "the input's aspect, even (as ffmpeg's scale=W:-2)",
+        ),
+    ),
     (
         ("--fit",),
         dict(
@@ -147,8 +154,10 @@ _VIDEO = (
     (
         ("--audio",),
         dict(
-            choices=("copy", "aac", "none"),
-            help="copy audio bit-exact (default), re-encode to AAC, or drop it",
+            choices=("auto", "copy", "aac", "none"),
+            help="auto (default): copy audio bit-exact, but re-encode to AAC the Opus, FLAC, "
+            "Vorbis or PCM that an MP4 or MOV would not play everywhere; copy: always where "
+            "the container holds it; aac: re-encode; none: drop it",
         ),
     ),
     (
@@ -257,7 +266,7 @@ def render_command(argv: list[str]) -> int:
         return render_realtime(args)
     configure_logging(args.verbose)
     recipe = as_recipe(args.ops)  # validated before any input is opened
-    size = parse_size(args.size) if args.size else None
+    size = resolve_size(args.size, args.input)
     job, _ = check_options(args)
     if args.soundtrack is not None:
         check_soundtrack(args.soundtrack)
@@ -315,7 +324,7 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> di
         preset=args.preset,
         pix_fmt=args.pix_fmt,
         encoder_opts=parse_encoder_opts(args.encoder_opt),
-        audio=args.audio or "copy",
+        audio=args.audio or "auto",
         start=args.start,
         end=args.end,
         size=size,
