@@ -7,7 +7,9 @@
 - Encoder settings are the recording's (``--codec``, ``--crf``, ``--preset``,
   ``--pix-fmt``, ``--encoder-opt``, checked by
   :func:`~marblevideo.media.encode.plan_output` for the ``flv`` format), with a
-  keyframe every :data:`KEYFRAME_SECONDS` unless ``--encoder-opt g=N`` says.
+  keyframe every :data:`KEYFRAME_SECONDS` of capture time, asked of the encoder
+  frame by frame (so a session slower than its nominal rate keeps them; the
+  encoder's own ``g``, ``--encoder-opt g=N``, can only add more).
 - Each connection is a fresh FLV stream: its timestamps (milliseconds, the FLV
   time base) start at its first frame's capture time, frames keep the spacing
   they were captured with; an AAC track (48 kHz stereo, silence: live sources
@@ -87,6 +89,7 @@ class _Connection:
             raise
         self.origin: float | None = None
         self.last_pts = -1
+        self.last_key: int | None = None  # pts of the last keyframe asked for
         self.samples = 0  # audio samples sent
 
     def send(self, rgba: np.ndarray, ts: float) -> bool:
@@ -98,7 +101,10 @@ class _Connection:
         if pts <= self.last_pts:
             return False
         self.last_pts = pts
-        self.encoder.video(VideoItem(rgba, pts, 0, ts - self.origin))
+        key = self.last_key is None or pts - self.last_key >= KEYFRAME_SECONDS * 1000
+        if key:  # by time, whatever rate the frames come at
+            self.last_key = pts
+        self.encoder.video(VideoItem(rgba, pts, 0, ts - self.origin, key=key))
         self._silence_until(pts / 1000)
         return True
 
@@ -150,10 +156,6 @@ class Streamer:
 
     def start(self, width: int, height: int, fps: float) -> None:
         self.size, self.fps = (width, height), fps
-        options = dict(self.plan.codec_options)
-        if "g" not in self.options.encoder_opts and fps > 0:
-            options["g"] = str(max(1, round(KEYFRAME_SECONDS * fps)))
-        self.plan.codec_options = options
         self._thread = threading.Thread(target=self._run, name="marblevideo-stream", daemon=True)
         self._thread.start()
 

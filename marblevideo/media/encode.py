@@ -287,6 +287,8 @@ class Encoder:
         for key, value in self.colors.items():
             setattr(frame, key, value)
         frame.pts, frame.time_base = item.pts, self.stream.codec_context.time_base
+        if item.key:
+            frame.pict_type = av.video.frame.PictureType.I
         if item.duration:
             frame.duration = item.duration
         self.out.mux(self.stream.encode(frame))

@@ -82,6 +82,7 @@ class VideoItem:
     t: float
     i420: np.ndarray | tuple | None = None  # I420, packed or as planes (marblevideo.media.yuv)
     matrix: YuvMatrix | None = None  # the colour matrix and range of ``i420``
+    key: bool = False  # encode as a keyframe (a stream's keyframes by time)
 
     @property
     def shape(self) -> tuple[int, int]:
