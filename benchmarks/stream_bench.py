@@ -10,7 +10,10 @@ reading the stream back from the server. Latency: a frame's capture time to the
 player decoding it (its pts is its capture time since the stream's first frame).
 
     python -m benchmarks.stream_bench [--size 1280x720] [--fps 30] [--seconds 10]
-        [--encoder-opt tune=zerolatency] [--device P:D]
+        [--encoder-opt tune=zerolatency] [--bypass] [--device P:D]
+
+``--bypass`` shows the frames unmarbled: what the stream alone (encoding,
+sending, the server, the player) sustains.
 
 Not a test: numbers depend on the machine (see BENCHMARKS.md).
 """
@@ -64,6 +67,7 @@ def _player(url: str, streamer, stop: threading.Event, seen: list) -> None:
 
     options = {"rw_timeout": "10000000", "fflags": "nobuffer", "analyzeduration": "500000"}
     with av.open(url, options=options) as container:
+        container.streams.video[0].thread_count = 1  # no frame threads' delay
         for frame in container.decode(video=0):
             now = time.monotonic()
             connection = streamer._connection
@@ -73,7 +77,7 @@ def _player(url: str, streamer, stop: threading.Event, seen: list) -> None:
                 return
 
 
-def run(size, fps, seconds, warmup, device, encoder_opts, stream: bool) -> dict:
+def run(size, fps, seconds, warmup, device, encoder_opts, stream: bool, bypass: bool) -> dict:
     from marblevideo.cli.arguments import parse_size
     from marblevideo.live.session import LiveSession
     from marblevideo.live.sources import TestPattern
@@ -86,6 +90,7 @@ def run(size, fps, seconds, warmup, device, encoder_opts, stream: bool) -> dict:
         recipe = folder / "bench.json"
         recipe.write_text(json.dumps(RECIPE))
         session = LiveSession(recipe, TestPattern((w, h), fps), device=device, quiet=True)
+        session.playback.bypass = bypass  # the stream alone: frames shown unmarbled
         nginx, port = _nginx(folder) if stream else (None, 0)
         url = f"rtmp://127.0.0.1:{port}/live/bench"
         streamer, seen, stop = None, [], threading.Event()
@@ -126,6 +131,7 @@ def run(size, fps, seconds, warmup, device, encoder_opts, stream: bool) -> dict:
         lags = sorted(1000 * (at - captured) for at, captured in seen if at >= t0)
         return {
             "stream": stream,
+            "marbled": not bypass,
             "size": f"{w}x{h}",
             "source_fps": fps,
             "encoder_opts": " ".join(f"{k}={v}" for k, v in encoder_opts) or "-",
@@ -151,6 +157,9 @@ def main() -> None:
     p.add_argument("--warmup", type=float, default=4.0)
     p.add_argument("--device")
     p.add_argument("--encoder-opt", action="append", default=[], metavar="KEY=VALUE")
+    p.add_argument(
+        "--bypass", action="store_true", help="frames unmarbled: the stream's own throughput"
+    )
     args = p.parse_args()
     opts = [tuple(item.split("=", 1)) for item in args.encoder_opt]
     header()
@@ -159,9 +168,11 @@ def main() -> None:
         "| stream | size | fps asked | encoder opts | marbled fps | sent fps | player fps "
         "| latency median ms | p95 ms | stream dropped | device |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|")
     for stream, extra in ((False, []), (True, []), *([(True, opts)] if opts else [])):
-        r = run(args.size, args.fps, args.seconds, args.warmup, args.device, extra, stream)
+        r = run(
+            args.size, args.fps, args.seconds, args.warmup, args.device, extra, stream, args.bypass
+        )
         print("| " + " | ".join(str(v) for v in r.values()) + " |", flush=True)
     print(f"# load average after: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
 
