@@ -65,8 +65,10 @@ def _player(url: str, streamer, stop: threading.Event, seen: list) -> None:
     """Read the stream back from the server; (decoded at, capture time) per frame."""
     import av
 
-    options = {"rw_timeout": "10000000", "fflags": "nobuffer", "analyzeduration": "500000"}
+    options = {"rw_timeout": "10000000", "fflags": "nobuffer"}
     with av.open(url, options=options) as container:
+        if not container.streams.video:
+            return
         container.streams.video[0].thread_count = 1  # no frame threads' delay
         for frame in container.decode(video=0):
             now = time.monotonic()

@@ -32,6 +32,7 @@ from marblevideo.cli.controllers import (
 from marblevideo.cli.live_outputs import recorder_for, split_outputs, streamers_for
 from marblevideo.errors import MarbleError, UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_PORT
+from marblevideo.live.ndi import NdiSender, check_ndi
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import open_source
 from marblevideo.live.vcam import VCAM_HELP, VirtualCamera
@@ -47,7 +48,9 @@ def build_parser() -> argparse.ArgumentParser:
         "  marblevideo live test --ops samples/swirl.json --preview\n"
         "  marblevideo live 0 --ops samples/swirl.json --vcam\n"
         "  marblevideo live clip.mp4 --loop --ops swirl.json --preview -o take1.mp4\n"
-        "  marblevideo live 0 --ops mine.json --preview --osc 9000 --automation take.json\n\n"
+        "  marblevideo live 0 --ops mine.json --preview --osc 9000 --automation take.json\n"
+        "  marblevideo live 0 --ops swirl.json -o take.mp4 -o rtmp://127.0.0.1/live/KEY\n"
+        "  marblevideo live 0 --ops swirl.json --ndi marbled\n\n"
         "Ctrl-C (SIGINT) or SIGTERM ends a session normally: the recording is kept, exit 0.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -65,6 +68,11 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"preview port ({DEFAULT_PORT})")
     p.add_argument("--vcam", action="store_true", help="send frames to a virtual camera")
+    p.add_argument(
+        "--ndi",
+        metavar="NAME",
+        help="send frames as an NDI source called NAME (pip install 'marblevideo[ndi]')",
+    )
     p.add_argument(
         "-o",
         "--output",
@@ -156,6 +164,8 @@ def _checked(args: argparse.Namespace):
             import pyvirtualcam  # noqa: F401 - checked before anything opens
         except ImportError:
             raise MarbleError(f"--vcam needs pyvirtualcam: {VCAM_HELP}") from None
+    if args.ndi is not None:
+        check_ndi(args.ndi)
     check_controllers(args, recipe)
     return args.source_opt or args.source or "0", recipe, size
 
@@ -201,6 +211,9 @@ class _Live:
         if self.recorder is not None:
             self.recorder.start(width, height, source.fps)
             session.recorder = self.recorder
+        if args.ndi is not None:
+            session.ndi = NdiSender(args.ndi, width, height, source.fps)
+            say(f"NDI: sending as {session.ndi.full_name}", args.quiet)
         for stream in self.streams:
             stream.start(width, height, source.fps)
         session.streams = self.streams
@@ -226,12 +239,19 @@ class _Live:
             self.source.stop()
         if self.session is not None and self.session.vcam is not None:
             self.session.vcam.close()
+        if self.session is not None and self.session.ndi is not None:
+            self.session.ndi.close()
         for stream in self.streams:
             stream.close()
         if self.recorder is not None:
             self.recorder.close(ok=self.ok)
         for signum, handler in self.previous.items():
             signal.signal(signum, handler)
+
+
+def say(message: str, quiet: bool) -> None:
+    if not quiet:
+        print(f"marblevideo: {message}", file=sys.stderr, flush=True)
 
 
 def _preview(session: LiveSession, port: int):

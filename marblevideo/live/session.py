@@ -85,6 +85,7 @@ class LiveSession:
         self.recorder = None
         self.vcam = None
         self.streams: list = []  # marblevideo.live.stream.Streamer, one per server
+        self.ndi = None  # marblevideo.live.ndi.NdiSender
         # counters
         self.frames = 0
         self.started = time.monotonic()
@@ -174,6 +175,7 @@ class LiveSession:
             "uptime": round(now - self.started, 2),
             "controllers": dict(self.controllers.counts),
             "streams": [stream.figures() for stream in self.streams],
+            "ndi": self.ndi.figures() if self.ndi is not None else None,
             **self.state(),
         }
 
@@ -236,6 +238,8 @@ class LiveSession:
             self.vcam.send(out)
         for stream in self.streams:
             stream.add(out, ts)
+        if self.ndi is not None:
+            self.ndi.send(out)
         return out
 
     def close(self) -> None:
@@ -258,4 +262,6 @@ class LiveSession:
             text += f", recorded {self.recorder.frames} ({self.recorder.dropped} dropped)"
         for stream in self.streams:
             text += f", {stream.summary()}"
+        if self.ndi is not None:
+            text += f", NDI {self.ndi.sent} sent as {self.ndi.full_name}"
         return text
