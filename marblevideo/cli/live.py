@@ -29,7 +29,12 @@ from marblevideo.cli.controllers import (
     start_controllers,
     write_take,
 )
-from marblevideo.cli.live_outputs import recorder_for, split_outputs, streamers_for
+from marblevideo.cli.live_outputs import (
+    add_output_arguments,
+    recorder_for,
+    split_outputs,
+    streamers_for,
+)
 from marblevideo.errors import MarbleError, UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_PORT
 from marblevideo.live.ndi import NdiSender, check_ndi
@@ -68,21 +73,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"preview port ({DEFAULT_PORT})")
     p.add_argument("--vcam", action="store_true", help="send frames to a virtual camera")
-    p.add_argument(
-        "--ndi",
-        metavar="NAME",
-        help="send frames as an NDI source called NAME (pip install 'marblevideo[ndi]')",
-    )
-    p.add_argument(
-        "-o",
-        "--output",
-        dest="outputs",
-        action="append",
-        default=[],
-        metavar="OUTPUT",
-        help="record what is shown (.mp4 .mov .mkv .webm), or stream it to an RTMP server "
-        "(rtmp://HOST/APP/KEY: FLV, H.264 + AAC); give -o twice to stream and record at once",
-    )
+    add_output_arguments(p)
     p.add_argument("-y", "--overwrite", action="store_true", help="replace an existing recording")
     p.add_argument("--size", metavar="WxH", help="test pattern size, or the size asked of a camera")
     p.add_argument(

@@ -12,6 +12,25 @@ from marblevideo.live.stream import Streamer, check_stream_url, shown
 from marblevideo.media.formats import is_url
 
 
+def add_output_arguments(p) -> None:
+    """``-o`` (repeatable: a recording, streams) and ``--ndi``."""
+    p.add_argument(
+        "-o",
+        "--output",
+        dest="outputs",
+        action="append",
+        default=[],
+        metavar="OUTPUT",
+        help="record what is shown (.mp4 .mov .mkv .webm), or stream it to an RTMP server "
+        "(rtmp://HOST/APP/KEY: FLV, H.264 + AAC); give -o twice to stream and record at once",
+    )
+    p.add_argument(
+        "--ndi",
+        metavar="NAME",
+        help="send frames as an NDI source called NAME (pip install 'marblevideo[ndi]')",
+    )
+
+
 def split_outputs(outputs: list[str]) -> tuple[str | None, list[str]]:
     """(the recording's file or None, the stream URLs) of the ``-o`` names."""
     streams = [name for name in outputs if is_url(name)]
