@@ -36,5 +36,9 @@ if [ "${1:-}" = "--test" ] && ! command -v ffmpeg >/dev/null; then
   echo "setup: installing Debian's ffmpeg, the independent reader the output tests decode with" >&2
   apt_install ffmpeg
 fi
+if [ "${1:-}" = "--test" ] && [ ! -e /usr/lib/nginx/modules/ngx_rtmp_module.so ]; then
+  echo "setup: installing Debian's nginx with its RTMP module, the server the stream tests send to" >&2
+  apt_install nginx-light libnginx-mod-rtmp
+fi
 .venv/bin/python -m pip install -q --disable-pip-version-check --upgrade pip >/dev/null
 .venv/bin/python -m pip install -q --disable-pip-version-check -e ".${extra}"

@@ -49,6 +49,10 @@ SKIPPED = {
     "marblevideo live 0 --ops my.json --preview --midi nanoKONTROL2": (
         "needs camera 0 and a MIDI controller (tests/test_controllers.py maps MIDI messages)"
     ),
+    "marblevideo samples/coffee.mp4 --ops samples/swirl.json -o "
+    "rtmp://127.0.0.1:1935/live/KEY --realtime": (
+        "a stream at the clip's pace: tests/test_live_stream.py plays clips to nginx-rtmp"
+    ),
     "marblevideo samples/coffee.mp4 --ops take.json -o replay.mp4": (
         "renders the take the command before writes (tests/test_live_controllers.py does both)"
     ),

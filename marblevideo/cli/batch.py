@@ -66,7 +66,7 @@ def batch_command(argv: list[str]) -> int:
     if args.time is not None:
         options["time"] = args.time
 
-    def say(line: str) -> None:
+    def notify(line: str) -> None:
         if not args.quiet:
             print(f"marblevideo: {line}", file=sys.stderr)
 
@@ -79,12 +79,12 @@ def batch_command(argv: list[str]) -> int:
         cluster=args.cluster,
         manifest=args.manifest,
         progress="off" if args.quiet else args.progress,
-        notify=say,
+        notify=notify,
         **options,
     )
     if result.failed:
         dst, error = next(iter(result.failed.items()))
         more = f" (and {len(result.failed) - 1} more)" if len(result.failed) > 1 else ""
         raise MediaError(f"batch: {result.summary()}; first: {error}{more}")
-    say(f"batch: {result.summary()}")
+    notify(f"batch: {result.summary()}")
     return 0

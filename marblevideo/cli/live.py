@@ -19,7 +19,6 @@ from marblevideo.cli.arguments import (
     add_encoder_arguments,
     add_log_arguments,
     configure_logging,
-    parse_encoder_opts,
     parse_size,
 )
 from marblevideo.cli.controllers import (
@@ -30,8 +29,15 @@ from marblevideo.cli.controllers import (
     start_controllers,
     write_take,
 )
+from marblevideo.cli.live_outputs import (
+    add_output_arguments,
+    recorder_for,
+    split_outputs,
+    streamers_for,
+)
 from marblevideo.errors import MarbleError, UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_PORT
+from marblevideo.live.ndi import NdiSender, check_ndi
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import open_source
 from marblevideo.live.vcam import VCAM_HELP, VirtualCamera
@@ -47,7 +53,9 @@ def build_parser() -> argparse.ArgumentParser:
         "  marblevideo live test --ops samples/swirl.json --preview\n"
         "  marblevideo live 0 --ops samples/swirl.json --vcam\n"
         "  marblevideo live clip.mp4 --loop --ops swirl.json --preview -o take1.mp4\n"
-        "  marblevideo live 0 --ops mine.json --preview --osc 9000 --automation take.json\n\n"
+        "  marblevideo live 0 --ops mine.json --preview --osc 9000 --automation take.json\n"
+        "  marblevideo live 0 --ops swirl.json -o take.mp4 -o rtmp://127.0.0.1/live/KEY\n"
+        "  marblevideo live 0 --ops swirl.json --ndi marbled\n\n"
         "Ctrl-C (SIGINT) or SIGTERM ends a session normally: the recording is kept, exit 0.",
         formatter_class=argparse.RawDescriptionHelpFormatter,
     )
@@ -65,7 +73,7 @@ def build_parser() -> argparse.ArgumentParser:
     )
     p.add_argument("--port", type=int, default=DEFAULT_PORT, help=f"preview port ({DEFAULT_PORT})")
     p.add_argument("--vcam", action="store_true", help="send frames to a virtual camera")
-    p.add_argument("-o", "--output", help="record what is shown (.mp4 .mov .mkv .webm)")
+    add_output_arguments(p)
     p.add_argument("-y", "--overwrite", action="store_true", help="replace existing outputs")
     p.add_argument("--size", metavar="WxH", help="test pattern size, or the size asked of a camera")
     p.add_argument(
@@ -97,41 +105,14 @@ def build_parser() -> argparse.ArgumentParser:
     return p
 
 
-def recorder_for(args):
-    from marblevideo.live.recording import Recorder
-    from marblevideo.media.encode import PRESET_CODECS, default_codec
-    from marblevideo.media.video import VideoOptions
-
-    opts = parse_encoder_opts(args.encoder_opt)
-    codec = args.codec or default_codec(args.output)
-    preset = args.preset
-    if preset is None and codec in PRESET_CODECS:
-        preset = "veryfast"
-    if codec == "libvpx-vp9":
-        opts.setdefault("deadline", "realtime")
-        opts.setdefault("cpu-used", "8")
-    options = VideoOptions(
-        codec=args.codec,
-        crf=args.crf,
-        preset=preset,
-        pix_fmt=args.pix_fmt,
-        encoder_opts=opts,
-        audio="none",
-        overwrite=args.overwrite,
-        quiet=args.quiet,
-        verbose=args.verbose,
-        progress="off",
-    )
-    return Recorder(args.output, options)
-
-
 def run_live(argv: list[str]) -> int:
     """The ``live`` command; returns the exit status (MarbleError propagates)."""
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose)
     spec, recipe, size = _checked(args)
     recorder = recorder_for(args) if args.output else None  # settings checked up front
-    live = _Live(args, open_source(spec, size, args.fps, args.loop), recorder)
+    streams = streamers_for(args)
+    live = _Live(args, open_source(spec, size, args.fps, args.loop), recorder, streams)
     try:
         live.open(recipe)
         live.session.run(args.duration)
@@ -157,6 +138,7 @@ def _checked(args: argparse.Namespace):
 
     if args.source and args.source_opt and args.source != args.source_opt:
         raise UsageError("give the source once: SOURCE or --source")
+    args.output, args.streams = split_outputs(args.outputs)
     preset = None
     if args.preview:  # the page edits the recipe: a preset's name edits a copy of it
         args.ops, preset = plan_working_copy(args.ops, args.overwrite)
@@ -178,6 +160,8 @@ def _checked(args: argparse.Namespace):
             import pyvirtualcam  # noqa: F401 - checked before anything opens
         except ImportError:
             raise MarbleError(f"--vcam needs pyvirtualcam: {VCAM_HELP}") from None
+    if args.ndi is not None:
+        check_ndi(args.ndi)
     check_controllers(args, recipe)
     if preset is not None:
         copy_preset(preset, args.ops, args.quiet)
@@ -189,8 +173,8 @@ class _Live:
     listens and watches (preview server, controllers, signal handlers); :meth:`close`
     ends them in order, whatever was opened."""
 
-    def __init__(self, args: argparse.Namespace, source, recorder):
-        self.args, self.source, self.recorder = args, source, recorder
+    def __init__(self, args: argparse.Namespace, source, recorder, streams: list):
+        self.args, self.source, self.recorder, self.streams = args, source, recorder, streams
         self.session = self.server = None
         self.listeners: list = []
         self.previous: dict[int, object] = {}
@@ -225,6 +209,12 @@ class _Live:
         if self.recorder is not None:
             self.recorder.start(width, height, source.fps)
             session.recorder = self.recorder
+        if args.ndi is not None:
+            session.ndi = NdiSender(args.ndi, width, height, source.fps)
+            notify(f"NDI: sending as {session.ndi.full_name}", args.quiet)
+        for stream in self.streams:
+            stream.start(width, height, source.fps)
+        session.streams = self.streams
         if args.preview:
             self.server = _preview(session, args.port)
         self.listeners = start_controllers(args, session)
@@ -247,10 +237,19 @@ class _Live:
             self.source.stop()
         if self.session is not None and self.session.vcam is not None:
             self.session.vcam.close()
+        if self.session is not None and self.session.ndi is not None:
+            self.session.ndi.close()
+        for stream in self.streams:
+            stream.close()
         if self.recorder is not None:
             self.recorder.close(ok=self.ok)
         for signum, handler in self.previous.items():
             signal.signal(signum, handler)
+
+
+def notify(message: str, quiet: bool) -> None:
+    if not quiet:
+        print(f"marblevideo: {message}", file=sys.stderr, flush=True)
 
 
 def _preview(session: LiveSession, port: int):

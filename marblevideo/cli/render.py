@@ -20,9 +20,10 @@ from marblevideo.cli.arguments import (
     add_log_arguments,
     configure_logging,
     parse_encoder_opts,
-    parse_size,
     parse_view,
 )
+from marblevideo.cli.realtime import render_realtime, wants_realtime
+from marblevideo.cli.sizes import resolve_size
 from marblevideo.cli.vectors import render_extra
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
@@ -70,7 +71,14 @@ _MAIN = (
         ),
     ),
     (("-y", "--overwrite"), dict(action="store_true", help="replace an existing output")),
-    (("--size",), dict(metavar="WxH", help="output size (default: input or canvas)")),
+    (
+        ("--size",),
+        dict(
+            metavar="WxH",
+            help="output size (default: input or canvas); W or xH: the other side keeps "
+            "the input's aspect, even (as ffmpeg's scale=W:-2)",
+        ),
+    ),
     (
         ("--fit",),
         dict(
@@ -147,8 +155,10 @@ _VIDEO = (
     (
         ("--audio",),
         dict(
-            choices=("copy", "aac", "none"),
-            help="copy audio bit-exact (default), re-encode to AAC, or drop it",
+            choices=("auto", "copy", "aac", "none"),
+            help="auto (default): copy audio bit-exact, but re-encode to AAC the Opus, FLAC, "
+            "Vorbis or PCM that an MP4 or MOV would not play everywhere; copy: always where "
+            "the container holds it; aac: re-encode; none: drop it",
         ),
     ),
     (
@@ -166,6 +176,14 @@ _VIDEO = (
             help="animated frames over an input: walk every subsample (default: interpolate "
             'the map from a walked lattice where it is smooth; the recipe\'s "lattice": '
             "false too)",
+        ),
+    ),
+    (
+        ("--realtime",),
+        dict(
+            action="store_true",
+            help="play the render at the input's own pace to a stream (-o rtmp://HOST/APP/KEY; "
+            "a stream output implies it), as a live session of the file",
         ),
     ),
 )
@@ -245,9 +263,11 @@ def render_command(argv: list[str]) -> int:
     from marblevideo.signals.follow import follow
 
     args = _render_parser().parse_args(argv)
+    if wants_realtime(args):
+        return render_realtime(args)
     configure_logging(args.verbose)
     recipe = as_recipe(args.ops)  # validated before any input is opened
-    size = parse_size(args.size) if args.size else None
+    size = resolve_size(args.size, args.input)
     job, _ = check_options(args)
     check_signals(recipe, args.input, args.soundtrack)  # refusals before any work
     if job in ("vectors", "uv") or args.tolerance is not None:
@@ -301,7 +321,7 @@ def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> Vi
         preset=args.preset,
         pix_fmt=args.pix_fmt,
         encoder_opts=parse_encoder_opts(args.encoder_opt),
-        audio=args.audio or "copy",
+        audio=args.audio or "auto",
         start=args.start,
         end=args.end,
         size=size,

@@ -84,6 +84,8 @@ class LiveSession:
         self.preview = JpegPreview(preview_width, jpeg_quality)
         self.recorder = None
         self.vcam = None
+        self.streams: list = []  # marblevideo.live.stream.Streamer, one per server
+        self.ndi = None  # marblevideo.live.ndi.NdiSender
         # counters
         self.frames = 0
         self.started = time.monotonic()
@@ -172,6 +174,8 @@ class LiveSession:
             "recipe_error": self.file.error,
             "uptime": round(now - self.started, 2),
             "controllers": dict(self.controllers.counts),
+            "streams": [stream.figures() for stream in self.streams],
+            "ndi": self.ndi.figures() if self.ndi is not None else None,
             **self.state(),
         }
 
@@ -232,6 +236,10 @@ class LiveSession:
             self.recorder.add(out, ts)
         if self.vcam is not None:
             self.vcam.send(out)
+        for stream in self.streams:
+            stream.add(out, ts)
+        if self.ndi is not None:
+            self.ndi.send(out)
         return out
 
     def close(self) -> None:
@@ -252,4 +260,8 @@ class LiveSession:
             text += f", latency median {s['latency_ms']} ms (p95 {s['latency_p95_ms']} ms)"
         if self.recorder is not None:
             text += f", recorded {self.recorder.frames} ({self.recorder.dropped} dropped)"
+        for stream in self.streams:
+            text += f", {stream.summary()}"
+        if self.ndi is not None:
+            text += f", NDI {self.ndi.sent} sent as {self.ndi.full_name}"
         return text

@@ -293,6 +293,8 @@ class Encoder:
         for key, value in self.colors.items():
             setattr(frame, key, value)
         frame.pts, frame.time_base = item.pts, self.stream.codec_context.time_base
+        if item.key:
+            frame.pict_type = av.video.frame.PictureType.I
         if item.duration:
             frame.duration = item.duration
         self.out.mux(self.stream.encode(frame))
@@ -351,10 +353,28 @@ def audio_plan(
     audio = {}
     for stream in container.streams.audio:
         codec = stream.codec_context.name
-        if options.audio == "copy" and codec in plan.supported:
+        if options.audio == "auto" and not plays_everywhere(plan.format, codec):
+            notify(
+                f"{codec} audio in {name} does not play everywhere (QuickTime, Safari): "
+                f"re-encoding it to {plan.audio_encoder} (--audio copy keeps it)"
+            )
+            audio[stream.index] = plan.audio_encoder
+        elif options.audio in ("copy", "auto") and codec in plan.supported:
             audio[stream.index] = "copy"
         else:
-            if options.audio == "copy":
+            if options.audio != "aac":
                 notify(f"{name} cannot hold {codec} audio: re-encoding it to {plan.audio_encoder}")
             audio[stream.index] = plan.audio_encoder
     return audio
+
+
+#: Audio that MP4 and MOV can hold but QuickTime and older Safari do not play.
+NOT_EVERYWHERE = ("opus", "flac", "vorbis")
+
+
+def plays_everywhere(muxer: str, codec: str) -> bool:
+    """Whether ``codec`` audio in a ``muxer`` file plays in the common players: not
+    Opus, FLAC, Vorbis or PCM in an MP4 or MOV (``--audio`` auto re-encodes those)."""
+    if muxer not in ("mp4", "mov"):
+        return True
+    return codec not in NOT_EVERYWHERE and not codec.startswith("pcm_")

@@ -77,6 +77,8 @@ FORMATS = {
     # animations loop forever, as GIF's muxer does by default
     "apng": OutputFormat("apng", "apng", None, {"plays": "0"}, {"plays": "0"}, "rgb24"),
     "webp": OutputFormat("webp", "libwebp_anim", None, {"loop": "0"}, {"loop": "0"}),
+    # what a live session streams to an RTMP server (marblevideo.live.stream)
+    "flv": OutputFormat("flv", "libx264", "aac"),
 }
 #: Still encodings ``--format`` names for a still written to standard output.
 STILL_FORMATS = {"png": ".png", "jpeg": ".jpg", "jpg": ".jpg", "tiff": ".tif", "tif": ".tif"}

@@ -16,7 +16,7 @@ from marblevideo.errors import UsageError
 from marblevideo.media.yuv import YuvMatrix
 
 QUEUE_FRAMES = 4
-AUDIO_MODES = ("copy", "aac", "none")
+AUDIO_MODES = ("auto", "copy", "aac", "none")
 
 
 @dataclass
@@ -28,7 +28,7 @@ class VideoOptions:
     preset: str | None = None  # --preset: x264/x265 speed preset (medium)
     pix_fmt: str | None = None  # --pix-fmt; default the format's (yuv420p, GIF pal8, APNG rgb24)
     encoder_opts: dict[str, str] = field(default_factory=dict)  # --encoder-opt KEY=VALUE
-    audio: str = "copy"  # --audio copy|aac|none
+    audio: str = "auto"  # --audio auto|copy|aac|none (auto: copy, AAC where it would not play)
     start: float | None = None  # --start: seconds on the input's clock
     end: float | None = None  # --end: seconds on the input's clock (exclusive)
     size: tuple[int, int] | None = None  # --size W H: what the transform produces
@@ -83,6 +83,7 @@ class VideoItem:
     t: float
     i420: np.ndarray | tuple | None = None  # I420, packed or as planes (marblevideo.media.yuv)
     matrix: YuvMatrix | None = None  # the colour matrix and range of ``i420``
+    key: bool = False  # encode as a keyframe (a stream's keyframes by time)
 
     @property
     def shape(self) -> tuple[int, int]:

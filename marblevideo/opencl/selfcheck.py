@@ -174,7 +174,7 @@ def _run(renderer, case: Case, spec, geom: Geometry, image: np.ndarray) -> np.nd
 
 def _one_line(exc: BaseException) -> str:
     """The first line of an error; named by its type unless it is one of ours
-    (whose messages say what failed)."""
+    (whose messages notify what failed)."""
     from marblevideo.errors import MarbleError
 
     text = str(exc).strip()
@@ -307,30 +307,30 @@ def run_check(
     there is none). A choice that matches no device raises UsageError (exit 2)."""
     out = out or sys.stdout
 
-    def say(text: str) -> None:
+    def notify(text: str) -> None:
         print(text, file=out, flush=True)
 
     devices = [choose_device(device)] if device else list_devices()
     if not devices:
-        say(f"no OpenCL device found; {HOW_TO_GET_ONE}")
+        notify(f"no OpenCL device found; {HOW_TO_GET_ONE}")
         return 1
     expected: dict = {}
     reports = []
     for info in devices:
-        say(f"checking {info.label} {info.name} [{info.kind}], platform: {info.platform}")
+        notify(f"checking {info.label} {info.name} [{info.kind}], platform: {info.platform}")
         report = check_device(info, reference=reference, expected=expected)
         for line in report_lines(report, verbose):
-            say(line)
+            notify(line)
         reports.append(report)
     bad = [r.label for r in reports if not r.agrees]
     if bad:
-        say(
+        notify(
             f"{len(bad)} of {len(reports)} checked devices disagree with the NumPy "
             f"reference or fail: {', '.join(bad)}; do not trust their output"
         )
         return 1
     one = len(reports) == 1
-    say(
+    notify(
         f"{'the' if one else 'all'} {len(reports)} checked device{'' if one else 's'} "
         f"agree{'s' if one else ''} with the NumPy reference"
     )
