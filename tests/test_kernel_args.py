@@ -10,6 +10,8 @@ import pytest
 from marblevideo.opencl.kernel_args import KERNEL_ARGS, declared_args, set_args
 from marblevideo.opencl.program import Structure
 
+pytestmark = pytest.mark.tier("fast")
+
 ARG_INFO = "-cl-kernel-arg-info"
 STRUCTURES = (
     Structure(("drop", "comb", "wave"), "rgss", "mirror", True),

@@ -17,6 +17,8 @@ import pytest
 from helpers import one_line, subprocess_env
 from live_helpers import LiveProcess
 
+pytestmark = pytest.mark.tier("integration")
+
 STILL = {
     "marblevideo": 1,
     "ops": [{"type": "vortex", "center": [80, 48], "alpha": 160, "lambda": 40}],

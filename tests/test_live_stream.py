@@ -18,6 +18,8 @@ from helpers import one_line, subprocess_env
 from live_helpers import LiveProcess
 from rtmp_server import RtmpServer, missing
 
+pytestmark = pytest.mark.tier("integration")
+
 # a still design (no time in it): a frame streamed is a file render's frame
 STILL = {
     "marblevideo": 1,

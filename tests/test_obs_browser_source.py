@@ -11,6 +11,8 @@ import pytest
 from helpers import ROOT
 from live_helpers import LiveProcess
 
+pytestmark = pytest.mark.tier("integration")
+
 CSS = (
     "body { margin: 0; overflow: hidden; } "
     "img { width: 100vw; height: 100vh; object-fit: contain; }"

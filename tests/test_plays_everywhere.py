@@ -14,6 +14,8 @@ from clips import probe, write_clip
 from helpers import ROOT, one_line, subprocess_env
 from sound import pcm16, tone, write_video_with_sound
 
+pytestmark = pytest.mark.tier("integration")
+
 SWIRL = ROOT / "samples" / "swirl.json"
 OPUS = ROOT / "samples" / "pulse.opus"
 

@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import pytest
 from helpers import fresh_renderer
 
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
+
+pytestmark = pytest.mark.tier("fast")
 
 RECIPE = {
     "marblevideo": 1,

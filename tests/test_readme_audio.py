@@ -20,6 +20,8 @@ from sound import coral_radius, expected_radius
 from marblevideo.signals.audio import analyse
 from marblevideo.signals.values import AudioSignals
 
+pytestmark = pytest.mark.tier("integration")
+
 SCALE = 0.25  # renders at 320x180 of pulse.json's 1280x720 canvas
 
 

@@ -8,7 +8,10 @@ import json
 import subprocess
 import sys
 
+import pytest
 from helpers import ROOT, subprocess_env
+
+pytestmark = pytest.mark.tier("fast")
 
 #: the modules a still or video render imports on its way to the first frame
 RENDER_MODULES = (
