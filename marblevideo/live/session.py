@@ -52,7 +52,7 @@ class LiveSession:
         preview_width: int | None = None,
         jpeg_quality: int = 80,
         quiet: bool = False,
-        say=None,
+        notify=None,
         audio=None,
         audio_by_frame: bool = False,
         lattice: bool = True,
@@ -60,10 +60,12 @@ class LiveSession:
         from marblevideo.marbler import Marbler
         from marblevideo.opencl.renderer import Renderer
 
-        self._say = say or (lambda msg: print(f"marblevideo: {msg}", file=sys.stderr, flush=True))
+        self._notify = notify or (
+            lambda msg: print(f"marblevideo: {msg}", file=sys.stderr, flush=True)
+        )
         self.recipe_path = Path(recipe_path)
         # a bad recipe stops the start (exit 2); later bad saves are said and kept out
-        self.file = RecipeFile(self.recipe_path, create=False, notify=self._say)
+        self.file = RecipeFile(self.recipe_path, create=False, notify=self._notify)
         self.source = source
         self.renderer = renderer or Renderer(device, loop_walk=True)  # an edit never stalls a build
         self._Marbler = Marbler
@@ -109,7 +111,7 @@ class LiveSession:
         if not self.file.check_reload():
             return False
         if not self.quiet:
-            self._say(f"reloaded {self.recipe_path}")
+            self._notify(f"reloaded {self.recipe_path}")
         return True
 
     def put(self, doc: object) -> int:
@@ -123,7 +125,7 @@ class LiveSession:
                 self.check_reload()
             except Exception as exc:  # noqa: BLE001 - an unreadable save is reported, not fatal
                 self.file.error = f"{self.recipe_path}: {exc} (keeping the previous recipe)"
-                self._say(self.file.error)
+                self._notify(self.file.error)
 
     @property
     def clock(self):

@@ -37,7 +37,7 @@ RETRIES = 2
 STARTUP = 60.0  # seconds the workers after the first have to start
 CRASH_ENV = "MARBLEVIDEO_CRASH"  # fault injection for tests: a call's tag
 CRASH_MARKER_ENV = "MARBLEVIDEO_CRASH_MARKER"  # crash once: while this file is missing
-PACKAGE_ROOT = Path(__file__).resolve().parent.parent
+PACKAGE_ROOT = Path(__file__).resolve().parents[2]
 
 
 class WorkerLost(MediaError):
