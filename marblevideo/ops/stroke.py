@@ -34,10 +34,17 @@ from functools import lru_cache
 
 import numpy as np
 
-from marblevideo.ops import stylus
 from marblevideo.ops.base import OpDef, Param, Points, Values
 from marblevideo.ops.gestures import Setting, Tool
-from marblevideo.ops.stylus import turn_law
+from marblevideo.ops.stylus import (
+    acting,
+    kernel_rows,
+    path_lengths,
+    step_total,
+    times_faults,
+    travel,
+    turn_law,
+)
 
 #: Most points in a stroke's path, tines in its comb, and steps (along the path
 #: times tines) in one stroke.
@@ -125,7 +132,7 @@ def acting_steps(v: Values) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     w = float(v["width"])
     if "times" in v:
         law = turn_law(float(v["drag"]), w)
-        return stylus.acting(v["points"], w, v["tines"], timed_travel(v), law)
+        return acting(v["points"], w, v["tines"], timed_travel(v), law)
     lay = layout_of(v)
     return lay.centres, lay.halves, angles(v, lay)
 
@@ -133,8 +140,8 @@ def acting_steps(v: Values) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
 def clock(values: dict, t: float) -> dict:
     """A timed stroke's stylus travel s(t) at time ``t`` (in place)."""
     if "times" in values:
-        arc = stylus.path_lengths(tuple(values["points"]))
-        values["stylus"] = stylus.travel(values["times"], arc, t)
+        arc = path_lengths(tuple(values["points"]))
+        values["stylus"] = travel(values["times"], arc, t)
     return values
 
 
@@ -227,7 +234,7 @@ def pack(v: Values, lists: list) -> dict[str, float]:
     w = float(v["width"])
     flat, tines, drag = tuple(v["points"]), tuple(v["tines"]), float(v["drag"])
     if "times" in v:
-        rows, box = stylus.kernel_rows(flat, w, tines, drag, timed_travel(v))
+        rows, box = kernel_rows(flat, w, tines, drag, timed_travel(v))
     else:
         rows, box = _rows(flat, w, tines, drag, float(v.get("travel", 1.0)))
     at = len(lists)
@@ -250,7 +257,7 @@ def check(op, tracks) -> list:
     """At least 2 distinct points and a path of length > 0, ``times`` (one per
     point, none decreasing, no ``start``/``end``), at most MAX_TINES tines,
     ``drag`` in -4..4 at every key, at most MAX_STEPS steps."""
-    if "times" in op and (faults := stylus.times_faults(op)):
+    if "times" in op and (faults := times_faults(op)):
         return faults
     pts = path_points([c for point in op["points"] for c in point])
     if len(pts) < 2:
@@ -265,7 +272,7 @@ def check(op, tracks) -> list:
     if faults:
         return faults
     width = float(op.get("width", DEFAULT_WIDTH))
-    n = stylus.step_total(length, width) if "times" in op else step_count(length, width)
+    n = step_total(length, width) if "times" in op else step_count(length, width)
     if n * len(tines) > MAX_STEPS:
         return [
             (
