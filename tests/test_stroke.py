@@ -251,7 +251,7 @@ def test_svg_and_pdf_of_a_stroke_design(cli, tmp_path, renderer):
 
 # ---------------------------------------------------------------------------- presets
 
-STROKE_PRESETS = ("tulip", "heart", "french-curl", "bird")
+STROKE_PRESETS = ("tulip", "heart", "french-curl", "bird", "gesture")
 
 
 @pytest.mark.parametrize("name", STROKE_PRESETS)
