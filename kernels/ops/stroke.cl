@@ -13,9 +13,10 @@
 
 /* Turn the lanes' points about (cx, cy) by t g(r); from r = w on (g = 0) the
  * points are kept exactly (cx + (x - cx) could round). |t g| <= 16/9 radians
- * (|drag| <= 4, a step, whole or partial, at most w/4 long), where Taylor polynomials to x^13 and
- * x^14 are good to 5e-9, with no range reduction: about twice as fast as
- * sincos_turns here (the walk through a wide stroke is mostly these turns). */
+ * (|drag| <= 4, a step, whole or partial, at most w/4 long), where Taylor
+ * polynomials to x^13 and x^14 are good to 5e-9, with no range reduction: about
+ * twice as fast as sincos_turns here (the walk through a wide stroke is mostly
+ * these turns). */
 inline void stroke_turn(vf *x, vf *y, float cx, float cy, float t, float inv_w2) {
     vf qx = *x - cx, qy = *y - cy;
     vf g = fmax(1.0f - (qx * qx + qy * qy) * inv_w2, 0.0f);
