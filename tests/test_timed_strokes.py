@@ -14,7 +14,7 @@ import json
 
 import numpy as np
 import pytest
-from helpers import files, one_line
+from helpers import assert_refused
 from op_probe import run_op
 from tolerances import KERNEL_SHARE, SVG_SHARE
 
@@ -304,13 +304,7 @@ REFUSALS = {
 def test_refusals_exit_2_in_one_line_with_their_path(cli, tmp_path):
     for name, (change, path, expected) in REFUSALS.items():
         text = json.dumps(doc(change)).replace('"NaN"', "NaN")
-        (tmp_path / "r.json").write_text(text)
-        proc = cli("--ops", "r.json", "-o", "out.png")
-        assert proc.returncode == 2, (name, proc.stderr)
-        line = one_line(proc)
-        assert line.startswith(f"marblevideo: r.json: {path}: "), (name, line)
-        assert expected in line, (name, line)
-        assert files(tmp_path) == ["r.json"], name
+        assert_refused(cli, tmp_path, text, path, expected, name)
     (tmp_path / "r.json").write_text(json.dumps(doc(heal=[-3, -1])))
     proc = cli("--ops", "r.json", "-o", "out.png", "--size", "26x22")
     assert proc.returncode == 0, proc.stderr
