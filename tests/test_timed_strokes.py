@@ -268,6 +268,16 @@ def test_a_stills_default_time_counts_times_but_not_heal(cli, tmp_path):
     assert default == finished and default != (tmp_path / "g21.3.png").read_bytes()
 
 
+def test_a_still_after_a_heal_is_noted_with_the_time_of_strongest_motion():
+    from marblevideo.reference.motion import rest_note
+
+    healed = parse_recipe({"canvas": CANVAS, "ops": [{**GESTURE, "heal": [2.0, 2.5]}]})
+    note = rest_note(healed, None)
+    assert note is not None and "come back near rest" in note
+    later = parse_recipe({"canvas": CANVAS, "ops": [{**GESTURE, "heal": [4, 5]}]})
+    assert rest_note(later, None) is None  # it heals after the still
+
+
 def test_svg_of_a_timed_stroke_is_the_finished_stroke(cli, tmp_path, renderer):
     from svg_raster import agreement as svg_agreement
     from svg_raster import rasterize
