@@ -316,12 +316,12 @@ def _video_range(source: Input, opts, duration: float | None) -> None:
 
 def _animated(source: Input, marbler: Marbler, dst, duration, fps, opts, plan):
     """A still (or a blank sheet) animated by the recipe for ``duration`` seconds
-    (default: the animation plus one second) at ``fps`` (default 30)."""
+    (default: the animation, healing included, plus one second) at ``fps`` (default 30)."""
     from marblevideo.media.pipeline import render_sheet
 
     recipe = marbler.recipe
     image = None if source.kind == "blank" else read_image(source)[0]
-    duration = recipe.end_time() + 1.0 if duration is None else duration
+    duration = recipe.settled_time() + 1.0 if duration is None else duration
     size = opts.size or (blank_size(recipe) if image is None else image.shape[1::-1])
     frames = SheetFrames(marbler, tuple(size), image)
     note = fit_note(recipe, None if image is None else image.shape[1::-1], opts.size, opts.fit)

@@ -337,3 +337,12 @@ def test_ops_command_and_schema_describe_times_and_heal(cli):
     schema = json.loads(proc.stdout)
     assert schema["$defs"]["stroke"]["properties"]["times"]["$ref"] == "#/$defs/timeList"
     assert all("heal" in schema["$defs"][t]["properties"] for t in ("drop", "stroke", "rings"))
+
+
+def test_a_video_of_a_sheet_runs_until_the_last_op_has_healed(cli, tmp_path):
+    recipe = parse_recipe(doc(heal=[3.2, 3.6]))
+    assert recipe.end_time() == TIMES[-1] and recipe.settled_time() == 3.6
+    (tmp_path / "g.json").write_text(json.dumps(doc(heal=[3.2, 3.6])))
+    proc = cli("--ops", "g.json", "-o", "g.mp4", "--size", "64x54", "--fps", "10")
+    assert proc.returncode == 0, proc.stderr
+    assert "46 frames, 4.60 s" in proc.stderr

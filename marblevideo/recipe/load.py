@@ -184,6 +184,12 @@ class Recipe:
         times = [*self.background.key_times, *(t for op in self.ops for t in op.times)]
         return max(times, default=0.0)
 
+    def settled_time(self) -> float:
+        """When nothing changes any more: :meth:`end_time`, or the last op's healing
+        end when later. A video of a still runs this long (plus a second) by default."""
+        heals = [op.heal[1] for op in self.ops if op.heal is not None]
+        return max([self.end_time(), *heals])
+
     def at(self, t: float, canvas: tuple[float, float] | None = None) -> FrameSpec:
         """The frame at time ``t`` (seconds). ``canvas`` (the input's size) is used
         only when the recipe gives none; one of the two is required."""
