@@ -7,13 +7,18 @@ baselines, in one run on one renderer.
 - one stroke of n steps against n ``circle`` ops (radius w/2 at the steps'
   centres, as many rotations) over the same drops (the bar: no slower);
 - the host's packing of a 200000-step stroke per frame: static (laid out once,
-  cached) and travelling (its acting steps packed afresh every frame).
+  cached) and travelling (its acting steps packed afresh every frame);
+- a stroke drawn in time (``times``, revision 4) against the same stroke as
+  revision 3 travelling with ``start``/``end`` at the same speed, frame by frame
+  across the gesture (recipe at t, packing and render), the two timed in
+  alternating rounds (the bar: no slower), and the packing of each at 200000 steps.
 
     python -m benchmarks strokes
 """
 
 from __future__ import annotations
 
+import itertools
 from functools import partial
 
 import numpy as np
@@ -112,3 +117,60 @@ def strokes_part(device: str | None) -> None:
     presets(adaptive, full)
     stroke_against_circles(full)
     packing()
+    timed_against_revision3(full)
+
+
+def _gesture(width: float, drawn: bool, points: list, duration: float) -> dict:
+    """A stroke across the drops, drawn at constant speed over ``duration`` s: with
+    ``times`` (revision 4) or with ``start``/``end`` (revision 3)."""
+    stroke = {"type": "stroke", "points": points, "width": width, "drag": 1.2}
+    if drawn:
+        pts = np.asarray(points, float)
+        arc = np.concatenate([[0.0], np.cumsum(np.hypot(*np.diff(pts, axis=0).T))])
+        stroke["times"] = (duration * arc / arc[-1]).tolist()
+    else:
+        stroke.update(start=0.0, end=duration)
+    return {"canvas": [1024, 768], "antialias": "rgss", "ops": [*_drops(), stroke]}
+
+
+def _paired(calls: dict, rounds: int, repeat: int) -> dict[str, tuple[float, float]]:
+    """Each call's (best, median) over ``rounds`` alternating rounds of ``repeat``
+    runs (order swapped every round): the medians of the rounds' medians."""
+    got: dict[str, list] = {name: [] for name in calls}
+    names = list(calls)
+    for k in range(rounds):
+        for name in names if k % 2 == 0 else names[::-1]:
+            got[name].append(timings(calls[name], repeat=repeat, warmup=1))
+    return {n: (min(b for b, _ in r), float(np.median([m for _, m in r]))) for n, r in got.items()}
+
+
+def timed_against_revision3(full: Renderer) -> None:
+    """The same stroke as a drawn gesture (times) and as revision 3 (start/end)."""
+    print("\n## A stroke drawn in time against the same stroke as revision 3, 1024x768 over")
+    print("24 drops, full RGSS: ms per frame (recipe at t, packing, render) over 12 frames")
+    print("across the gesture, best / median of 4 alternating rounds")
+    print("| width | revision 3 (start/end) | times (revision 4) | times / revision 3 |")
+    print("|---|---|---|---|")
+    points = [[60.0 + 9 * k, 380 - 130 * np.sin(k / 16)] for k in range(101)]
+    moments = np.linspace(0.1, 2.0, 12)
+    for width in (160.0, 40.0, 10.0):
+        calls = {}
+        for drawn in (False, True):
+            recipe = parse_recipe(_gesture(width, drawn, points, 2.0), "bench.json")
+            geom, frames = geometry(recipe.canvas, SIZE), itertools.cycle(moments)
+            full.render(recipe.at(1.0), geom)  # the program built before timing
+            calls[drawn] = lambda r=recipe, g=geom, f=frames: full.render(r.at(next(f)), g)
+        got = _paired({"rev3": calls[False], "times": calls[True]}, rounds=4, repeat=12)
+        ratio = got["times"][1] / got["rev3"][1]
+        print(f"| {width:g} | {_ms(got['rev3'])} | {_ms(got['times'])} | {ratio:.2f} |")
+    points = [[40.0 + 90 * k, 100.0 + 500 * (k % 2)] for k in range(11)]
+    calls = {}
+    for drawn in (False, True):
+        doc = _gesture(0.21, drawn, points, 10.0)
+        doc["ops"] = [{**doc["ops"][-1], "tines": [0, 8]}]
+        recipe = parse_recipe({**doc, "canvas": [1000, 700]}, "bench.json")
+        frames = itertools.cycle(np.linspace(5.0, 9.99, 100))
+        calls[drawn] = lambda r=recipe, f=frames: pack_params(r.at(float(next(f))))
+    got = _paired({"rev3": calls[False], "times": calls[True]}, rounds=4, repeat=7)
+    print("\nPacking one stroke of about 200000 steps mid-gesture, ms per frame:")
+    print(f"revision 3 {_ms(got['rev3'])}, times {_ms(got['times'])}", flush=True)

@@ -297,12 +297,12 @@ def render_video(
 
 def _animated(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
     """A still (or a blank sheet) animated by the recipe for ``duration`` seconds
-    (default: the animation plus one second) at ``fps`` (default 30)."""
+    (default: the animation, healing included, plus one second) at ``fps`` (default 30)."""
     from marblevideo.jobs.pipeline import render_sheet
 
     recipe = marbler.recipe
     image = None if source.kind == "blank" else read_image(source)[0]
-    duration = recipe.end_time() + 1.0 if opts.duration is None else opts.duration
+    duration = recipe.settled_time() + 1.0 if opts.duration is None else opts.duration
     size = opts.size or (blank_size(recipe) if image is None else image.shape[1::-1])
     frames = SheetSource(marbler, tuple(size), image)
     note = fit_note(recipe, None if image is None else image.shape[1::-1], opts.size, opts.fit)

@@ -1,10 +1,12 @@
 """Write the free-hand stroke presets: samples/tulip.json, heart.json,
-french-curl.json and bird.json, blank-sheet designs drawn with ``stroke`` s.
+french-curl.json, bird.json and gesture.json, blank-sheet designs drawn with
+``stroke`` s.
 
 ``python samples/make_stroke_presets.py`` rewrites them. Every op gets its own
 time window in order (a drop 0.2 s or less, a stroke 1 s), so a video of a preset shows
 the drops poured and the stylus travelling; a still shows the finished design.
-Canvas units, origin top-left, y down.
+``gesture`` is a stroke replayed as a hand drew it (``times``, format 1, revision
+4) and a drop that heals. Canvas units, origin top-left, y down.
 """
 
 from __future__ import annotations
@@ -135,7 +137,33 @@ def bird() -> dict:
             "ops": timed(ops, 0.03)}  # fmt: skip
 
 
-PRESETS = {"tulip": tulip, "heart": heart, "french-curl": french_curl, "bird": bird}
+def gesture() -> dict:
+    """Rings of drops poured in 0.9 s, then an S drawn through them by hand: slow
+    into the first bend, quick across, a pause, slow out (``times``, one per point);
+    a last drop pours in and heals away again."""
+    ops = [drop((160, 120), r, c) for r, c in zip((70, 54, 38, 22), PALETTE, strict=False)]
+    ops += [drop((160 + dx, 120), 16, PALETTE[2]) for dx in (-110, 110)]
+    ops = timed(ops, 0.15)
+    points, times = [], []
+    for k in range(41):
+        u = k / 40
+        points.append((60 + 200 * u, 120 - 70 * math.sin(2 * math.pi * u)))
+        pause = 0.3 if u > 0.6 else 0.0  # the hand rests at 60 % of the way
+        times.append(round(1.0 + 2.0 * (3 * u * u - 2 * u * u * u) + pause, 3))
+    ops.append({**stroke(points, 28, 1.2), "times": times})
+    ops.append({**drop((270, 50), 20, RED), "start": 1.0, "end": 1.3, "heal": [3.4, 4.0]})
+    return {"description": "A gesture: an S drawn through rings of drops as a hand drew it "
+            "(stroke times), and a drop that heals away.", "canvas": [320, 240],
+            "background": "#f4f1de", "ops": ops}  # fmt: skip
+
+
+PRESETS = {
+    "tulip": tulip,
+    "heart": heart,
+    "french-curl": french_curl,
+    "bird": bird,
+    "gesture": gesture,
+}
 
 
 def main() -> None:

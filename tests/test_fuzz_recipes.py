@@ -154,13 +154,13 @@ def mutated_recipes(draw):
 @st.composite
 def scaled_recipes(draw):
     """A valid recipe whose numbers are scaled to extremes that stay valid: every
-    number but colors, eases, times, counts and shares multiplied by a positive factor from
-    1e-12 to 1e24 (signs kept). Ops whose own check bounds their parameters together
-    or against defaults (jiggle's |2 pi major / wavelength| < 1, rake's, a stroke's
-    steps) keep their values."""
+    number but colors, eases, times (``heal`` and a stroke's too), counts and shares
+    multiplied by a positive factor from 1e-12 to 1e24 (signs kept). Ops whose own
+    check bounds their parameters together or against defaults (jiggle's
+    |2 pi major / wavelength| < 1, rake's, a stroke's steps) keep their values."""
     doc = copy.deepcopy(draw(st.sampled_from(BASES)))
     factors = st.sampled_from([1e-12, 1e-6, 1e-3, 1.0, 1e3, 1e6, 1e12, 1e24])
-    fixed = {"color", "ease", "t", "start", "end"}
+    fixed = {"color", "ease", "t", "start", "end", "heal", "times"}
     for index, op in enumerate(doc["ops"]):
         definition = REGISTRY[op["type"]]
         # counts and bounded shares (a stroke's drag in -4..4) are no sizes to scale

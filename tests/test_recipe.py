@@ -494,7 +494,7 @@ def test_schema_is_a_valid_draft_2020_12_schema():
     assert set(REGISTRY) <= set(doc["$defs"])
     for name, params in ((n, tuple(d.kinds)) for n, d in REGISTRY.items()):
         props = doc["$defs"][name]["properties"]
-        assert set(props) == {"type", "start", "end", "hidden", *params}
+        assert set(props) == {"type", "start", "end", "heal", "hidden", *params}
         assert all(props[p]["description"] for p in params)
     json.dumps(doc)  # printable as JSON
     doc["title"] = "changed"

@@ -10,7 +10,7 @@ import json
 
 import numpy as np
 import pytest
-from helpers import files, one_line
+from helpers import assert_refused
 from op_probe import run_op
 from tolerances import KERNEL_SHARE, SVG_SHARE
 
@@ -216,13 +216,7 @@ REFUSALS = {
 
 def test_refusals_exit_2_in_one_line_with_their_path(cli, tmp_path):
     for name, (change, path, expected) in REFUSALS.items():
-        (tmp_path / "r.json").write_text(json.dumps(_tulip(**change)))
-        proc = cli("--ops", "r.json", "-o", "out.png")
-        assert proc.returncode == 2, (name, proc.stderr)
-        line = one_line(proc)
-        assert line.startswith(f"marblevideo: r.json: {path}: "), (name, line)
-        assert expected in line, (name, line)
-        assert files(tmp_path) == ["r.json"], name
+        assert_refused(cli, tmp_path, json.dumps(_tulip(**change)), path, expected, name)
 
 
 # ---------------------------------------------------------------------------- surfaces
@@ -253,7 +247,7 @@ def test_svg_and_pdf_of_a_stroke_design(cli, tmp_path, renderer):
 
 # ---------------------------------------------------------------------------- presets
 
-STROKE_PRESETS = ("tulip", "heart", "french-curl", "bird")
+STROKE_PRESETS = ("tulip", "heart", "french-curl", "bird", "gesture")
 
 
 @pytest.mark.parametrize("name", STROKE_PRESETS)

@@ -4,15 +4,19 @@
  * g(r) = (1 - r^2 / w^2)^2 inside w. A step moves nothing farther than 3w/2
  * from its centre C (one squared distance skips it), and a stroke nothing
  * outside its steps' bounding box.
+ * The host packs the acting steps in forward order: a revision-3 stroke's prefix
+ * (e_k folded into t), or a timed stroke's whole steps and its one partial step
+ * (ops/stylus.py), so both walk the same loop.
  * p: steps_at, steps_n (where the steps start in `lists`, how many), inv_w2
  * (1/w^2), reach2 ((3w/2)^2), the box xmin, ymin, xmax, ymax. A step: cx, cy,
  * hx, hy, t (radians) */
 
 /* Turn the lanes' points about (cx, cy) by t g(r); from r = w on (g = 0) the
  * points are kept exactly (cx + (x - cx) could round). |t g| <= 16/9 radians
- * (|drag| <= 4, a step at most w/4 long), where Taylor polynomials to x^13 and
- * x^14 are good to 5e-9, with no range reduction: about twice as fast as
- * sincos_turns here (the walk through a wide stroke is mostly these turns). */
+ * (|drag| <= 4, a step, whole or partial, at most w/4 long), where Taylor
+ * polynomials to x^13 and x^14 are good to 5e-9, with no range reduction: about
+ * twice as fast as sincos_turns here (the walk through a wide stroke is mostly
+ * these turns). */
 inline void stroke_turn(vf *x, vf *y, float cx, float cy, float t, float inv_w2) {
     vf qx = *x - cx, qy = *y - cy;
     vf g = fmax(1.0f - (qx * qx + qy * qy) * inv_w2, 0.0f);

@@ -34,6 +34,7 @@ KIND_LABELS = {
     "seed": "integer >= 0",
     "distribution": "uniform|normal",
     "pointList": "[[x, y], ...]",
+    "timeList": "[seconds]",
 }
 PROGRESS = {"linear": "{} * p", "sqrt": "{} * sqrt(p)"}
 
@@ -162,6 +163,7 @@ def _detail(type_: str) -> str:
     rows += [
         (name, "seconds", "optional", fields[name]["description"]) for name in ("start", "end")
     ]
+    rows.append(("heal", "[t0, t1] seconds", "optional", fields["heal"]["description"]))
     rows.append(("hidden", "true/false", "false", fields["hidden"]["description"]))
     if type_ in LAYOUTS:
         notes = [
@@ -172,8 +174,14 @@ def _detail(type_: str) -> str:
     else:
         laws = ", ".join(PROGRESS[law].format(name) for name, law in definition.progress)
         if definition.travels:
-            laws = "the stylus travels the path (step k of n acts by clamp(p n - k, 0, 1))"
-        notes = [f"Progress p (0 -> 1 from start to end): {laws or 'none'}."]
+            laws = (
+                "the stylus travels the path (step k of n acts by clamp(p n - k, 0, 1)); "
+                "with times, the stylus is where the gesture was at t"
+            )
+        notes = [
+            f"Progress p (0 -> 1 from start to end): {laws or 'none'}. "
+            "With heal [t0, t1], p is multiplied by h(t), 1 before t0 falling to 0 at t1."
+        ]
         if definition.ink:
             notes.append("Ink: a point inside it takes its color (the walk ends there).")
     width = _width()

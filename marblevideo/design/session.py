@@ -51,7 +51,7 @@ def page_info(mode: str, file, version: int, error, source: dict, size, recipe: 
         "canvas": list(canvas),
         "scale": s,
         "offset": [dx, dy],
-        "end": recipe.end_time(),
+        "end": recipe.settled_time(),
         "ops": recipe.entries,
     }
 

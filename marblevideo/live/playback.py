@@ -96,7 +96,7 @@ class Playback:
             if "mirror" in request:
                 self.mirror = request["mirror"]
             if "loop" in request:
-                self.clock.loop_at = (recipe.end_time() or None) if request["loop"] else None
+                self.clock.loop_at = (recipe.settled_time() or None) if request["loop"] else None
             if seek is not None:
                 self.clock.seek(seek)
         return self.state()

@@ -48,6 +48,7 @@ KINDS = (
     "seed",
     "distribution",
     "pointList",
+    "timeList",
 )
 #: Kinds whose values may be keyframe tracks.
 KEYABLE_KINDS = ("number", "positive", "nonnegative", "point", "color")
@@ -137,6 +138,9 @@ class OpDef:
       recipe leaves them out of range between keys (in place); None: as they are.
     - ``travels``: progress is a stylus' travel along the op's path, not a
       scaled parameter: :meth:`at_progress` puts p in ``values["travel"]``.
+    - ``clock(values, t)``: what the op's values at time ``t`` take from the time
+      itself besides its tracks (a timed stroke's stylus travel), in place; None:
+      nothing.
     - ``example``: a valid op of this type as JSON, drawn for :data:`EXAMPLE_CANVAS`
       (for tests, the device check and docs).
     - ``family``: the module that defines it, and so the kernel file
@@ -158,6 +162,7 @@ class OpDef:
     check: Callable[[Mapping, Mapping], list] | None = None
     settle: Callable[[dict], dict] | None = None
     travels: bool = False
+    clock: Callable[[dict, float], dict] | None = None
     tools: tuple[Tool, ...] = ()
     settings: tuple[Setting, ...] = ()
     family: str = ""
@@ -198,7 +203,8 @@ class OpDef:
         if self.ink:
             return self.absent(values)
         if self.travels:
-            return values.get("travel", 1.0) <= 0 or values.get("drag") == 0
+            travel = values.get("travel", 1.0) * values.get("stylus", 1.0)
+            return travel <= 0 or values.get("drag") == 0
         return bool(self.progress) and all(
             all(c == 0 for c in v) if isinstance(v := values[name], tuple) else v == 0
             for name, _ in self.progress

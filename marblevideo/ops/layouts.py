@@ -5,7 +5,8 @@ recipe loads (format 1, revision 2): ``rings``, ``line-drops``, ``grid-drops``,
 A layout's fields are constants (no keyframe tracks). ``colors`` is a list of
 colours used in turn (drop k takes colors[k mod len]). With ``start`` and
 ``end`` the window is cut into n equal consecutive windows, one per drop in
-order; with only ``start``, every drop starts then. Scatters draw from
+order; with only ``start``, every drop starts then. Every drop takes the
+layout's ``heal``. Scatters draw from
 SplitMix64 seeded with ``seed``, so the same seed gives the same drops on every
 machine. Conventions as :mod:`marblevideo.ops.base` (degrees, y down).
 """
@@ -302,5 +303,7 @@ def expand(layout: Mapping) -> list[dict]:
             drop["start"], drop["end"] = start + k * span, start + (k + 1) * span
         elif start is not None:
             drop["start"] = start
+        if "heal" in layout:
+            drop["heal"] = layout["heal"]
         drops.append(drop)
     return drops

@@ -15,6 +15,12 @@ point farther than 3w/2 from its centre C (one squared distance).
 Progress is the stylus' travel: at progress p step k acts with
 e_k = clamp(p n - k, 0, 1), so only the first ceil(p n) steps act.
 
+With ``times`` (revision 4) the stylus is where the gesture was at time t and
+the steps lie at the fixed spacing w / 4 instead (:mod:`marblevideo.ops.stylus`):
+``values["stylus"]`` holds its travel s(t) (set by :func:`clock`), scaled by the
+progress (``heal``). Either way a frame's acting steps come from
+:func:`acting_steps`, which the maps and the kernel's data share.
+
 Conventions as :mod:`marblevideo.ops.base`: canvas units, origin top-left,
 y down; positive turns are clockwise on screen. ``points`` reach the maps
 flattened, (x0, y0, x1, y1, ...).
@@ -30,6 +36,15 @@ import numpy as np
 
 from marblevideo.ops.base import OpDef, Param, Points, Values
 from marblevideo.ops.gestures import Setting, Tool
+from marblevideo.ops.stylus import (
+    acting,
+    kernel_rows,
+    path_lengths,
+    step_total,
+    times_faults,
+    travel,
+    turn_law,
+)
 
 #: Most points in a stroke's path, tines in its comb, and steps (along the path
 #: times tines) in one stroke.
@@ -101,9 +116,33 @@ def layout_of(v: Values) -> Layout:
 
 def angles(v: Values, lay: Layout) -> np.ndarray:
     """Each step's theta e_k in radians (n * tines, forward order)."""
-    theta = v["drag"] * lay.step * 16.0 / (9.0 * v["width"])
+    theta = turn_law(v["drag"], v["width"])(lay.step)
     e = np.clip(v.get("travel", 1.0) * lay.n - np.arange(lay.n), 0.0, 1.0)
     return np.repeat(theta * e, lay.tines)
+
+
+def timed_travel(v: Values) -> float:
+    """A timed stroke's travel s(t) h(t): its stylus scaled by the progress."""
+    return float(v["stylus"]) * float(v.get("travel", 1.0))
+
+
+def acting_steps(v: Values) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The steps of one instant in forward order (step-major): centres, halves
+    and turns theta e_k (radians; a revision-3 stroke's may be 0)."""
+    w = float(v["width"])
+    if "times" in v:
+        law = turn_law(float(v["drag"]), w)
+        return acting(v["points"], w, v["tines"], timed_travel(v), law)
+    lay = layout_of(v)
+    return lay.centres, lay.halves, angles(v, lay)
+
+
+def clock(values: dict, t: float) -> dict:
+    """A timed stroke's stylus travel s(t) at time ``t`` (in place)."""
+    if "times" in values:
+        arc = path_lengths(tuple(values["points"]))
+        values["stylus"] = travel(values["times"], arc, t)
+    return values
 
 
 def _turn(x, y, cx, cy, angle, inv_w2):
@@ -128,8 +167,7 @@ def _walk(sign: float):
     a step keeps a point it moves within its reach, so the box holds it."""
 
     def move(v: Values, x: np.ndarray, y: np.ndarray) -> Points:
-        lay = layout_of(v)
-        turns = angles(v, lay)
+        centres, halves, turns = acting_steps(v)
         reach = 1.5 * float(v["width"])
         shape = np.broadcast(x, y).shape
         x = np.array(np.broadcast_to(x, shape), np.float64).ravel()
@@ -138,24 +176,24 @@ def _walk(sign: float):
         order = order if sign > 0 else order[::-1]
         for at in range(0, len(order), BLOCK):
             block = order[at : at + BLOCK]
-            lo = lay.centres[block].min(axis=0) - reach
-            hi = lay.centres[block].max(axis=0) + reach
+            lo = centres[block].min(axis=0) - reach
+            hi = centres[block].max(axis=0) + reach
             inside = np.flatnonzero((x >= lo[0]) & (x <= hi[0]) & (y >= lo[1]) & (y <= hi[1]))
             if inside.size:
-                x[inside], y[inside] = _steps(
-                    lay, turns, block, sign, v["width"], x[inside], y[inside]
-                )
+                steps = (centres, halves, turns)
+                x[inside], y[inside] = _steps(steps, block, sign, v["width"], x[inside], y[inside])
         return x.reshape(shape), y.reshape(shape)
 
     return move
 
 
-def _steps(lay: Layout, turns, block, sign: float, width: float, x, y) -> Points:
-    """Steps ``block`` (in the order given) on the points (x, y), each on those
-    within 3w/2 of its centre."""
+def _steps(steps, block, sign: float, width: float, x, y) -> Points:
+    """Steps ``block`` of ``steps`` (centres, halves, turns; in the order given) on
+    the points (x, y), each on those within 3w/2 of its centre."""
     inv_w2, reach2 = 1.0 / (width * width), (1.5 * width) ** 2
+    centres, halves, turns = steps
     for j in block:
-        (cx, cy), (hx, hy) = lay.centres[j], lay.halves[j]
+        (cx, cy), (hx, hy) = centres[j], halves[j]
         near = np.flatnonzero((x - cx) ** 2 + (y - cy) ** 2 < reach2)
         if near.size == 0:
             continue
@@ -194,9 +232,11 @@ def pack(v: Values, lists: list) -> dict[str, float]:
     acting step's reach. Each step: cx, cy, hx, hy, theta e_k (radians, at most
     16/9: the kernel's polynomials need no range reduction)."""
     w = float(v["width"])
-    rows, box = _rows(
-        tuple(v["points"]), w, tuple(v["tines"]), float(v["drag"]), float(v.get("travel", 1.0))
-    )
+    flat, tines, drag = tuple(v["points"]), tuple(v["tines"]), float(v["drag"])
+    if "times" in v:
+        rows, box = kernel_rows(flat, w, tines, drag, timed_travel(v))
+    else:
+        rows, box = _rows(flat, w, tines, drag, float(v.get("travel", 1.0)))
     at = len(lists)
     lists.extend(rows)
     steps = {"steps_at": at, "steps_n": len(rows) // STEP_FLOATS}
@@ -214,8 +254,11 @@ def _drag_faults(track) -> list:
 
 
 def check(op, tracks) -> list:
-    """At least 2 distinct points and a path of length > 0, at most MAX_TINES
-    tines, ``drag`` in -4..4 at every key, at most MAX_STEPS steps."""
+    """At least 2 distinct points and a path of length > 0, ``times`` (one per
+    point, none decreasing, no ``start``/``end``), at most MAX_TINES tines,
+    ``drag`` in -4..4 at every key, at most MAX_STEPS steps."""
+    if "times" in op and (faults := times_faults(op)):
+        return faults
     pts = path_points([c for point in op["points"] for c in point])
     if len(pts) < 2:
         return [(["points"], f"needs at least 2 distinct points, got {len(pts)}")]
@@ -228,7 +271,8 @@ def check(op, tracks) -> list:
     faults = _drag_faults(tracks["drag"])
     if faults:
         return faults
-    n = step_count(length, float(op.get("width", DEFAULT_WIDTH)))
+    width = float(op.get("width", DEFAULT_WIDTH))
+    n = step_total(length, width) if "times" in op else step_count(length, width)
     if n * len(tines) > MAX_STEPS:
         return [
             (
@@ -279,12 +323,21 @@ STROKE = OpDef(
         Param(
             "tines",
             "numberList",
-            f"1..{MAX_TINES} offsets of a comb's styluses across the first segment (canvas units).",
+            f"1..{MAX_TINES} offsets of a comb's styluses along the first step's normal "
+            "(canvas units).",
             optional=True,
             default=[0],
         ),
+        Param(
+            "times",
+            "timeList",
+            "Seconds, one per point, non-decreasing: when the stylus passed each point "
+            "(a gesture replayed as drawn; takes neither start nor end).",
+            optional=True,
+        ),
     ),
     travels=True,
+    clock=clock,
     slots=SLOTS,
     tools=(
         Tool(

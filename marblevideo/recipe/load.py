@@ -63,9 +63,10 @@ DEFAULT_EDGES = "clamp"
 @dataclass(frozen=True)
 class Op:
     """One op of a recipe: its parameters as tracks, ``start``/``end`` in seconds
-    (None when absent), its ``index`` in :attr:`Recipe.ops`, ``entry``: its index
-    in the file's ``ops`` and, for the drops a layout stands for, ``layout``: the
-    layout's type and index in the recipe file. Hidden ops are not in
+    (None when absent), ``heal`` (t0, t1) in seconds (None when absent), its
+    ``index`` in :attr:`Recipe.ops`, ``entry``: its index in the file's ``ops``
+    and, for the drops a layout stands for, ``layout``: the layout's type and
+    index in the recipe file. Hidden ops are not in
     :attr:`Recipe.ops`, so ``index`` and ``entry`` may differ."""
 
     type: str
@@ -75,6 +76,7 @@ class Op:
     index: int
     layout: tuple[str, int] | None = None
     entry: int = -1
+    heal: tuple[float, float] | None = None
 
     def progress(self, t: float) -> float:
         """The contract's p(t): 0 before ``start``, linear up to ``end``, then 1;
@@ -87,18 +89,37 @@ class Op:
             return 1.0
         return (t - self.start) / (self.end - self.start)
 
+    def healing(self, t: float) -> float:
+        """The contract's h(t) of ``heal`` [t0, t1]: 1 before t0, falling linearly
+        to 0 at t1, 0 from then on (from t0 when t0 = t1); 1 always without it."""
+        if self.heal is None:
+            return 1.0
+        t0, t1 = self.heal
+        if t < t0:
+            return 1.0
+        if t >= t1:
+            return 0.0
+        return 1.0 - (t - t0) / (t1 - t0)
+
     def at(self, t: float, signals: SignalValues | None = None) -> OpState:
-        """The op at time ``t``: tracks resolved (signals from ``signals``), its
-        definition's progress laws applied (e.g. ink radius * sqrt(p), alpha * p;
+        """The op at time ``t``: tracks resolved (signals from ``signals``), what
+        its definition takes from the time itself (a timed stroke's stylus), its
+        progress laws applied at p(t) h(t) (e.g. ink radius * sqrt(p h), alpha * p h;
         see :mod:`marblevideo.ops`)."""
         values = {name: track.at(t, signals) for name, track in self.params.items()}
-        return OpState(self.type, op_def(self.type).at_progress(values, self.progress(t)))
+        definition = op_def(self.type)
+        if definition.clock is not None:
+            definition.clock(values, t)
+        p = self.progress(t) * self.healing(t)
+        return OpState(self.type, definition.at_progress(values, p))
 
     @property
     def times(self) -> tuple[float, ...]:
-        """Every key time of its tracks and its ``start``/``end``."""
+        """Every key time of its tracks, its ``start``/``end`` and a stroke's
+        ``times`` (not ``heal``: the design is finished before it heals)."""
         own = tuple(x for x in (self.start, self.end) if x is not None)
-        return own + tuple(t for track in self.params.values() for t in track.key_times)
+        drawn = self.params["times"].at(0.0) if "times" in self.params else ()
+        return own + drawn + tuple(t for track in self.params.values() for t in track.key_times)
 
     @property
     def signal_params(self) -> dict[str, SignalTrack]:
@@ -138,8 +159,9 @@ class Recipe:
 
     @property
     def is_animated(self) -> bool:
-        """Whether any value depends on time (keys, start/end, signals)."""
-        keyed = bool(self.background.key_times) or any(op.times for op in self.ops)
+        """Whether any value depends on time (keys, start/end, a stroke's times,
+        heal, signals)."""
+        keyed = bool(self.background.key_times) or any(op.times or op.heal for op in self.ops)
         return keyed or bool(self.signal_uses())
 
     def signal_uses(self) -> list[tuple[str, SignalTrack]]:
@@ -156,10 +178,17 @@ class Recipe:
         return dataclasses.replace(self, signals=signals)
 
     def end_time(self) -> float:
-        """When the animation is finished: the largest key time and op start/end, else 0.
-        A still is rendered at this time by default."""
+        """When the animation is finished: the largest key time, op start/end and
+        stroke time, else 0 (a ``heal`` does not count). A still is rendered at this
+        time by default."""
         times = [*self.background.key_times, *(t for op in self.ops for t in op.times)]
         return max(times, default=0.0)
+
+    def settled_time(self) -> float:
+        """When nothing changes any more: :meth:`end_time`, or the last op's healing
+        end when later. A video of a still runs this long (plus a second) by default."""
+        heals = [op.heal[1] for op in self.ops if op.heal is not None]
+        return max([self.end_time(), *heals])
 
     def at(self, t: float, canvas: tuple[float, float] | None = None) -> FrameSpec:
         """The frame at time ``t`` (seconds). ``canvas`` (the input's size) is used
@@ -247,7 +276,7 @@ def _build(doc: dict, source: str) -> Recipe:
     ]
     for index, (op, entry, layout) in enumerate(expanded):
         params = _params(op)
-        start, end = op.get("start"), op.get("end")
+        start, end, heal = op.get("start"), op.get("end"), op.get("heal")
         ops.append(
             Op(
                 type=op["type"],
@@ -257,6 +286,7 @@ def _build(doc: dict, source: str) -> Recipe:
                 index=index,
                 layout=layout,
                 entry=entry,
+                heal=None if heal is None else (float(heal[0]), float(heal[1])),
             )
         )
     canvas = doc.get("canvas")
@@ -315,6 +345,10 @@ def _semantic_faults(doc: dict) -> list[Fault]:
         if "end" in op and op["end"] <= op["start"]:
             message = f"must be > start ({describe(op['start'])}), got {describe(op['end'])}"
             faults.append(make_fault(doc, ["ops", i, "end"], message))
+        if "heal" in op and op["heal"][1] < op["heal"][0]:
+            t0, t1 = (describe(t) for t in op["heal"])
+            message = f"must be [t0, t1] with t0 <= t1, got [{t0}, {t1}]"
+            faults.append(make_fault(doc, ["ops", i, "heal"], message))
     for path, track in tracks:
         if isinstance(track, dict) and "signal" in track:
             faults += [make_fault(doc, [*path, *sub], m) for sub, m in signal_faults(track)]

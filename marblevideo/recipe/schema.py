@@ -134,6 +134,15 @@ def _op(op: str) -> dict:
             props[param.name]["default"] = param.default
     for name, help_ in _TIME_HELP.items():
         props[name] = {**_ref("time"), "description": help_}
+    props["heal"] = {
+        "title": "heal [t0, t1]",
+        "type": "array",
+        "items": _ref("time"),
+        "minItems": 2,
+        "maxItems": 2,
+        "description": "Seconds [t0, t1], t0 <= t1: the op heals (its progress falls to 0) "
+        "from t0 to t1, and is absent from t1 on.",
+    }
     props["hidden"] = {
         "type": "boolean",
         "default": False,
@@ -227,6 +236,13 @@ def _constant_kinds() -> dict:
             "title": f"list of 2..{MAX_POINTS} points [x, y]",
             "type": "array",
             "items": _ref("point"),
+            "minItems": 2,
+            "maxItems": MAX_POINTS,
+        },
+        "timeList": {
+            "title": f"list of 2..{MAX_POINTS} times (seconds)",
+            "type": "array",
+            "items": _ref("time"),
             "minItems": 2,
             "maxItems": MAX_POINTS,
         },

@@ -42,6 +42,7 @@ def sample_times(recipe: Recipe) -> list[float]:
     end = recipe.end_time()
     keys = {0.0, end}
     keys.update(t for op in recipe.ops for t in op.times if 0 <= t <= end)
+    keys.update(t for op in recipe.ops for t in op.heal or () if 0 <= t <= end)
     keys.update(t for t in recipe.background.key_times if 0 <= t <= end)
     ordered = sorted(keys)
     times = sorted({*ordered, *((a + b) / 2 for a, b in zip(ordered, ordered[1:], strict=False))})
@@ -52,8 +53,12 @@ def sample_times(recipe: Recipe) -> list[float]:
 
 def eases_off(recipe: Recipe) -> bool:
     """Whether a keyed number of an op ends smaller in magnitude than it was at a
-    key before (a strength that goes back down): the only way a recipe comes back
-    towards rest, since ``start``/``end`` progress only grows."""
+    key before (a strength that goes back down), or an op heals before the end
+    (``heal``): the ways a recipe comes back towards rest, since ``start``/``end``
+    progress only grows."""
+    end = recipe.end_time()
+    if any(op.heal is not None and op.heal[0] < end for op in recipe.ops):
+        return True
     for op in recipe.ops:
         for track in op.params.values():
             if track.keyed and track.scalar:

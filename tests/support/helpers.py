@@ -62,3 +62,15 @@ def identity_pass(w: int, h: int) -> tuple[np.ndarray, np.ndarray]:
     u = (np.arange(w) + 0.5) / w
     v = 1.0 - (np.arange(h) + 0.5) / h
     return np.broadcast_to(u, (h, w)).copy(), np.broadcast_to(v[:, None], (h, w)).copy()
+
+
+def assert_refused(cli, folder: Path, text: str, path: str, expected: str, name: str = "") -> None:
+    """``text`` as ``folder``/r.json, rendered through the CLI: refused with exit 2 in
+    one line naming r.json and the JSON ``path``, holding ``expected``; nothing written."""
+    (folder / "r.json").write_text(text)
+    proc = cli("--ops", "r.json", "-o", "out.png")
+    assert proc.returncode == 2, (name, proc.stderr)
+    line = one_line(proc)
+    assert line.startswith(f"marblevideo: r.json: {path}: "), (name, line)
+    assert expected in line, (name, line)
+    assert files(folder) == ["r.json"], name

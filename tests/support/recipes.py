@@ -123,6 +123,8 @@ def _stroke(rng, kind, w, h) -> dict:
     their pixels (where the float32 walk and the reference part)."""
     op = valid_registry_op(rng, kind, w, h)
     op["points"] = op["points"][:2]
+    if "times" in op:
+        op["times"] = op["times"][:2]
     return op
 
 
@@ -167,10 +169,12 @@ OPS = random_types(REGISTRY)
 
 def random_op(rng, kind, w, h):
     """A random op of type ``kind`` (:func:`generator`), sometimes with a start
-    and an end or a start alone."""
+    and an end or a start alone (not a stroke with ``times``)."""
     op = {"type": kind, **generator(kind)(rng, kind, w, h)}
     r = rng.random()
-    if r < 0.3:
+    if "times" in op:
+        pass
+    elif r < 0.3:
         op["start"] = float(rng.uniform(0, 1))
         op["end"] = op["start"] + float(rng.uniform(0.2, 2))
     elif r < 0.4:
@@ -238,6 +242,8 @@ def random_value(rng, param, w: float, h: float):
     if kind == "pointList":  # a stroke's path: 2..6 points over the canvas
         n = int(rng.integers(2, 7))
         return [[float(rng.uniform(0, w)), float(rng.uniform(0, h))] for _ in range(n)]
+    if kind == "timeList":  # a gesture's times: its stroke sets one per point
+        return []
     if kind == "nonzeroList":
         radii = rng.uniform(0.05, 0.45, int(rng.integers(1, 7))) * size
         return [float(r if rng.random() < 0.6 else -r) for r in radii]
@@ -285,10 +291,17 @@ def random_registry_op(rng, definition, w: float, h: float) -> dict:
             op["tines"] = [(k - (m - 1) / 2) * 1.5 * w_ for k in range(m)]
         if isinstance(op.get("drag"), float):
             op["drag"] /= 2
+        elif isinstance(op.get("drag"), dict):  # keyed, as its keys
+            for key in op["drag"]["keys"]:
+                key["v"] /= 2
+        if "times" in op:  # a drawn gesture, one time per point (then no start/end)
+            op["times"] = sorted(float(t) for t in rng.uniform(0, 2, len(op["points"])))
     r = rng.random()
-    if r < 0.3:
+    if r < 0.3 and "times" not in op:
         op["start"] = float(rng.uniform(0, 1))
         op["end"] = op["start"] + float(rng.uniform(0.2, 2))
+    elif 0.3 <= r < 0.4:  # healing over a window that may start before the end
+        op["heal"] = sorted(float(t) for t in rng.uniform(0.5, 3, 2))
     return op
 
 
