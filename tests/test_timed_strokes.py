@@ -191,7 +191,7 @@ def test_a_gesture_renders_on_the_device_as_in_the_reference(renderer, moment):
 def test_the_lattice_path_of_a_gesture_over_an_input(renderer):
     """An op with ``heal`` or a stroke with ``times`` is animated: a video frame
     interpolates from the lattice, within the kernel's agreement."""
-    from marblevideo.marbler import Marbler
+    from marblevideo.marbler import Marbler, image_size
 
     image = np.zeros((110, 130, 4), np.uint8)
     image[..., 0] = np.arange(130)[None, :] * 2
@@ -206,7 +206,7 @@ def test_the_lattice_path_of_a_gesture_over_an_input(renderer):
     marbler = Marbler(recipe, renderer)
     for t in (1.3, 4.5):
         got = marbler.render(image, t, animated=True)
-        spec, geom = marbler.frame(image, t, None, None)
+        spec, geom = marbler.frame_at(image_size(image), t, None, None)
         assert agreement(got, reference_render(spec, geom, image)) >= KERNEL_SHARE
 
 
