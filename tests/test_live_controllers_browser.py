@@ -47,12 +47,13 @@ def test_a_slider_bound_to_an_osc_address_moves_with_it(browser, tmp_path):
         page.wait_for_selector("#bind-alpha")
         before = live_settled(page, live)
 
-        # bind alpha to a typed OSC address: saved into the recipe with the slider's range
+        # bind alpha to a typed OSC address: saved into the recipe with the slider's
+        # range, off at 0 (a symmetric range binds 0..max: a fader at 0 is at rest)
         page.once("dialog", lambda d: d.accept("/swirl"))
         page.select_option("#bind-alpha", "osc")
         wait_for(lambda: isinstance(saved()["alpha"], dict), "the binding is saved")
         bound = saved()["alpha"]
-        assert bound["signal"] == "osc:/swirl" and bound["range"][0] < 40 < bound["range"][1]
+        assert bound["signal"] == "osc:/swirl" and bound["range"][0] == 0 < 40 < bound["range"][1]
         page.wait_for_selector("#m-alpha")
         _meter(page, "alpha", 0.0)
 

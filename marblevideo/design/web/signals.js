@@ -69,11 +69,15 @@ async function bindTo(i, p, v, choice) {
   const now = numberNow(i, p, v);
   let value = now;
   if (name) {
-    const [lo, hi] = isSignal(v) ? v.range : rangeOf(p, now);
+    const [lo, hi] = isSignal(v) ? v.range : offAtZero(rangeOf(p, now));
     value = {signal: name, range: [lo, hi]};
   }
   return value;
 }
+// A new binding's range is off at 0: where the slider's range is symmetric
+// (-m..m) it binds 0..m, so a fader at its bottom leaves the op at rest rather
+// than fully reversed (the range stays editable).
+export const offAtZero = ([lo, hi]) => (lo < 0 && hi > 0 ? [0, hi] : [lo, hi]);
 // Learn: the name of the next controller message the session receives (null after 30 s).
 async function learned() {
   await api.learn();
