@@ -167,7 +167,7 @@ def main() -> None:
     header()
     print(f"# load average before: {' '.join(f'{v:.2f}' for v in os.getloadavg())}")
     print(
-        "| stream | size | fps asked | encoder opts | marbled fps | sent fps | player fps "
+        "| stream | marbled | size | fps asked | encoder opts | shown fps | sent fps | player fps "
         "| latency median ms | p95 ms | stream dropped | device |"
     )
     print("|---|---|---|---|---|---|---|---|---|---|---|---|")
