@@ -176,7 +176,8 @@ def _ops(page) -> list:
 def test_a_gesture_goes_idle_pointing_dragging_idle_and_keys_undo_it(page):
     """A drag with the first tool (a click tool) adds its op; a press on the new
     op's handle that moves nothing saves nothing; a drag from it moves the
-    point; Ctrl-Z, Ctrl-Shift-Z and Delete act on the recipe."""
+    point; Esc deselects, after which a press there draws; Ctrl-Z, Ctrl-Shift-Z and
+    Delete act on the recipe."""
     box = page.locator("#overlay").bounding_box()
 
     def at(x: float, y: float) -> tuple[float, float]:
@@ -216,10 +217,23 @@ def test_a_gesture_goes_idle_pointing_dragging_idle_and_keys_undo_it(page):
     moved = _ops(page)[0]
     assert moved[name] == [point[0] + 20, point[1] + 10] and moved["type"] == made["type"]
 
+    page.keyboard.press("Escape")  # deselects: no handles left to catch a press
+    page.wait_for_function("designer.state.selected === null")
+    assert page.evaluate("designer.handles(null)") in ([], None)
+    page.mouse.move(*at(*point))
+    page.mouse.down()
+    assert state() == "pointing tool"  # a press where the handle was draws
+    page.mouse.up()
+    page.wait_for_function("designer.state.doc.ops.length === 2")
+    page.keyboard.press("Control+z")
+    page.wait_for_function("designer.state.doc.ops.length === 1")
+
     page.keyboard.press("Control+z")
     page.wait_for_function(f"designer.state.doc.ops[0].{name}[0] === {point[0]}")
     page.keyboard.press("Control+Shift+z")
     page.wait_for_function(f"designer.state.doc.ops[0].{name}[0] === {point[0] + 20}")
+    page.click("#op-0 .name")  # selected again from the list, for Delete
+    page.wait_for_function("designer.state.selected === 0")
     page.keyboard.press("Delete")
     page.wait_for_function("designer.state.doc.ops.length === 0")
     assert state("designer.state.selected") is None

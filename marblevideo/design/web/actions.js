@@ -3,7 +3,7 @@
 // perform(state) and enabled(state) (and, for a mode such as a tool, on(state)).
 // The keyboard shortcuts, the buttons' hints (title), clicks and disabled or
 // "on" looks are all built from it: a button names its action (data-action).
-import { remove } from "./edits.js";
+import { remove, select } from "./edits.js";
 import { redo, undo } from "./recipe.js";
 import { get, update } from "./store.js";
 import { togglePlay } from "./timeline.js";
@@ -18,6 +18,8 @@ register([
   {name: "redo", keys: ["Mod+Shift+Z", "Mod+Y"], hint: "redo", perform: redo, enabled: (s) => s.redo.length > 0},
   {name: "delete", keys: ["Delete", "Backspace"], hint: "delete the selected op",
     perform: (s) => remove(s.selected), enabled: (s) => s.selected !== null},
+  {name: "deselect", keys: ["Escape"], hint: "deselect the op (its handles go: a press there draws)",
+    perform: () => select(null), enabled: (s) => s.selected !== null},
   {name: "play", hint: "play or pause", perform: togglePlay},
 ]);
 // A tool's action: it makes ``name`` the active tool.
