@@ -257,3 +257,33 @@ def test_what_the_fields_show_is_state(page):
     assert page.evaluate(f"designer.state.settings['{field}']") == "7"
     page.fill(f"#{field}", "")
     assert page.evaluate(f"designer.state.settings['{field}']") == ""
+
+
+def test_undo_and_redo_survive_a_reload(page):
+    """The stacks are kept in the browser under the file's full path: after a
+    reload Ctrl-Z takes back the edit made before it, and after another one
+    Ctrl-Shift-Z makes it again."""
+    box = page.locator("#overlay").bounding_box()
+    x0, y0 = box["x"] + box["width"] * 0.3, box["y"] + box["height"] * 0.4
+    before = len(_ops(page))
+    page.mouse.move(x0, y0)
+    page.mouse.down()
+    page.mouse.move(x0 + 15, y0 + 8)
+    page.mouse.up()
+    page.wait_for_function(f"designer.state.doc.ops.length === {before + 1}")
+    stacks = page.evaluate("[designer.state.undo, designer.state.redo]")
+
+    def reloaded():
+        page.reload()
+        page.wait_for_selector("body[data-ready='1']")
+
+    reloaded()
+    assert page.evaluate("[designer.state.undo, designer.state.redo]") == stacks
+    page.keyboard.press("Control+z")
+    page.wait_for_function(f"designer.state.doc.ops.length === {before}")
+    reloaded()
+    assert page.evaluate("designer.state.redo.length") == len(stacks[1]) + 1
+    page.keyboard.press("Control+Shift+z")
+    page.wait_for_function(f"designer.state.doc.ops.length === {before + 1}")
+    page.keyboard.press("Control+z")
+    page.wait_for_function(f"designer.state.doc.ops.length === {before}")

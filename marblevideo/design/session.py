@@ -16,6 +16,7 @@ import struct
 import threading
 import time
 from importlib import resources
+from pathlib import Path
 from urllib.parse import parse_qs
 
 from marblevideo.controllers.api import learn, signals_state
@@ -37,7 +38,8 @@ def page_info(mode: str, file, version: int, error, source: dict, size, recipe: 
     """``/api/info``, the page's one description of what it edits, for the designer
     and for live mode: the frame's ``size``, how the canvas sits in it (output o =
     ``scale`` * c + ``offset``; a recipe without canvas takes the frame's), the
-    animation's ``end`` and the file's number of ``ops``."""
+    animation's ``end`` (healing included), the file's number of ``ops``, its name as
+    given (``file``) and its full ``path`` (the page keeps undo and redo under it)."""
     w, h = size
     canvas = recipe.canvas or (w, h)
     s, dx, dy = fit(canvas, w, h)
@@ -46,6 +48,7 @@ def page_info(mode: str, file, version: int, error, source: dict, size, recipe: 
         "version": version,
         "error": error,
         "file": str(file),
+        "path": str(Path(file).resolve()),  # where undo and redo are kept, across reloads
         "input": source,
         "size": [w, h],
         "canvas": list(canvas),

@@ -8,6 +8,7 @@ import * as api from "./api.js";
 import { actionsOf, initActions, showActions } from "./actions.js";
 import { valueAt } from "./ease.js";
 import { gesture, toolOp } from "./gestures.js";
+import { restoreHistory } from "./history.js";
 import { exportsOf, fileOf, messagesOf, showExports, showFile, showMessages } from "./header.js";
 import { rangeOf, valueNow } from "./numbers.js";
 import { opListOf, showOps } from "./oplist.js";
@@ -44,6 +45,7 @@ async function start() {
   buildToolbar(tools, types);
   await loadInfo();
   await loadRecipe(get().info);
+  restoreHistory();
   const {info} = get();
   if (isLive()) await liveStats();
   else setTime(info.input.kind === "video" ? 0 : Math.min(info.end, get().duration));
