@@ -287,3 +287,30 @@ def test_undo_and_redo_survive_a_reload(page):
     page.wait_for_function(f"designer.state.doc.ops.length === {before + 1}")
     page.keyboard.press("Control+z")
     page.wait_for_function(f"designer.state.doc.ops.length === {before}")
+
+
+def test_the_ground_colour_and_clear(page):
+    """The ground field shows and sets the recipe's background; Clear removes every
+    op in one edit, which Ctrl-Z takes back; neither is enabled for nothing."""
+    box = page.locator("#overlay").bounding_box()
+    x0, y0 = box["x"] + box["width"] * 0.6, box["y"] + box["height"] * 0.5
+    page.mouse.move(x0, y0)
+    page.mouse.down()
+    page.mouse.move(x0 + 10, y0 + 5)
+    page.mouse.up()
+    page.wait_for_function("designer.state.doc.ops.length > 0")
+    ops = _ops(page)
+    assert page.input_value("#ground") == page.evaluate("designer.state.doc.background").lower()
+    page.fill("#ground", "#204060")  # the field's value and its change event
+    page.wait_for_function("designer.state.doc.background === '#204060'")
+    assert page.evaluate("designer.state.doc.ops") == ops
+
+    assert page.is_enabled("#clear") and "undoable" in page.get_attribute("#clear", "title")
+    page.click("#clear")
+    page.wait_for_function("designer.state.doc.ops.length === 0")
+    assert page.evaluate("designer.state.selected") is None and page.is_disabled("#clear")
+    assert page.evaluate("designer.state.doc.background") == "#204060"  # the ground stays
+    page.keyboard.press("Control+z")
+    page.wait_for_function(f"designer.state.doc.ops.length === {len(ops)}")
+    page.keyboard.press("Control+z")  # and the ground goes back too
+    page.wait_for_function("designer.state.doc.background !== '#204060'")

@@ -3,7 +3,7 @@
 // perform(state) and enabled(state) (and, for a mode such as a tool, on(state)).
 // The keyboard shortcuts, the buttons' hints (title), clicks and disabled or
 // "on" looks are all built from it: a button names its action (data-action).
-import { remove, select } from "./edits.js";
+import { clearOps, remove, select } from "./edits.js";
 import { redo, undo } from "./recipe.js";
 import { get, update } from "./store.js";
 import { togglePlay } from "./timeline.js";
@@ -20,6 +20,8 @@ register([
     perform: (s) => remove(s.selected), enabled: (s) => s.selected !== null},
   {name: "deselect", keys: ["Escape"], hint: "deselect the op (its handles go: a press there draws)",
     perform: () => select(null), enabled: (s) => s.selected !== null},
+  {name: "clear", hint: "remove every op (undoable)", perform: clearOps,
+    enabled: (s) => s.doc !== null && s.doc.ops.length > 0},
   {name: "play", hint: "play or pause", perform: togglePlay},
 ]);
 // A tool's action: it makes ``name`` the active tool.
@@ -60,7 +62,7 @@ export function initActions() {
   for (const el of document.querySelectorAll("[data-action]")) wire(el);
   document.addEventListener("keydown", onKey);
 }
-export const actionsOf = (s) => [s.undo, s.redo, s.selected, s.tool];
+export const actionsOf = (s) => [s.undo, s.redo, s.selected, s.tool, s.doc];
 export function showActions(s) {
   for (const el of document.querySelectorAll("[data-action]")) {
     const a = registry.get(el.dataset.action);

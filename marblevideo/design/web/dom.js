@@ -15,3 +15,13 @@ export function input(id, type, value) {
   el.value = value;
   return el;
 }
+
+// A colour (#rrggbb, #rgb, a CSS name or [r, g, b]) as the #rrggbb a colour field takes.
+let probe = null;  // a 2D context that spells CSS colours as #rrggbb (made once: it is slow to make)
+export function hexColor(v) {
+  if (Array.isArray(v)) return "#" + v.map((c) => Math.round(c).toString(16).padStart(2, "0")).join("");
+  if (/^#[0-9a-f]{6}$/i.test(v)) return v.toLowerCase();
+  probe = probe || document.createElement("canvas").getContext("2d");
+  probe.fillStyle = String(v);
+  return probe.fillStyle;
+}

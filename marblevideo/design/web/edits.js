@@ -23,6 +23,17 @@ export function remove(i) {
   }));
   edited((d) => { d.ops.splice(i, 1); });
 }
+// Clear: every op removed in one edit (undoable); nothing stays selected.
+export function clearOps() {
+  update(() => ({selected: null, solo: null}));
+  return edited((d) => { d.ops = []; });
+}
+// The ground: the recipe's background set to ``value``; keyed at the time shown
+// where the background is a keyframe track.
+export function setGround(value) {
+  if (get().doc.background === value) return Promise.resolve(false);  // nothing to undo
+  return edited((d) => { d.background = isTrack(d.background) ? keyed(d.background, value, get().t) : value; });
+}
 // Parameter ``name`` of op i set to ``value`` (undefined: removed, its default).
 export function setParam(i, name, value) {
   return edited((d) => { if (value === undefined) delete d.ops[i][name]; else d.ops[i][name] = value; });

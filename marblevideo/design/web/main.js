@@ -8,6 +8,7 @@ import * as api from "./api.js";
 import { actionsOf, initActions, showActions } from "./actions.js";
 import { valueAt } from "./ease.js";
 import { gesture, toolOp } from "./gestures.js";
+import { groundOf, initGround, showGround } from "./ground.js";
 import { restoreHistory } from "./history.js";
 import { exportsOf, fileOf, messagesOf, showExports, showFile, showMessages } from "./header.js";
 import { rangeOf, valueNow } from "./numbers.js";
@@ -32,6 +33,7 @@ const VIEWS = [
   [clockOf, showClock],
   [playOf, showPlay],
   [actionsOf, showActions],
+  [groundOf, showGround],
   [opListOf, showOps],
   [paramsOf, showParams],
   [overlayOf, showOverlay],
@@ -60,6 +62,7 @@ subscribe(messagesOf, showMessages);
 subscribe(paletteOf, showPalette);
 initActions();
 initPalette();
+initGround();
 initPointer();
 initTimeline();
 whenIdle(resume);

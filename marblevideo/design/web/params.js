@@ -3,7 +3,7 @@
 // parameter's range law; a key at the current time), points (x and y),
 // colours, choices, and JSON for lists and keyframe tracks; a bind menu where
 // controllers exist (signals.js).
-import { $, button, input } from "./dom.js";
+import { $, button, hexColor, input } from "./dom.js";
 import { keyed, setParam } from "./edits.js";
 import { rangeOf, valueNow } from "./numbers.js";
 import { bindRow, controlled } from "./signals.js";
@@ -13,14 +13,6 @@ import { isSignal, isTrack, clone } from "./values.js";
 // Kinds edited as a number field (the others: a point, a colour, a choice, or JSON).
 const NUMBER_KINDS = ["number", "positive", "nonnegative", "count", "seed"];
 
-let probe = null;  // a 2D context that spells CSS colours as #rrggbb (made once: it is slow to make)
-function hexColor(v) {
-  if (Array.isArray(v)) return "#" + v.map((c) => Math.round(c).toString(16).padStart(2, "0")).join("");
-  if (/^#[0-9a-f]{6}$/i.test(v)) return v.toLowerCase();
-  probe = probe || document.createElement("canvas").getContext("2d");
-  probe.fillStyle = String(v);
-  return probe.fillStyle;
-}
 // The editor's current value of a parameter (what "set key here" keys).
 function readParam(p) {
   if (p.kind === "point") return [Number($(`p-${p.name}-x`).value), Number($(`p-${p.name}-y`).value)];
