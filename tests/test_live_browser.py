@@ -143,7 +143,9 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         _version(page, 6)
         assert frame_diff(d, live_settled(page, live)) > 5 * still
         # ... its centre is a handle: dragged, it moves; its colour is edited
+        page.keyboard.down("Alt")  # Alt-drag: a handle moves (a plain drag would draw)
         drag(page, client, (150, 220), (300, 100))
+        page.keyboard.up("Alt")
         wait_for(lambda: _near(saved()[2]["center"], (300, 100)), "the handle moved")
         _version(page, 7)
         page.locator("#p-color").evaluate(

@@ -175,9 +175,10 @@ def _ops(page) -> list:
 
 def test_a_gesture_goes_idle_pointing_dragging_idle_and_keys_undo_it(page):
     """A drag with the first tool (a click tool) adds its op; a press on the new
-    op's handle that moves nothing saves nothing; a drag from it moves the
-    point; Esc deselects, after which a press there draws; Ctrl-Z, Ctrl-Shift-Z and
-    Delete act on the recipe."""
+    op's handle adds another (a tool never moves an op); in the move mode (M) a
+    press on it that moves nothing saves nothing, and with Alt held a drag from it
+    moves the point; Esc deselects, after which a press there draws; Ctrl-Z,
+    Ctrl-Shift-Z and Delete act on the recipe."""
     box = page.locator("#overlay").bounding_box()
 
     def at(x: float, y: float) -> tuple[float, float]:
@@ -204,15 +205,32 @@ def test_a_gesture_goes_idle_pointing_dragging_idle_and_keys_undo_it(page):
 
     page.mouse.move(*at(*point))
     page.mouse.down()
+    assert state() == "pointing tool"  # a tool's press adds an op, even on a handle
+    page.mouse.up()
+    page.wait_for_function("designer.state.doc.ops.length === 2")
+    page.keyboard.press("Control+z")
+    page.wait_for_function("designer.state.doc.ops.length === 1")
+    page.click("#op-0 .name")
+    page.wait_for_function("designer.state.selected === 0")
+    version = state("designer.state.version")
+
+    page.keyboard.press("m")  # the move mode: a press on a handle takes it
+    assert page.evaluate("designer.state.moving") and "on" in page.get_attribute("#move", "class")
+    page.mouse.move(*at(*point))
+    page.mouse.down()
     assert state() == "pointing handle"
     page.mouse.up()
     assert state() == "idle" and state("designer.state.version") == version  # nothing saved
+    page.keyboard.press("m")
+    assert not page.evaluate("designer.state.moving")
 
     page.mouse.move(*at(*point))
+    page.keyboard.down("Alt")  # or Alt held for one drag
     page.mouse.down()
     page.mouse.move(*at(point[0] + 20, point[1] + 10))
     assert state() == "dragging handle"
     page.mouse.up()
+    page.keyboard.up("Alt")
     page.wait_for_function(f"designer.state.version !== {version}")
     moved = _ops(page)[0]
     assert moved[name] == [point[0] + 20, point[1] + 10] and moved["type"] == made["type"]
@@ -314,3 +332,21 @@ def test_the_ground_colour_and_clear(page):
     page.wait_for_function(f"designer.state.doc.ops.length === {len(ops)}")
     page.keyboard.press("Control+z")  # and the ground goes back too
     page.wait_for_function("designer.state.doc.background !== '#204060'")
+
+
+def test_two_clicks_at_one_centre_make_two_concentric_drops(page):
+    """The trap that made a tulip's second drop move the first is gone: a click on
+    the new drop's centre (its handle) adds a drop there."""
+    page.click("[data-action='tool-drop']")
+    box = page.locator("#overlay").bounding_box()
+    x, y = box["x"] + box["width"] * 0.25, box["y"] + box["height"] * 0.75
+    before = len(_ops(page))
+    for n in (1, 2):
+        page.mouse.click(x, y)
+        page.wait_for_function(f"designer.state.doc.ops.length === {before + n}")
+    first, second = _ops(page)[before:]
+    assert first["type"] == second["type"] == "drop"
+    assert first["center"] == second["center"]
+    for _ in (1, 2):
+        page.keyboard.press("Control+z")
+    page.wait_for_function(f"designer.state.doc.ops.length === {before}")

@@ -83,7 +83,9 @@ def test_stroke_comb_stroke_curl_handles_and_undo(coffee_designer):
 
     # a point of the path is a handle: dragged, that point moves
     first = frame(stroke["points"][0])
+    page.keyboard.down("Alt")  # Alt-drag: a handle moves (a plain drag would draw)
     drag(page, client, first, (first[0] - 30, first[1] + 20))
+    page.keyboard.up("Alt")
     wait_for(lambda: saved()[1]["points"][0] != stroke["points"][0], "the handle moved")
     moved = frame(saved()[1]["points"][0])
     assert math.dist(moved, (first[0] - 30, first[1] + 20)) <= 1.5

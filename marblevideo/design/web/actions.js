@@ -20,13 +20,16 @@ register([
     perform: (s) => remove(s.selected), enabled: (s) => s.selected !== null},
   {name: "deselect", keys: ["Escape"], hint: "deselect the op (its handles go: a press there draws)",
     perform: () => select(null), enabled: (s) => s.selected !== null},
+  {name: "move", keys: ["M"], hint: "move mode: drag the selected op's points (or hold Alt)",
+    perform: () => update((s) => ({moving: !s.moving})), on: (s) => s.moving},
   {name: "clear", hint: "remove every op (undoable)", perform: clearOps,
     enabled: (s) => s.doc !== null && s.doc.ops.length > 0},
   {name: "play", hint: "play or pause", perform: togglePlay},
 ]);
 // A tool's action: it makes ``name`` the active tool.
 export const toolAction = (name, hint) => ({
-  name: `tool-${name}`, hint, perform: () => update(() => ({tool: name})), on: (s) => s.tool === name,
+  name: `tool-${name}`, hint, perform: () => update(() => ({tool: name})),
+  on: (s) => s.tool === name,
 });
 
 // "Mod+Shift+Z" as a hint says it: "Ctrl-Shift-Z".
@@ -62,7 +65,7 @@ export function initActions() {
   for (const el of document.querySelectorAll("[data-action]")) wire(el);
   document.addEventListener("keydown", onKey);
 }
-export const actionsOf = (s) => [s.undo, s.redo, s.selected, s.tool, s.doc];
+export const actionsOf = (s) => [s.undo, s.redo, s.selected, s.tool, s.doc, s.moving];
 export function showActions(s) {
   for (const el of document.querySelectorAll("[data-action]")) {
     const a = registry.get(el.dataset.action);

@@ -1,9 +1,10 @@
 // The pointer's gestures on the sheet, each a small state machine (as tldraw's
 // tools): idle -> pointing (pressed, not moved yet) -> dragging -> idle. Each
 // state answers down, move, up and cancel with the state that follows. What a
-// press starts is a gesture kind, chosen by ``kindAt``: a press on a handle of
-// the selected op moves that point; elsewhere the active tool adds the op it
-// makes (a "path" tool records the path drawn). While dragging, the sheet
+// press starts is a gesture kind, chosen by ``kindAt``: in the move mode (the
+// Move button, M) or with Alt held, a press on a handle of the selected op moves
+// that point; otherwise the active tool adds the op it makes wherever the press
+// lands (a "path" tool records the path drawn), so a tool never moves an op. While dragging, the sheet
 // shows a draft of the recipe the gesture would leave (the exact render once
 // the hand stops for 250 ms); letting go saves it. The store's ``gesture`` is
 // what the overlay shows of the gesture under way.
@@ -49,14 +50,14 @@ const KINDS = {
     selects: true,
   },
 };
-// The kind of gesture a press at frame pixel px starts.
-const kindAt = (s, px) => (handleAt(px, s) !== null ? "handle" : "tool");
+// The kind of gesture a press at frame pixel px starts (``alt``: Alt held).
+const kindAt = (s, px, alt) => ((s.moving || alt) && handleAt(px, s) !== null ? "handle" : "tool");
 
 let stillTimer = null;
 const idle = {
   name: "idle",
-  down(at, px) {
-    const s = get(), kind = kindAt(s, px);
+  down(at, px, alt = false) {
+    const s = get(), kind = kindAt(s, px, alt);
     const g = {kind, a: at, b: at, ...KINDS[kind].start(s, px, at)};
     update(() => ({gesture: {a: at, b: at, label: "", line: false, path: null}}));
     return pointing(g);
@@ -110,7 +111,7 @@ function done(g, at) {
 let current = idle;
 // The pointer's events, at canvas point ``at`` (and frame pixel px for a press).
 export const gesture = {
-  down(at, px) { current = current.down(at, px); },
+  down(at, px, alt) { current = current.down(at, px, alt); },
   move(at) { current = current.move(at); },
   up(at) { current = current.up(at); },
   cancel() { current = current.cancel(); },

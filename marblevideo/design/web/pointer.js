@@ -18,14 +18,14 @@ function onPointer(kind, handler) {
     if (kind === "pointermove" && !earlyDown) return;  // a hover: nothing to replay
     if (kind !== "pointermove") earlyDown = kind === "pointerdown" && ev.button === 0;
     const r = overlay.getBoundingClientRect();
-    early.push({handler, type: ev.type, button: ev.button, pointerId: ev.pointerId,
+    early.push({handler, type: ev.type, button: ev.button, pointerId: ev.pointerId, altKey: ev.altKey,
       fx: (ev.clientX - r.left) / r.width, fy: (ev.clientY - r.top) / r.height});
   });
 }
 export function replayEarly() {
   const r = overlay.getBoundingClientRect();
   for (const e of early.splice(0)) {
-    e.handler({type: e.type, button: e.button, pointerId: e.pointerId,
+    e.handler({type: e.type, button: e.button, pointerId: e.pointerId, altKey: e.altKey,
       clientX: r.left + e.fx * r.width, clientY: r.top + e.fy * r.height});
   }
 }
@@ -34,7 +34,7 @@ function down(ev) {
   if (!get().doc || ev.button !== 0) return;
   capture(ev.pointerId);
   const px = eventPixel(ev);
-  gesture.down(toCanvas(px), px);
+  gesture.down(toCanvas(px), px, ev.altKey);
 }
 const up = (ev) => (ev.type === "pointerup" ? gesture.up(canvasPoint(ev)) : gesture.cancel());
 

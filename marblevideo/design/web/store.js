@@ -14,6 +14,7 @@ let state = {
   version: null,  // the recipe's version as last saved or read
   saving: 0,  // saves on their way: renders wait for their answer
   tool: null,  // the active tool's name (the first tool at load)
+  moving: false,  // the move mode: a press on the selected op's handle moves it (else tools draw)
   settings: {},  // the tools' settings typed in, by "TYPE-NAME" (empty: from the canvas)
   color: "#1d3557",  // the ink a new op takes
   palette: "classic",  // the colours a layout's drops take in turn (after color)
