@@ -91,7 +91,7 @@ def bench(
             from marblevideo.cli.live import build_parser, recorder_for
 
             args = build_parser().parse_args(["--ops", str(recipe), "-o", record, "-y"])
-            recorder = recorder_for(args)
+            recorder = recorder_for(args, record)
             recorder.start(w, h, fps)
             session.recorder = recorder
         server = Server(session, 0)

@@ -275,8 +275,9 @@ def trace(args) -> dict:
         recipe = Path(tmp) / "soak-recipe.json"
         save(recipe, RECIPE)
         session = LiveSession(recipe, TestPattern((w, h), 30), jpeg=True, quiet=True)
-        opts = build_parser().parse_args(["--ops", str(recipe), "-o", f"{tmp}/soak.mp4", "-y"])
-        session.recorder = recorder_for(opts)
+        recording = f"{tmp}/soak.mp4"
+        opts = build_parser().parse_args(["--ops", str(recipe), "-o", recording, "-y"])
+        session.recorder = recorder_for(opts, recording)
         session.recorder.start(w, h, 30)
         server = Server(LiveDesign(session), 0)
         server.start()

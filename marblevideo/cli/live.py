@@ -110,7 +110,7 @@ def run_live(argv: list[str]) -> int:
     args = build_parser().parse_args(argv)
     configure_logging(args.verbose)
     spec, recipe, size = _checked(args)
-    recorder = recorder_for(args) if args.output else None  # settings checked up front
+    recorder = recorder_for(args, args.output) if args.output else None  # checked up front
     streams = streamers_for(args)
     live = _Live(args, open_source(spec, size, args.fps, args.loop), recorder, streams)
     try:

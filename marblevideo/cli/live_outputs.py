@@ -55,10 +55,12 @@ def streamers_for(args) -> list[Streamer]:
     return [Streamer(url, live_video_options(args, url, "flv"), notify) for url in args.streams]
 
 
-def recorder_for(args):
+def recorder_for(args, output: str):
+    """The :class:`~marblevideo.live.recording.Recorder` of the file ``output``, with
+    the encoder settings of ``args`` (checked)."""
     from marblevideo.live.recording import Recorder
 
-    return Recorder(args.output, live_video_options(args, args.output))
+    return Recorder(output, live_video_options(args, output))
 
 
 def live_video_options(args, dst: str, format: str | None = None):
