@@ -90,6 +90,16 @@ def test_every_type_is_described_with_its_parameters_and_tools():
     assert not described["shift"]["params"][0]["handle"]  # a motion, not a place
 
 
+def test_every_tool_has_its_own_key_and_a_hint():
+    """One letter each, none twice, none of the page's own keys (M: the move
+    mode; Z and Y: undo and redo with Ctrl), and a one-line hint."""
+    tools = [t for d in describe_ops().values() for t in d["tools"]]
+    keys = [t["key"] for t in tools]
+    assert all(len(k) == 1 and "A" <= k <= "Z" for k in keys), keys
+    assert len(set(keys)) == len(keys) and not set(keys) & {"M", "Z", "Y"}
+    assert all(t["hint"] and "\n" not in t["hint"] and len(t["hint"]) < 80 for t in tools)
+
+
 def test_the_pages_sources_name_no_op_type():
     types = "|".join(re.escape(t) for t in recipe_types())
     quoted = re.compile(rf"""["'`]({types})["'`]""")

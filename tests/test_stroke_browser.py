@@ -1,10 +1,10 @@
 """The designer's stroke tools driven by the mouse in a real headless
 Chromium over samples/coffee.jpg (a 400x300 canvas shown at 4/3 in the 600x400
 frame): a drag along an S with the stroke tool adds one stroke whose points
-follow the drag within 2 px and carries the ink along it, undo removes it, a
-path point is a handle, the comb stroke has tines and a click with the curl
-tool draws a small loop. Skipped, with the reason, without Playwright or
-Chromium."""
+follow the drag within 2 px, with the times it was drawn at, and carries the
+ink along it, undo removes it, a path point is a handle, the comb stroke has
+tines and a click with the curl tool draws a small loop. Skipped, with the
+reason, without Playwright or Chromium."""
 
 from __future__ import annotations
 
@@ -73,7 +73,9 @@ def test_stroke_comb_stroke_curl_handles_and_undo(coffee_designer):
     stroke = ops[1]
     assert stroke["type"] == "stroke" and stroke["drag"] == 1 and "tines" not in stroke
     path = [frame(q) for q in stroke["points"]]
-    assert 3 <= len(path) < len(S)  # simplified, and still an S
+    assert len(path) == len(S)  # each move a point (it moved a device pixel or more)
+    times = stroke["times"]  # drawn in time: one per point, from the time shown at the press
+    assert len(times) == len(S) and times[0] == 0 and times == sorted(times) and times[-1] > 0
     for p in S:
         assert (
             min(segment_distance(p, a, b) for a, b in zip(path[:-1], path[1:], strict=True)) <= 2.0

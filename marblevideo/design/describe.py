@@ -15,7 +15,9 @@ order, the drop layouts after the ink family) to:
   numbers ``slider`` (the law), ``units`` and ``range`` (the law as data:
   :data:`marblevideo.ops.base.SLIDER_SPECS`, evaluated by ``range.js``);
 - ``tools``: the designer's tools that draw it (name, ``gesture``, ``make``,
-  ``label``: :mod:`marblevideo.ops.gestures`, evaluated by ``tools.js``), and
+  ``label``: :mod:`marblevideo.ops.gestures`, evaluated by ``tools.js``; ``key``
+  and ``hint``, the tool's shortcut key and one-line hint,
+  :data:`marblevideo.ops.gestures.TOOL_KEYS`), and
   ``settings``, the numbers those tools ask for beside them.
 """
 
@@ -26,6 +28,7 @@ from functools import lru_cache
 
 from marblevideo.ops import LAYOUTS, REGISTRY
 from marblevideo.ops.base import SLIDER_SPECS, Param, slider_spec
+from marblevideo.ops.gestures import TOOL_KEYS
 from marblevideo.recipe.schema import schema
 
 #: ``start`` and ``end``, every op's: seconds, constants (no slider).
@@ -61,11 +64,15 @@ def describe_param(p: Param, defs: dict, op_schema: dict) -> dict:
     return out
 
 
+def _tool(definition, t) -> dict:
+    name = t.name or definition.type
+    key, hint = TOOL_KEYS.get(name, ("", ""))
+    out = {"name": name, "gesture": t.gesture, "make": t.make, "label": t.label}
+    return {**out, "key": key, "hint": hint}
+
+
 def _tools(definition) -> list[dict]:
-    return [
-        {"name": t.name or definition.type, "gesture": t.gesture, "make": t.make, "label": t.label}
-        for t in definition.tools
-    ]
+    return [_tool(definition, t) for t in definition.tools]
 
 
 def _describe(definition, family: str, ink: bool, defs: dict) -> dict:

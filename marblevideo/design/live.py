@@ -16,6 +16,10 @@ edit the live recipe file:
 - ``PUT /api/recipe``: validated, saved atomically, taken from the next frame;
   400 with the one-line JSON-path error and nothing saved when invalid. It
   answers ``/api/info`` with the new ``version``.
+- ``PUT /api/preview``: ``{"recipe": ..., "version": V}``, an unsaved recipe
+  the live frames show instead of the saved one while the file is at version V
+  (the stroke being drawn; ``recipe`` null clears it), for a few seconds after
+  each send (:mod:`marblevideo.live.preview`); 400 when invalid.
 - ``GET /api/signals``, ``POST /api/learn``: the controllers' meters and learn
   (:mod:`marblevideo.controllers.api`).
 
@@ -70,11 +74,19 @@ class LiveDesign:
             if (method, path) == ("PUT", "/api/recipe"):
                 version = self.live.put(request_json(body))
                 return json_answer({**self.info(), "version": version})
+            if (method, path) == ("PUT", "/api/preview"):
+                return json_answer(self._preview(request_json(body)))
         except (RecipeError, ValueError) as exc:
             return json_answer({"error": str(exc)}, 400)
         except (OSError, MediaError) as exc:
             return json_answer({"error": f"{self.live.recipe_path}: {exc}"}, 500)
         return json_answer({"error": f"{method} {path}: no such route"}, 404)
+
+    def _preview(self, request) -> dict:
+        if not isinstance(request, dict) or set(request) != {"recipe", "version"}:
+            raise ValueError('preview: expected {"recipe": ..., "version": V}')
+        self.live.drawing.put(request["recipe"], request["version"])
+        return {"version": self.live.file.snapshot()[2]}
 
     # the live session's own routes
     def stats(self) -> dict:

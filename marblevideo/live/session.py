@@ -31,6 +31,7 @@ from marblevideo.controllers.values import ControllerSignals, SessionSignals
 from marblevideo.live.jpeg import JpegPreview
 from marblevideo.live.meters import Meters
 from marblevideo.live.playback import Playback
+from marblevideo.live.preview import LivePreview
 from marblevideo.live.sources import Source
 from marblevideo.serve.recipefile import RecipeFile
 from marblevideo.signals.live import FrameTimed
@@ -76,7 +77,9 @@ class LiveSession:
         self.controllers = ControllerSignals()  # OSC and MIDI, fed by their listeners
         self._lock = threading.Lock()
         self._marbler = None
-        self._marbled_for: int | None = None  # the recipe's version
+        self._marbled_for: object = None  # the recipe's version (or a preview's serial)
+        #: the stroke being drawn on the designer's page, shown until a save
+        self.drawing = LivePreview(str(self.recipe_path))
         # other signals (audio, marblevideo.signals.live), beside the controllers: by
         # the shown frame's time in its file when audio_by_frame
         self.media_t = 0.0
@@ -135,12 +138,15 @@ class LiveSession:
     def _current(self):
         bypass, mirror = self.playback.snapshot()
         _, recipe, version = self.file.snapshot()
+        drawing, key = self.drawing.current(version), version
+        if drawing is not None:
+            recipe, key = drawing[0], ("preview", drawing[1])
         with self._lock:
-            if self._marbled_for != version:
+            if self._marbled_for != key:
                 self._marbler = self._Marbler(
                     self._bound(recipe), renderer=self.renderer, lattice=self.lattice
                 )
-                self._marbled_for = version
+                self._marbled_for = key
             return self._marbler, bypass, mirror
 
     def _bound(self, recipe):

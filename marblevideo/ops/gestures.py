@@ -67,6 +67,34 @@ class Setting:
     integer: bool = False
 
 
+#: Each tool's shortcut key on the page (one letter; the page's other keys are
+#: M, Delete, Backspace, Escape, Ctrl with Z or Y, + - 0 and the arrows) and its
+#: one-line hint, by tool name. Every tool has one (a test checks).
+TOOL_KEYS: dict[str, tuple[str, str]] = {
+    "drop": ("D", "a drop of ink: pushes what is there aside"),
+    "spray": ("S", "a droplet that covers without pushing"),
+    "rings": ("R", "concentric rings of the palette's inks"),
+    "line-drops": ("L", "a row of drops along the line"),
+    "grid-drops": ("G", "a grid of drops over the rectangle dragged"),
+    "scatter-drops": ("A", "drops scattered at random around the centre"),
+    "tine": ("T", "one tine pulled along the line"),
+    "comb": ("C", "a comb of parallel tines pulled along the line"),
+    "wave": ("W", "a wave across the line, its wavelength the line's length"),
+    "shift": ("H", "the whole tank moved by the line"),
+    "rake": ("K", "a rake: tines with an exponential fall-off"),
+    "circle": ("O", "a tine moved round a circle"),
+    "vortex": ("V", "a swirl winding tighter to its centre"),
+    "turn": ("U", "the whole tank turned about the centre"),
+    "stir": ("I", "tines stirred round concentric circles"),
+    "stir-turn": ("N", "two rings stirred opposite ways"),
+    "oseen": ("E", "a viscous vortex: rigid core, free outside"),
+    "jiggle": ("J", "the tank shaken back and forth"),
+    "stroke": ("P", "a stylus drawn free-hand, the ink following it as you draw"),
+    "comb-stroke": ("B", "a comb of styluses drawn free-hand, as you draw"),
+    "curl": ("F", "a small French curl loop (no times: it appears whole)"),
+}
+
+
 def round1(v: float) -> float:
     """To 0.1, halves up (JavaScript's Math.round, as the page rounds)."""
     return math.floor(v * 10 + 0.5) / 10

@@ -10,8 +10,15 @@ import { togglePlay } from "./timeline.js";
 
 const always = () => true;
 const registry = new Map();
+// Add ``actions``; a key another action has already is refused (an error: no two actions share one).
 export function register(actions) {
-  for (const a of actions) registry.set(a.name, {keys: [], enabled: always, ...a});
+  for (const a of actions) {
+    for (const key of a.keys || []) {
+      const other = [...registry.values()].find((b) => b.keys.some((k) => k.toLowerCase() === key.toLowerCase()));
+      if (other) throw new Error(`actions: key ${key} of ${a.name} is ${other.name}'s already`);
+    }
+    registry.set(a.name, {keys: [], enabled: always, ...a});
+  }
 }
 register([
   {name: "undo", keys: ["Mod+Z"], hint: "undo", perform: undo, enabled: (s) => s.undo.length > 0},
@@ -26,14 +33,15 @@ register([
     enabled: (s) => s.doc !== null && s.doc.ops.length > 0},
   {name: "play", hint: "play or pause", perform: togglePlay},
 ]);
-// A tool's action: it makes ``name`` the active tool.
-export const toolAction = (name, hint) => ({
-  name: `tool-${name}`, hint, perform: () => update(() => ({tool: name})),
+// A tool's action: it makes ``name`` the active tool (``key``: its shortcut, or "").
+export const toolAction = (name, hint, key = "") => ({
+  name: `tool-${name}`, hint, keys: key ? [key] : [], perform: () => update(() => ({tool: name})),
   on: (s) => s.tool === name,
 });
 
 // "Mod+Shift+Z" as a hint says it: "Ctrl-Shift-Z".
 const spelled = (key) => key.replace("Mod", "Ctrl").replaceAll("+", "-");
+export const spelledKeys = (a) => a.keys.map(spelled).join(", ");
 export const hintOf = (a) => (a.keys.length ? `${a.hint} (${a.keys.map(spelled).join(", ")})` : a.hint);
 function matches(key, ev) {
   const parts = key.split("+"), name = parts.pop();
@@ -46,7 +54,7 @@ export function perform(name) {
   if (a.enabled(s)) a.perform(s);
 }
 function onKey(ev) {
-  if (ev.target.tagName === "INPUT" || ev.target.tagName === "SELECT") return;
+  if (["INPUT", "SELECT", "TEXTAREA"].includes(ev.target.tagName) || ev.target.isContentEditable) return;
   for (const a of registry.values()) {
     const key = a.keys.find((k) => matches(k, ev));
     if (key === undefined) continue;
@@ -55,6 +63,8 @@ function onKey(ev) {
     return;
   }
 }
+// Every action with keys, as [keys spelled, hint], in the order registered (the page's list of keys).
+export const keyList = () => [...registry.values()].filter((a) => a.keys.length).map((a) => [spelledKeys(a), a.hint]);
 // Wire ``el`` (a button) to its action: its hint and its click.
 export function wire(el) {
   const a = registry.get(el.dataset.action);

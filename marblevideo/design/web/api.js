@@ -14,4 +14,6 @@ export const frameOf = (query, doc) => post(`/api/frame.rgba?${query}`, doc);
 // Live mode: the newest marbled frame newer than seq (503 after 2 s without one).
 export const liveFrame = (seq) => fetch(`/frame.jpg?after=${seq}`);
 export const control = (request) => post("/control", request);
+// Live mode: {recipe, version}: an unsaved recipe the live frames show until a save (recipe null: none).
+export const putPreview = (body) => fetch("/api/preview", {method: "PUT", headers: JSON_HEADERS, body: JSON.stringify(body)});
 export const learn = () => post("/api/learn", {});

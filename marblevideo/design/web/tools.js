@@ -77,6 +77,10 @@ export function buildTools(types) {
   return table;
 }
 
+// Whether ``tool`` draws in time (stylus.js): a path tool whose op takes
+// ``times`` (``types``: /api/ops's answer).
+export const drawsInTime = (tool, types) => tool.gesture === "path" && types[tool.type].params.some((p) => p.name === "times");
+
 // A setting's value: the number typed in its field (``raw``, a string) when it
 // is one (> 0 where positive), clamped and rounded as the setting says; else its default.
 export function settingValue(s, env, raw = "") {
