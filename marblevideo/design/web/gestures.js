@@ -78,13 +78,14 @@ const KINDS = {
   },
 };
 // A timed tool's press: its path and its clock (the timeline's time; in live
-// mode the live clock's, asked of the session: ``anchor`` until it answers).
-function timedStart(s, at, ev) {
-  const g = {tool: s.tool, stylus: startPath(at, ev.dev, ev.stamp), t0: s.t, before: {t: s.t, duration: s.duration}};
-  if (isLive(s)) {
-    g.t0 = null;
-    g.anchor = clockAtPress(ev.stamp).then((t0) => { g.t0 = t0; });
-  }
+// mode the live clock's, asked of the session: see ``anchored``).
+const timedStart = (s, at, ev) => ({tool: s.tool, stylus: startPath(at, ev.dev, ev.stamp), t0: s.t,
+  before: {t: s.t, duration: s.duration}});
+// Gesture ``g`` in live mode: its clock unknown (``anchor``) until the session answers.
+function anchored(g, ev) {
+  if (!g.stylus || !isLive()) return g;
+  g.t0 = null;
+  g.anchor = clockAtPress(ev.stamp).then((t0) => { g.t0 = t0; });
   return g;
 }
 // The kind of gesture a press at frame pixel px starts (``alt``: Alt held).
@@ -95,7 +96,7 @@ const idle = {
   name: "idle",
   down(at, px, ev) {
     const s = get(), kind = kindAt(s, px, ev.alt);
-    const g = {kind, a: at, b: at, ...KINDS[kind].start(s, px, at, ev)};
+    const g = anchored({kind, a: at, b: at, ...KINDS[kind].start(s, px, at, ev)}, ev);
     update(() => ({gesture: {a: at, b: at, label: "", line: false, path: null}}));
     return pointing(g);
   },

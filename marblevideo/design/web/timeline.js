@@ -12,8 +12,9 @@ let last = null;
 // Play's clock: the next frame's time (the sheet view renders it), then the next tick once it is shown.
 export function tick(now) {
   const s = get();
-  if (isRendering() || s.gesture) return;
-  if (isLive(s)) { show(); return; }  // the clock is the session's: show its newest frame
+  if (isRendering()) return;
+  if (isLive(s)) { show(); return; }  // the clock is the session's: its newest frame (a stroke being drawn too)
+  if (s.gesture) return;
   if (!s.playing) { if (s.info.input.kind === "live") show({draft: true}); return; }
   const dt = last === null ? 0 : (now - last) / 1000;
   last = now;
@@ -23,10 +24,11 @@ export function tick(now) {
   else if (next !== s.t) update(() => ({t: next}));
   else show({draft: true});
 }
-// The next tick, while playing or while a live source moves the sheet (not during a gesture).
+// The next tick, while playing or while a live source moves the sheet (not
+// during a gesture, but in live mode: the live frames show the stroke drawn).
 export function resume() {
   const s = get();
-  if (s.playing || (s.info.input.kind === "live" && !s.gesture)) requestAnimationFrame(tick);
+  if (isLive(s) || s.playing || (s.info.input.kind === "live" && !s.gesture)) requestAnimationFrame(tick);
 }
 export function togglePlay() {
   if (isLive()) { control({paused: get().playing}); return; }

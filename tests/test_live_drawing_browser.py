@@ -1,0 +1,83 @@
+"""``marblevideo live --preview``: a stroke drawn on the page moves the live
+frames' ink as it is drawn, before the mouse is released, and is saved on
+release with its times on the live clock. Real Chromium (Playwright) over a
+still photo looped (``samples/coffee.jpg --loop``, 600x400: the canvas), the
+clock running. Skipped, with the reason, without Playwright or Chromium."""
+
+from __future__ import annotations
+
+import json
+import time
+
+import numpy as np
+import pytest
+from helpers import ROOT
+from live_helpers import LiveProcess, live_settled, wait_for, watched_page
+
+pytestmark = pytest.mark.tier("integration")
+
+#: The stroke drawn, in frame pixels: left to right across the middle.
+PATH = [(120 + 9 * k, 200 + 30 * np.sin(k / 6)) for k in range(41)]
+
+
+def _near_path(image: np.ndarray, scale: float) -> np.ndarray:
+    """The pixels of ``image`` (a shot of the sheet) within 12 frame px of the
+    path's first half."""
+    h, w = image.shape[:2]
+    yy, xx = np.mgrid[0:h, 0:w] / scale
+    mask = np.zeros((h, w), bool)
+    for x, y in PATH[:20]:
+        mask |= (xx - x) ** 2 + (yy - y) ** 2 < 144
+    return image[mask]
+
+
+def test_a_stroke_moves_the_live_ink_as_it_is_drawn(browser, tmp_path):
+    recipe = tmp_path / "live.json"
+    recipe.write_text(json.dumps({"marblevideo": 1, "ops": []}))
+    live = LiveProcess(
+        ROOT / "samples" / "coffee.jpg", "--loop", "--ops", recipe, "--preview", "--port", "0",
+        "--duration", "120", cwd=tmp_path,
+    )  # fmt: skip
+    saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
+    try:
+        page, errors = watched_page(browser, live.url, "body[data-ready='1'][data-mode='live']")
+        box = page.locator("#overlay").bounding_box()
+        scale = box["width"] / 600  # the shot's pixels per frame pixel
+
+        def client(px: float, py: float) -> tuple[float, float]:
+            return box["x"] + px * box["width"] / 600, box["y"] + py * box["height"] / 400
+
+        before = live_settled(page, live)
+        page.keyboard.press("p")  # the stroke tool's key
+        assert page.evaluate("designer.state.tool") == "stroke"
+        clock = live.get("/stats")["t"]
+        page.mouse.move(*client(*PATH[0]))
+        pressed = time.monotonic()
+        page.mouse.down()
+        for p in PATH[1:21]:
+            page.mouse.move(*client(*p))
+            time.sleep(0.03)
+        # mid-drag: nothing saved, and the live frames show the stroke so far
+        mid = live_settled(page, live)
+        assert saved() == []
+        moved = np.abs(_near_path(mid, scale) - _near_path(before, scale)).mean()
+        far = np.abs(mid[-40:, :] - before[-40:, :]).mean()  # the bottom rows: untouched
+        assert moved > 8 and far < 2, (moved, far)
+        for p in PATH[21:]:
+            page.mouse.move(*client(*p))
+            time.sleep(0.03)
+        page.mouse.up()
+        drew = time.monotonic() - pressed
+        (stroke,) = wait_for(saved, "the stroke is saved")
+        times = stroke["times"]
+        assert stroke["type"] == "stroke" and len(times) == len(stroke["points"]) == len(PATH)
+        assert times == sorted(times)
+        assert abs(times[0] - clock) < 1.0  # the live clock at the press
+        assert 0.5 * drew < times[-1] - times[0] < drew + 0.2  # the drag's span
+        # the preview is gone, the saved stroke is shown: the path's ink stays moved
+        after = live_settled(page, live)
+        assert np.abs(_near_path(after, scale) - _near_path(before, scale)).mean() > 8
+        page.close()
+        assert errors == []
+    finally:
+        assert live.stop() == 0, live.stderr()
