@@ -42,11 +42,11 @@ class LivePreview:
             self._recipe, self._base, self._sent = recipe, version, time.monotonic()
             self.serial += 1
 
-    def current(self, version: int) -> tuple[Recipe, int] | None:
+    def current(self, version: int, now: float | None = None) -> tuple[Recipe, int] | None:
         """(the preview's recipe, its serial) to render while the file is at
-        ``version``, or None: render the file's recipe."""
+        ``version`` (at time.monotonic() ``now``), or None: render the file's recipe."""
         with self._lock:
-            fresh = time.monotonic() - self._sent < TTL
+            fresh = (time.monotonic() if now is None else now) - self._sent < TTL
             if self._recipe is None or self._base != version or not fresh:
                 return None
             return self._recipe, self.serial
