@@ -21,7 +21,7 @@ import { handleAt, setHandle } from "./overlay.js";
 import { inks } from "./palette.js";
 import { commit, serial } from "./recipe.js";
 import { get, update, isLive, side } from "./store.js";
-import { addPoint, drawn, lastSeconds, startPath, timesFrom } from "./stylus.js";
+import { addPoint, drawn, lastTime, startPath, timesFrom } from "./stylus.js";
 import { drawsInTime, gestureEnv, makeOp, pathPoints, settingValue } from "./tools.js";
 import { clone } from "./values.js";
 
@@ -119,7 +119,7 @@ function follow(g, at, ev) {
 // (the sheet shows the stroke as far as drawn), the timeline stretched to it.
 function timedView(g) {
   if (!g.stylus || g.t0 === null || isLive()) return {};
-  const t = g.t0 + lastSeconds(g.stylus);
+  const t = lastTime(g.stylus, g.t0);
   return {t, duration: Math.max(g.before.duration, t)};
 }
 function dragging(g) {

@@ -30,9 +30,8 @@ export function addPoint(p, at, dev, stamp) {
   if (p.points.length > MAX_POINTS) halve(p);
   return true;
 }
-// The seconds since the press of the newest point.
-export const lastSeconds = (p) => p.seconds.at(-1);
-// The times of the path's points for a press at time ``t0`` (seconds).
+// The times of the path's points for a press at time ``t0`` (seconds), and the newest's.
 export const timesFrom = (p, t0) => p.seconds.map((s) => round3(t0 + s));
+export const lastTime = (p, t0) => round3(t0 + p.seconds.at(-1));
 // Whether the path was drawn (two points or more), rather than clicked.
 export const drawn = (p) => p.points.length > 1;
