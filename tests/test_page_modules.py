@@ -169,6 +169,27 @@ def test_the_actions_table_gives_the_buttons_their_hints(page):
     page.click(f"#tool-{names[0]}")
 
 
+def test_each_tool_has_its_key_on_its_button_and_in_the_list_of_keys(page):
+    tools = [t for d in describe_ops().values() for t in d["tools"]]
+    for tool in tools:
+        button = f"#tool-{tool['name']}"
+        assert page.text_content(f"{button} kbd") == tool["key"]
+        assert page.get_attribute(button, "title").endswith(f"({tool['key']})")
+        assert tool["hint"] in page.get_attribute(button, "title")
+    listed = page.eval_on_selector_all("#keys dt", "ds => ds.map((d) => d.textContent)")
+    assert {"Ctrl-Z", "M", "Escape"} <= set(listed) and {t["key"] for t in tools} <= set(listed)
+    assert len(listed) == len(set(listed))  # no key twice
+    timed = [t["name"] for t in tools if t["gesture"] == "path"]
+    assert timed and all("pace drawn" in page.get_attribute(f"#tool-{n}", "title") for n in timed)
+    for tool in (tools[-1], tools[0]):
+        page.keyboard.press(tool["key"].lower())
+        assert page.evaluate("designer.state.tool") == tool["name"]
+    clash = run(page, "actions.js", """(m, key) => { try {
+        m.register([{name: "probe", keys: [key], hint: "", perform: () => {}}]); return "taken";
+    } catch (e) { return String(e); } }""", tools[0]["key"])  # fmt: skip
+    assert clash.startswith("Error: actions: key") and tools[0]["name"] in clash
+
+
 def _ops(page) -> list:
     return page.evaluate("designer.state.doc.ops")
 
