@@ -51,7 +51,7 @@ const moved = (pts) => pts.some((p) => p[0] !== pts[0][0] || p[1] !== pts[0][1])
 
 // A timed gesture's times, once its clock is known (null: untimed, a click or a paused live clock).
 const timesOf = (g) => (g.stylus && g.t0 !== null && drawn(g.stylus) ? timesFrom(g.stylus, g.t0) : null);
-const pathOf = (g) => (g.stylus ? g.stylus.points : g.path || []);
+const pathOf = (g) => (g.stylus ? g.stylus.points : g.path);  // null: not a path tool
 
 // The gesture kinds: how each starts, what recipe it leaves, what the overlay
 // shows of it, whether letting go saves it, and whether the op it made is then selected.
@@ -68,7 +68,7 @@ const KINDS = {
       if (timedTool(s.tool, s)) return timedStart(s, at, ev);
       return {tool: s.tool, path: toolNamed(s.tool).gesture === "path" ? [at] : null};
     },
-    doc(g, doc) { const next = clone(doc); next.ops.push(toolOp(g.tool, g.a, g.b, pathOf(g), timesOf(g))); return next; },
+    doc(g, doc) { const next = clone(doc); next.ops.push(toolOp(g.tool, g.a, g.b, pathOf(g) || [], timesOf(g))); return next; },
     shown(g, draft) {
       const name = toolNamed(g.tool).label, op = draft.ops.at(-1);
       return {a: g.a, b: g.b, label: name ? `${name} ${op[name]}` : "", line: true, path: pathOf(g)};
