@@ -111,6 +111,9 @@ function pointing(g) {
 // point only where the pointer has moved a device pixel).
 function follow(g, at, ev) {
   g.b = at;
+  if (g.stylus && ev.samples && ev.samples.length) {  // every move the browser coalesced, in order
+    return ev.samples.map(([p, e]) => addPoint(g.stylus, p, e.dev, e.stamp)).some(Boolean);
+  }
   if (g.stylus) return addPoint(g.stylus, at, ev.dev, ev.stamp);
   if (g.path) g.path.push(at);
   return true;
@@ -167,7 +170,7 @@ function done(g, at, ev) {
 let current = idle;
 // The pointer's events, at canvas point ``at`` (and frame pixel px for a
 // press); ``ev``: {alt (Alt held), dev (the device pixel), stamp (the event's
-// timeStamp, ms)}.
+// timeStamp, ms), samples (a move's coalesced moves: [at, {dev, stamp}], or none)}.
 const NO_EVENT = {alt: false, dev: [0, 0], stamp: 0};
 export const gesture = {
   down(at, px, ev = NO_EVENT) { current = current.down(at, px, {...NO_EVENT, ...ev}); },

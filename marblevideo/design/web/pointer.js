@@ -34,6 +34,12 @@ const canvasPoint = (ev) => toCanvas(eventPixel(ev));
 // What a gesture takes of an event besides its point: Alt, the device pixel, the time stamp (ms).
 const detail = (ev) => ({alt: ev.altKey, stamp: ev.timeStamp ?? performance.now(),
   dev: [ev.clientX * devicePixelRatio, ev.clientY * devicePixelRatio]});
+// The moves the browser coalesced into this event (a stylus reports faster
+// than frames are drawn), each as a gesture takes it: [at, detail]; [] if none.
+function samples(ev) {
+  const list = ev.getCoalescedEvents ? ev.getCoalescedEvents() : [];
+  return list.length > 1 ? list.map((e) => [canvasPoint(e), detail(e)]) : [];
+}
 function down(ev) {
   if (!get().doc || ev.button !== 0) return;
   capture(ev.pointerId);
@@ -44,7 +50,7 @@ const up = (ev) => (ev.type === "pointerup" ? gesture.up(canvasPoint(ev), detail
 
 export function initPointer() {
   onPointer("pointerdown", down);
-  onPointer("pointermove", (ev) => gesture.move(canvasPoint(ev), detail(ev)));
+  onPointer("pointermove", (ev) => gesture.move(canvasPoint(ev), {...detail(ev), samples: samples(ev)}));
   onPointer("pointerup", up);
   onPointer("pointercancel", up);
 }
