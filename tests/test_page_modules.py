@@ -4,8 +4,10 @@ against Python on vectors Python makes: the easing (ease.js against
 marblevideo.recipe.keyframes.ease), the slider ranges (range.js on /api/ops's
 laws against marblevideo.ops.slider_range), and the tool table and the ops its
 tools make (tools.js on /api/ops against marblevideo.ops.gestures); the store's
-subscriptions, the actions table's hints and a gesture's states (idle,
-pointing, dragging) with the keys that undo it. One server
+subscriptions, the actions table's hints and the tools' keys, a gesture's
+states (idle, pointing, dragging) with the keys that undo it, and a path drawn
+in time (stylus.js: a point per device pixel, times non-decreasing, halved past
+MAX_POINTS). One server
 and one page for the module; skipped, with the reason, without Playwright or
 Chromium."""
 
@@ -188,6 +190,33 @@ def test_each_tool_has_its_key_on_its_button_and_in_the_list_of_keys(page):
         m.register([{name: "probe", keys: [key], hint: "", perform: () => {}}]); return "taken";
     } catch (e) { return String(e); } }""", tools[0]["key"])  # fmt: skip
     assert clash.startswith("Error: actions: key") and tools[0]["name"] in clash
+
+
+STYLUS = """(m) => {
+    const p = m.startPath([0, 0], [100, 100], 1000);
+    const took = [
+        m.addPoint(p, [0.1, 0], [100.5, 100], 1010),  // under a device pixel: not a point
+        m.addPoint(p, [1, 0], [101, 100], 1020),
+        m.addPoint(p, [2, 0], [102, 100], 1015),  // an older stamp: its time is not earlier
+        m.addPoint(p, [3, 0], [103, 100], 1500.4),
+    ];
+    const drawn = [m.timesFrom(p, 2.5), m.lastTime(p, 2.5), p.points.length];
+    const long = m.startPath([0, 0], [0, 0], 0);
+    for (let k = 1; k < m.MAX_POINTS; k++) m.addPoint(long, [k, 0], [k, 0], k);
+    const full = long.points.length;
+    m.addPoint(long, [m.MAX_POINTS, 0], [m.MAX_POINTS, 0], m.MAX_POINTS);  // one too many
+    const times = m.timesFrom(long, 0);
+    const rising = times.every((t, k) => k === 0 || t >= times[k - 1]);
+    return [took, drawn, full, long.points.length, long.points.at(-1)[0], long.gap, rising];
+}"""
+
+
+def test_a_path_drawn_in_time_takes_a_point_per_device_pixel(page):
+    took, drawn, full, halved, newest, gap, rising = run(page, "stylus.js", STYLUS, None)
+    assert took == [False, True, True, True]
+    assert drawn == [[2.5, 2.52, 2.52, 3.0], 3.0, 4]  # non-decreasing, to the millisecond
+    # past MAX_POINTS every other point goes (the first and the newest kept), the gap doubles
+    assert full == 4096 and halved == 2049 and newest == 4096 and gap == 2 and rising
 
 
 def _ops(page) -> list:
