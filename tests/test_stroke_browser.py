@@ -109,6 +109,7 @@ def test_stroke_comb_stroke_curl_handles_and_undo(coffee_designer):
     drag(page, client, (200, 320), (420, 330))
     comb = wait_for(lambda: len(saved()) == 2 and saved()[1], "the comb stroke is saved")
     assert comb["type"] == "stroke" and comb["tines"] == [-12, 0, 12]
+    assert len(comb["times"]) == len(comb["points"])  # drawn in time too
 
     # the curl: a click draws a small loop about the point clicked
     page.click("#tool-curl")
@@ -117,5 +118,6 @@ def test_stroke_comb_stroke_curl_handles_and_undo(coffee_designer):
     centre = ((450 - dx) / s, (120 - dy) / s)
     radii = [math.dist(q, centre) for q in curl["points"]]
     assert curl["type"] == "stroke" and len(curl["points"]) > 20
+    assert "times" not in curl  # not drawn: it appears whole
     assert max(radii) - min(radii) < 0.2 and abs(radii[0] - 10) < 0.2  # side / 30
     assert errors == []
