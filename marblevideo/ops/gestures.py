@@ -89,8 +89,8 @@ TOOL_KEYS: dict[str, tuple[str, str]] = {
     "stir-turn": ("N", "two rings stirred opposite ways"),
     "oseen": ("E", "a viscous vortex: rigid core, free outside"),
     "jiggle": ("J", "the tank shaken back and forth"),
-    "stroke": ("P", "a stylus drawn free-hand, the ink following it as you draw"),
-    "comb-stroke": ("B", "a comb of styluses drawn free-hand, as you draw"),
+    "stroke": ("P", "a stylus drawn free-hand"),
+    "comb-stroke": ("B", "a comb of styluses drawn free-hand"),
     "curl": ("F", "a small French curl loop (no times: it appears whole)"),
 }
 
