@@ -248,6 +248,8 @@ def test_a_stirred_recipe_renders_as_the_reference_renders_its_take(renderer, sh
     for frame, t in short_clip:
         recipe = stirred.see(frame, t)
         assert recipe.motion is None and recipe.ops[0].type == "drop"
+        plain = {"canvas": [320, 180], "ops": [*document["ops"], *stirred.tracker.strokes()]}
+        assert recipe.ops == parse_recipe(plain).ops  # as if the file held the strokes
         if round(t * 30) not in (15, 27, 36):
             continue
         strokes = recipe.ops[1:]
