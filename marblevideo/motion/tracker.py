@@ -170,7 +170,7 @@ class MotionTracker:
             return
         a, b = abs(self.to_canvas[0]), abs(self.to_canvas[1])
         dt = t - previous
-        speed = moving(flow, (k * a / dt, k * b / dt), self.spec.threshold)
+        speed = moving(flow, (k * a / dt, k * b / dt), self.spec.threshold, self.flow.shift)
         self._level = min(1.0, float(np.count_nonzero(speed)) / speed.size / FULL_LEVEL)
         speck = (self.spec.width[0] / 2) ** 2 * math.pi / 4 / (a * b)  # frame pixels
         found = [r for r in regions(speed, k) if r.area >= speck]
