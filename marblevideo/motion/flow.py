@@ -50,7 +50,9 @@ def luma(frame: np.ndarray) -> np.ndarray:
     """The 8-bit luma of an HxWx3 RGB, HxWx4 RGBA or HxW luma uint8 frame: OpenCV's
     fixed-point BT.601 weights (0.299 R + 0.587 G + 0.114 B, rounded), alpha
     ignored; a luma frame is returned as it is. The one definition every caller
-    uses, so that a file and a live session see the same luma."""
+    uses, so that a file and a live session see the same luma: feed it the same
+    kind of frame everywhere (an I420 frame's Y plane is not the luma of its RGB
+    conversion: its range and matrix differ)."""
     if frame.ndim == 2:
         return np.ascontiguousarray(frame, dtype=np.uint8)
     if frame.ndim != 3 or frame.shape[2] not in (3, 4):
