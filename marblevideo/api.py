@@ -16,6 +16,7 @@ import numpy as np
 
 from marblevideo.errors import UsageError
 from marblevideo.jobs.options import VIDEO_KINDS, as_options, positive, video_options
+from marblevideo.jobs.takes import check_take, recipe_document, take_document, write_take
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.marbler import (
     Marbler,
@@ -248,6 +249,8 @@ def render_video(
     fps: float | None = None,
     renderer: Renderer | None = None,
     options: VideoOptions | None = None,
+    automation: str | os.PathLike | None = None,
+    document: dict | None = None,
     **fields,
 ):
     """Write a video (any output of :mod:`marblevideo.media.formats`: a file, a GIF,
@@ -270,12 +273,17 @@ def render_video(
     input's audio, its first sample at t = 0, and that parameters following
     audio signals hear; exact_walk: animated frames walk every subsample
     instead of interpolating from a lattice). ``renderer`` as for
-    :func:`render_still`.
+    :func:`render_still`. A recipe's ``motion`` follows a video input's movement
+    (:class:`~marblevideo.marbler.FrameTransform`); a still or a blank sheet has
+    none (a notice says so). ``automation``: also write the take there (atomically,
+    after the video; :mod:`marblevideo.jobs.takes`), the recipe's JSON ``document``
+    (default: ``recipe`` read again, a file or a dict) with the motion strokes as
+    ordinary strokes.
     Returns the job's :class:`marblevideo.media.video.Stats`."""
     from marblevideo.jobs.pipeline import transcode
     from marblevideo.media.encode import plan_output
 
-    recipe = as_recipe(recipe)
+    given, recipe = recipe, as_recipe(recipe)
     source = classify(src)  # standard input: read to tell a still from a video
     if source.kind == "blank":
         blank_canvas(recipe)
@@ -285,14 +293,24 @@ def render_video(
     # below waits for it
     plan = plan_output(dst, opts)
     check_output(dst, opts.overwrite, source.names)
+    if automation is not None:
+        document = recipe_document(document if document is not None else given)
+        check_take(automation, opts.overwrite, [dst, *source.names, recipe.source])
     source = source.checked()
     recipe = follow(recipe, source, opts.soundtrack)  # the soundtrack checked there
     marbler = Marbler(recipe, renderer, device=device, fit=opts.fit, lattice=not opts.exact_walk)
     # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, source.kind != "blank"))
+    stirred = None
     if source.kind in VIDEO_KINDS:
-        return transcode(source, dst, marbler.transform(opts.size), opts, plan=plan)
-    return _animated(source, marbler, dst, opts, plan)
+        transform = marbler.transform(opts.size)
+        stats = transcode(source, dst, transform, opts, plan=plan)
+        stirred = transform.stirred
+    else:
+        stats = _animated(source, marbler, dst, opts, plan)
+    if automation is not None:
+        write_take(automation, take_document(document, stirred), opts.overwrite)
+    return stats
 
 
 def _animated(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
@@ -307,6 +325,9 @@ def _animated(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
     frames = SheetSource(marbler, tuple(size), image)
     note = fit_note(recipe, None if image is None else image.shape[1::-1], opts.size, opts.fit)
     notes = (note,) if note else ()
+    if recipe.motion is not None:
+        what = "a blank sheet" if image is None else "a still"
+        notes += (f"{recipe.source}: motion follows an input's movement; {what} has none",)
     fps = opts.fps or DEFAULT_FPS
     return render_sheet(dst, frames, duration, fps, opts, plan=plan, notes=notes)
 
