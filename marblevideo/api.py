@@ -16,7 +16,7 @@ import numpy as np
 
 from marblevideo.errors import UsageError
 from marblevideo.jobs.options import VIDEO_KINDS, as_options, positive, video_options
-from marblevideo.jobs.takes import check_take, recipe_document, take_document, write_take
+from marblevideo.jobs.takes import start_take, take_document, write_take
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.marbler import (
     Marbler,
@@ -273,14 +273,10 @@ def render_video(
     input's audio, its first sample at t = 0, and that parameters following
     audio signals hear; exact_walk: animated frames walk every subsample
     instead of interpolating from a lattice). ``renderer`` as for
-    :func:`render_still`. A recipe's ``motion`` follows a video input's movement
-    (:class:`~marblevideo.marbler.FrameTransform`); a still or a blank sheet has
-    none (a notice says so). ``automation``: also write the take there (atomically,
-    after the video; :mod:`marblevideo.jobs.takes`), the recipe's JSON ``document``
-    (default: ``recipe`` read again, a file or a dict) with the motion strokes as
-    ordinary strokes.
+    :func:`render_still`. ``automation``: write the take there too
+    (:mod:`marblevideo.jobs.takes`), of the recipe's JSON ``document`` (default:
+    ``recipe``'s, a file or a dict).
     Returns the job's :class:`marblevideo.media.video.Stats`."""
-    from marblevideo.jobs.pipeline import transcode
     from marblevideo.media.encode import plan_output
 
     given, recipe = recipe, as_recipe(recipe)
@@ -289,28 +285,30 @@ def render_video(
         blank_canvas(recipe)
     fields = {**fields, "fps": fps, "duration": duration}
     opts = video_options(source, as_options(fields, "render_video", options))
-    # the cheap checks first (the encoder is tried too): an exit during the build
-    # below waits for it
+    # the cheap checks first (the encoder is tried too; a build below delays an exit)
     plan = plan_output(dst, opts)
     check_output(dst, opts.overwrite, source.names)
-    if automation is not None:
-        document = recipe_document(document if document is not None else given)
-        check_take(automation, opts.overwrite, [dst, *source.names, recipe.source])
+    others = [dst, *source.names, recipe.source]
+    document = start_take(automation, given, document, opts.overwrite, others)
     source = source.checked()
     recipe = follow(recipe, source, opts.soundtrack)  # the soundtrack checked there
     marbler = Marbler(recipe, renderer, device=device, fit=opts.fit, lattice=not opts.exact_walk)
     # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, source.kind != "blank"))
-    stirred = None
-    if source.kind in VIDEO_KINDS:
-        transform = marbler.transform(opts.size)
-        stats = transcode(source, dst, transform, opts, plan=plan)
-        stirred = transform.stirred
-    else:
-        stats = _animated(source, marbler, dst, opts, plan)
+    stats, stirred = _job(source, marbler, dst, opts, plan)
     if automation is not None:
         write_take(automation, take_document(document, stirred), opts.overwrite)
     return stats
+
+
+def _job(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
+    """(the video job's stats, the motion that saw its frames: None without)."""
+    from marblevideo.jobs.pipeline import transcode
+
+    if source.kind not in VIDEO_KINDS:
+        return _animated(source, marbler, dst, opts, plan), None
+    transform = marbler.transform(opts.size)
+    return transcode(source, dst, transform, opts, plan=plan), transform.stirred
 
 
 def _animated(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):

@@ -314,15 +314,9 @@ def render_command(argv: list[str]) -> int:
         from marblevideo.api import render_video
 
         render = render_video
-    stats = render(
-        args.input,
-        recipe,
-        args.output,
-        device=args.device,
-        options=_video_options(args, size),
-        automation=args.automation,
-        document=document,
-    )
+    take = dict(automation=args.automation, document=document)
+    options = _video_options(args, size)
+    stats = render(args.input, recipe, args.output, device=args.device, options=options, **take)
     if not args.quiet:
         print(f"marblevideo: {stats.summary(_where(args.output))}", file=sys.stderr)
     return 0

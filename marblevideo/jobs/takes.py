@@ -51,6 +51,17 @@ def check_take(path, overwrite: bool, others) -> None:
     check_output(path, overwrite)
 
 
+def start_take(path, recipe, document: dict | None, overwrite: bool, others) -> dict | None:
+    """Before any work, for a take to write at ``path`` (None: no take, None returned):
+    the JSON it starts from (``document``, else :func:`recipe_document` of
+    ``recipe``), its path checked (:func:`check_take`)."""
+    if path is None:
+        return None
+    document = recipe_document(recipe) if document is None else document
+    check_take(path, overwrite, others)
+    return document
+
+
 def take_document(document: dict, stirred: StirredRecipe | None) -> dict:
     """The take of ``document`` after a job whose motion ``stirred`` saw its frames
     (None: no frame was seen, no stroke)."""

@@ -196,8 +196,7 @@ class Renderer:
 
     @property
     def loop_walk(self) -> bool:
-        """Whether every recipe walks its ops in a loop (see the class); settable: a
-        recipe whose ops change from frame to frame (``motion``) turns it on."""
+        """Whether every recipe walks its ops in a loop (see the class); settable."""
         return self.programs.loop
 
     @loop_walk.setter

@@ -39,9 +39,8 @@ from marblevideo.jobs.pipeline import transcode
 from marblevideo.jobs.route import Route
 from marblevideo.jobs.segments import Segment, join_segments, plan_segments, segment_plan
 from marblevideo.jobs.takes import (
-    check_take,
     motion_pass,
-    recipe_document,
+    start_take,
     take_document,
     take_recipe,
     write_take,
@@ -162,9 +161,8 @@ def render_split(
     plan = plan_output(dst, opts)
     segment_plan(plan, dst)
     dst = check_output(dst, opts.overwrite, source.names)
-    if automation is not None:
-        document = recipe_document(document if document is not None else given)
-        check_take(automation, opts.overwrite, [dst, *source.names, recipe.source])
+    others = [dst, *source.names, recipe.source]
+    document = start_take(automation, given, document, opts.overwrite, others)
     source = source.checked()
     if cluster == "ray":
         require_ray()
