@@ -142,7 +142,25 @@ def test_the_take_replays_the_same_frames(disc, stirred, tmp_path):
             if not np.array_equal(a, b)] == []  # fmt: skip
 
 
-def test_segments_render_the_whole_inputs_take(disc, tmp_path):
+@pytest.fixture(scope="module")
+def replayed(disc):
+    """The single render's take at --crf 0 (x264, as segments are MP4), and that take
+    rendered in one piece: (take text, the replay probed)."""
+    src, _, folder = disc
+    take = folder / "single-take.json"
+    api.render_video(src, folder / "dance.json", folder / "s.mp4", crf=0, quiet=True,
+                     automation=take)  # fmt: skip
+    api.render_video(src, take, folder / "replay.mp4", crf=0, quiet=True)
+    return take.read_text(), probe(folder / "replay.mp4")
+
+
+def same_as_replay(path, replay) -> None:
+    split = probe(path)
+    assert split.pts == replay.pts and len(split.frames) == 48
+    assert all(np.array_equal(a, b) for a, b in zip(split.frames, replay.frames, strict=True))
+
+
+def test_segments_render_the_whole_inputs_take(disc, replayed, tmp_path):
     """Three segments analyse nothing themselves: the whole input's strokes, found
     first, are every segment's; the output equals the take rendered in one piece
     (and so the single render, as the take replays it)."""
@@ -151,14 +169,22 @@ def test_segments_render_the_whole_inputs_take(disc, tmp_path):
     stats = render_split(src, folder / "dance.json", tmp_path / "split.mp4", cluster="serial",
                          segments=3, crf=0, quiet=True, automation=take)  # fmt: skip
     assert stats.frames == 48
-    single = tmp_path / "single.json"
-    api.render_video(src, folder / "dance.json", tmp_path / "s.mp4", crf=0, quiet=True,
-                     automation=single)  # fmt: skip
-    assert take.read_text() == single.read_text()
-    api.render_video(src, take, tmp_path / "replay.mp4", crf=0, quiet=True)
-    split, replay = probe(tmp_path / "split.mp4"), probe(tmp_path / "replay.mp4")
-    assert split.pts == replay.pts
-    assert all(np.array_equal(a, b) for a, b in zip(split.frames, replay.frames, strict=True))
+    assert take.read_text() == replayed[0]
+    same_as_replay(tmp_path / "split.mp4", replayed[1])
+
+
+def test_segments_on_a_local_ray_cluster(disc, replayed, tmp_path):
+    ray = pytest.importorskip("ray", reason="the extra: pip install 'marblevideo[ray]'")
+    from marblevideo.scale.cluster import connect
+
+    src, _, folder = disc
+    assert connect(ray, num_cpus=2)
+    try:
+        render_split(src, folder / "dance.json", tmp_path / "ray.mp4", cluster="ray",
+                     segments=3, crf=0, quiet=True)  # fmt: skip
+    finally:
+        ray.shutdown()
+    same_as_replay(tmp_path / "ray.mp4", replayed[1])
 
 
 def test_a_batch_equals_the_single_render(disc, stirred, tmp_path):
