@@ -174,6 +174,16 @@ def test_two_discs_apart_make_two_strokes_each_following_its_own():
         follows(stroke, discs[owner])
 
 
+@pytest.mark.slow
+def test_max_strokes_follows_the_largest_area_times_speed_first():
+    w, h = SIZE
+    small = Disc(50, (60, 80), line(300), 0.3, 1.1)
+    large = Disc(110, (w - 80, h - 90), line(300, 180), 0.3, 1.1, seed=9)
+    take = track(disc_clip([small, large], SIZE, seconds=1.5), MotionSpec(max_strokes=1)).take()
+    assert len(take) == 1
+    follows(take[0], large)
+
+
 SHORT = [Disc(60, (60, 180), line(300), 0.2, 0.9)]
 
 
@@ -248,6 +258,8 @@ def test_a_stirred_recipe_renders_as_the_reference_renders_its_take(renderer, sh
     for frame, t in short_clip:
         recipe = stirred.see(frame, t)
         assert recipe.motion is None and recipe.ops[0].type == "drop"
+        plain = {"canvas": [320, 180], "ops": [*document["ops"], *stirred.tracker.strokes()]}
+        assert recipe.ops == parse_recipe(plain).ops  # as if the file held the strokes
         if round(t * 30) not in (15, 27, 36):
             continue
         strokes = recipe.ops[1:]

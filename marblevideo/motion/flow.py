@@ -37,6 +37,11 @@ MARGIN = 2
 MIN_POINTS = 6
 #: Whether each flow starts from the last one.
 SEED = True
+#: Reduced points per frame apart from the dominant motion from which a point's
+#: flow is carried to where it goes, to seed the next frame's.
+CARRY = 0.5
+#: A region's own extent: its points at least this share of its 90th-percentile speed.
+CORE = 0.5
 _OPEN = np.ones((3, 3), np.uint8)
 
 
@@ -104,8 +109,31 @@ class Flow:
         # DIS starts from the flow it is given when it has the images' size
         seed = None if self.flow is None or not SEED else self.flow.copy()
         flow = self.dis.calc(small, previous, seed)
-        self.flow = flow
+        self.flow = carried(flow)
         return -flow
+
+
+def carried(flow: np.ndarray) -> np.ndarray:
+    """The seed of the next frame's (backward) flow: each point that moves apart
+    from the dominant motion carried on by one more frame of its own motion (where
+    a fast object will be, its flow already), the fastest winning where several
+    land on one point; the other points keep their flow."""
+    h, w = flow.shape[:2]
+    median = np.median(flow.reshape(-1, 2), axis=0)
+    apart = np.hypot(*(flow - median).transpose(2, 0, 1))
+    vs, us = np.nonzero(apart > CARRY)
+    if len(us) == 0:
+        return flow
+    b = flow[vs, us]
+    x = np.rint(us - b[:, 0]).astype(np.int64)
+    y = np.rint(vs - b[:, 1]).astype(np.int64)
+    inside = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+    order = np.argsort(-apart[vs, us][inside], kind="stable")
+    where = (y[inside] * w + x[inside])[order]
+    where, first = np.unique(where, return_index=True)  # the fastest at each point
+    seed = flow.copy()
+    seed.reshape(-1, 2)[where] = b[inside][order][first]
+    return seed
 
 
 def moving(flow: np.ndarray, scale: tuple[float, float], threshold: float) -> np.ndarray:
@@ -138,7 +166,7 @@ def regions(speed: np.ndarray, k: int) -> list[Region]:
         box = labels[y : y + h, x : x + w] == label
         values = speed[y : y + h, x : x + w]
         top = float(np.percentile(values[box], 90))
-        vs, us = np.nonzero(box & (values >= 0.5 * top))
+        vs, us = np.nonzero(box & (values >= CORE * top))
         center = (k * (x + float(us.mean()) + 0.5), k * (y + float(vs.mean()) + 0.5))
         found.append(Region(center, float(len(us) * k * k), top))
     return found

@@ -190,8 +190,12 @@ class MotionTracker:
             if near:
                 follow = free.pop(min(near)[1])
                 self._extend(follow, point, t, diameter, region.speed)
-            else:
+            elif (
+                len(self._follows) + sum(f.stroke is not None for f in free) < self.spec.max_strokes
+            ):
                 follow = _Follow(point, t, diameter)
+            else:  # as many followed as may be, strokes lost for a moment included
+                continue
             self._follows.append(follow)
             self._regions.append(
                 {
