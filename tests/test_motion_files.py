@@ -138,6 +138,21 @@ def test_both_routes_make_the_same_take_and_the_same_twice(disc, stirred, tmp_pa
     assert stats.i420_frames == 0 and json.loads(rgba.read_text()) == take
 
 
+def test_converted_frames_carry_their_luma(disc, tmp_path):
+    """--fps 15 keeps every other frame: the analysis sees those (with their luma
+    planes), and the stroke still follows the disc at its times."""
+    src, _, folder = disc
+    take = tmp_path / "take.json"
+    stats = api.render_video(src, folder / "dance.json", tmp_path / "o.mkv", fps=15,
+                             automation=take, **LOSSLESS)  # fmt: skip
+    assert stats.frames == 24 and stats.i420_frames == 24
+    (stroke,) = json.loads(take.read_text())["ops"]
+    for (x, y), t in zip(stroke["points"], stroke["times"], strict=True):
+        cx, cy = DISC.center(t)
+        assert math.hypot(x - cx, y - cy) <= max(8, DIAMETER / 4), (t, x, y, cx, cy)
+    assert all(abs(t * 15 - round(t * 15)) < 1e-4 for t in stroke["times"])
+
+
 @pytest.mark.xfail(
     strict=True,
     reason="motion-core: a stroke's first 2 points are drawn by the take before the live "
