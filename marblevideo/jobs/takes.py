@@ -1,5 +1,5 @@
-"""A video job's take (``--automation FILE`` on a file render) and the motion pass
-that a split render analyses first (docs/recipe-format.md, "motion").
+"""A video job's take (``--automation FILE`` on a file render) and the frames a
+segment of a split render sees before its own (docs/recipe-format.md, "motion").
 
 - The take is the recipe's JSON with every motion stroke made appended to its ops
   as an ordinary ``stroke`` and without ``motion``
