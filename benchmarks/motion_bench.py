@@ -83,15 +83,17 @@ def decoded(path: Path) -> tuple[list[np.ndarray], list[float]]:
     return images, times
 
 
-def analysed(images: list[np.ndarray]) -> tuple[list[float], int]:
-    """Each ``see``'s time in ms (the first frame left out) and the strokes made."""
+def analysed(images: list[np.ndarray]) -> tuple[list[float], list[float], int]:
+    """Each ``see``'s wall and CPU time (all the process' threads) in ms, the first
+    frame left out, and the strokes made."""
     tracker = MotionTracker(MotionSpec(), (1.0, 1.0, 0.0, 0.0))
-    times = []
+    wall, cpu = [], []
     for n, image in enumerate(images):
-        began = time.perf_counter()
+        began, used = time.perf_counter(), time.process_time()
         tracker.see(image, n / FPS)
-        times.append((time.perf_counter() - began) * 1000)
-    return times[1:], len(tracker.take())
+        wall.append((time.perf_counter() - began) * 1000)
+        cpu.append((time.process_time() - used) * 1000)
+    return wall[1:], cpu[1:], len(tracker.take())
 
 
 def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
@@ -108,7 +110,7 @@ def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
         t3 = time.perf_counter()
         if field is None:
             continue
-        regions(moving(field, (k * FPS, k * FPS), 60.0), k)
+        regions(moving(field, (k * FPS, k * FPS), 60.0, flow.shift), k)
         t4 = time.perf_counter()
         for name, a, b in zip(out, (t0, t1, t2, t3), (t1, t2, t3, t4), strict=True):
             out[name].append((b - a) * 1000)
@@ -126,15 +128,16 @@ def main() -> None:
     header()
     print(f"# OpenCV {cv2.__version__}, {cv2.getNumThreads()} threads; load average before: "
           + " ".join(f"{x:.2f}" for x in os.getloadavg()))  # fmt: skip
-    decode, see, steps, strokes = [], [], {}, 0
+    decode, see, cpu, steps, strokes = [], [], [], {}, 0
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "clip.mp4"
         write_clip(path, seconds)
         for _ in range(rounds):
             images, took = decoded(path)
             decode += took
-            took, strokes = analysed(images)
+            took, used, strokes = analysed(images)
             see += took
+            cpu += used
             for name, values in parts(images).items():
                 steps.setdefault(name, []).extend(values)
     print(f"1280x720 {FPS} fps, {seconds:g} s, {rounds} rounds; {strokes} strokes a round")
@@ -142,6 +145,7 @@ def main() -> None:
     print("|---|---|---|---|")
     print(_row("decode to RGB (baseline)", decode))
     print(_row("MotionTracker.see", see))
+    print(_row("MotionTracker.see, CPU time (all threads)", cpu))
     for name, values in steps.items():
         print(_row(f"  {name}", values))
     print("# load average after: " + " ".join(f"{x:.2f}" for x in os.getloadavg()))

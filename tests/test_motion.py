@@ -129,8 +129,8 @@ def follows(stroke: dict, disc: Disc) -> None:
     assert d / 2 <= stroke["width"] <= 1.5 * d and low <= stroke["width"] <= high
 
 
-def moving_disc(d: float, speed: float, path: str) -> Disc:
-    w, h = SIZE
+def moving_disc(d: float, speed: float, path: str, size=SIZE) -> Disc:
+    w, h = size
     if path == "line":
         seconds = min(1.0, (w - d - 60) / speed)
         return Disc(d, (30 + d / 2, h / 2), line(speed), 0.3, 0.3 + seconds)
@@ -153,6 +153,17 @@ def test_a_moving_disc_makes_one_stroke_that_follows_it(d, speed, path):
         round(take[0]["times"][-1] + 6.0, 6),
         round(take[0]["times"][-1] + 8.0, 6),
     ]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("speed", "path"), [(100, "line"), (600, "arc")])
+def test_at_720p_a_disc_of_100_px_makes_one_stroke_that_follows_it(speed, path):
+    """At 1280x720 the luma is reduced by 4 (docs/recipe-format.md: a 40 px disc is
+    not followed surely there; 100 px is)."""
+    disc = moving_disc(100, speed, path, (1280, 720))
+    take = track(disc_clip([disc], (1280, 720), seconds=disc.t1 + 0.4)).take()
+    assert len(take) == 1
+    follows(take[0], disc)
 
 
 @pytest.mark.slow
@@ -182,6 +193,37 @@ def test_max_strokes_follows_the_largest_area_times_speed_first():
     take = track(disc_clip([small, large], SIZE, seconds=1.5), MotionSpec(max_strokes=1)).take()
     assert len(take) == 1
     follows(take[0], large)
+
+
+def paused(speed: float, moving: float, pause: float):
+    """Along +x at ``speed``, still for ``pause`` s after ``moving`` s, then on."""
+    return lambda s: (speed * (s if s < moving else max(moving, s - pause)), 0.0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("pause", "strokes"), [(0.1, 1), (0.6, 2)])
+def test_a_pause_longer_than_a_quarter_second_ends_the_stroke(pause, strokes):
+    disc = Disc(80, (70, 180), paused(300, 0.5, pause), 0.3, 0.8 + pause + 0.5)
+    take = track(disc_clip([disc], SIZE, seconds=disc.t1 + 0.4)).take()
+    assert len(take) == strokes, [(s["times"][0], s["times"][-1]) for s in take]
+    for stroke in take:
+        for point, t in zip(stroke["points"], stroke["times"], strict=True):
+            assert math.dist(point, disc.center(t)) <= 20
+    if strokes == 2:
+        assert take[0]["times"][-1] <= 0.8 + 0.2 and take[1]["times"][0] >= 0.8 + pause
+
+
+@pytest.mark.parametrize("fit", [None, "stretch", "crop", "pad"])
+def test_frame_points_map_to_the_canvas_as_the_render_samples_them(fit):
+    """frame_to_canvas inverts the render's canvas -> input map (Geometry.to_input)."""
+    from marblevideo.motion.stirred import frame_to_canvas
+
+    canvas, size, out = (400.0, 300.0), (640, 360), (800, 600)
+    a, b, c, d = frame_to_canvas(canvas, size, fit, out)
+    sx, sy, ox, oy = geometry(canvas, out, size, None, fit).to_input
+    for cx, cy in [(0.0, 0.0), (123.5, 77.25), (400.0, 300.0)]:
+        px, py = cx * sx + ox, cy * sy + oy
+        assert (px * a + c, py * b + d) == pytest.approx((cx, cy), abs=1e-9)
 
 
 SHORT = [Disc(60, (60, 180), line(300), 0.2, 0.9)]

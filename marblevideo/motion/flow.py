@@ -17,8 +17,9 @@ current frame, not where it was. Each computation is seeded with the previous on
 (a motion under way is followed from frame to frame). DIS gives the same flow
 whatever OpenCV's thread count (its work is split by rows, each computed alike), so
 the analysis is deterministic bit for bit without setting it.
-The dominant motion (a pan, a shaken camera) is the per-axis median of the flow,
-subtracted; what remains, at least ``threshold`` canvas units per second, is moving.
+The dominant motion (a pan, a shaken camera) is the per-axis median of the flow
+(:func:`dominant`), subtracted; what remains, at least ``threshold`` canvas units
+per second, is moving.
 """
 
 from __future__ import annotations
@@ -95,6 +96,8 @@ class Flow:
         self.dis.setUseSpatialPropagation(True)
         self.previous: np.ndarray | None = None
         self.flow: np.ndarray | None = None
+        #: the dominant motion of the last flow returned (reduced points per frame)
+        self.shift = (0.0, 0.0)
 
     def reset(self) -> None:
         self.previous, self.flow = None, None
@@ -109,19 +112,29 @@ class Flow:
         # DIS starts from the flow it is given when it has the images' size
         seed = None if self.flow is None or not SEED else self.flow.copy()
         flow = self.dis.calc(small, previous, seed)
-        self.flow = carried(flow)
+        mx, my = dominant(flow)
+        self.flow, self.shift = carried(flow, (mx, my)), (-mx, -my)
         return -flow
 
 
-def carried(flow: np.ndarray) -> np.ndarray:
+def dominant(flow: np.ndarray) -> tuple[float, float]:
+    """The frame's dominant motion: the per-axis median of the flow at every other
+    point of every other row (a pan or a shake moves them all)."""
+    sample = flow[::2, ::2].reshape(-1, 2)
+    return float(np.median(sample[:, 0])), float(np.median(sample[:, 1]))
+
+
+def carried(flow: np.ndarray, shift: tuple[float, float]) -> np.ndarray:
     """The seed of the next frame's (backward) flow: each point that moves apart
     from the dominant motion carried on by one more frame of its own motion (where
     a fast object will be, its flow already), the fastest winning where several
-    land on one point; the other points keep their flow."""
+    land on one point; the other points keep their flow. ``shift``: its
+    :func:`dominant` motion."""
     h, w = flow.shape[:2]
-    median = np.median(flow.reshape(-1, 2), axis=0)
-    apart = np.hypot(*(flow - median).transpose(2, 0, 1))
-    vs, us = np.nonzero(apart > CARRY)
+    mx, my = shift
+    dx, dy = flow[..., 0] - np.float32(mx), flow[..., 1] - np.float32(my)
+    apart = dx * dx + dy * dy  # squared
+    vs, us = np.nonzero(apart > CARRY * CARRY)
     if len(us) == 0:
         return flow
     b = flow[vs, us]
@@ -136,12 +149,18 @@ def carried(flow: np.ndarray) -> np.ndarray:
     return seed
 
 
-def moving(flow: np.ndarray, scale: tuple[float, float], threshold: float) -> np.ndarray:
+def moving(
+    flow: np.ndarray,
+    scale: tuple[float, float],
+    threshold: float,
+    shift: tuple[float, float] | None = None,
+) -> np.ndarray:
     """The remaining speed per point (``scale``: reduced points per frame -> canvas
-    units per second, per axis), the per-axis median (the dominant motion) taken
-    out, and zero where it is under ``threshold`` or in the margin."""
-    dx = (flow[..., 0] - np.median(flow[..., 0])) * scale[0]
-    dy = (flow[..., 1] - np.median(flow[..., 1])) * scale[1]
+    units per second, per axis), the dominant motion (``shift``, else
+    :func:`dominant`'s) taken out, and zero where it is under ``threshold`` or in the margin."""
+    mx, my = dominant(flow) if shift is None else shift
+    dx = (flow[..., 0] - mx) * scale[0]
+    dy = (flow[..., 1] - my) * scale[1]
     speed = np.sqrt(dx * dx + dy * dy)
     speed[speed < threshold] = 0.0
     m = MARGIN

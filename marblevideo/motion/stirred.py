@@ -100,5 +100,5 @@ class StirredRecipe:
         ones too) appended to its ops and without ``motion``: it renders the same
         frames over the same input anywhere."""
         take = {k: copy.deepcopy(v) for k, v in document.items() if k != "motion"}
-        take["ops"] = [*take.get("ops", []), *self.tracker.take()]
+        take["ops"] = [*take.get("ops", []), *copy.deepcopy(self.tracker.take())]
         return take

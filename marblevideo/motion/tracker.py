@@ -1,12 +1,15 @@
 """Frames in, motion strokes out: the contract's ``motion`` rules (docs/recipe-format.md).
 
 :class:`MotionTracker` sees the input's frames in order and follows the moving
-regions that :mod:`marblevideo.motion.flow` finds in each: a region is matched to
-the nearest followed one (their centres within a gate of its radius plus the
-distance it moved last, at least 2 reduced points), the regions with the largest
-area x speed first, at most ``max_strokes`` followed at once. A region followed
-for 3 consecutive frames becomes a stroke (its width the median diameter of those
-3 frames, clamped to ``width``); the stroke grows by one point a frame while its
+regions that :mod:`marblevideo.motion.flow` finds in each (those narrower than
+the smallest ``width`` are specks, left out): a region is matched to the followed
+one nearest to its predicted centre (moving on as between its last two frames;
+within a gate of the region's radius plus the distance it moved last, at least 2
+reduced points), the regions with the largest area x speed first, at most
+``max_strokes`` followed at once. A region followed for 3 consecutive frames
+(whose centre moved as its flow says, see :meth:`MotionTracker._extend`) becomes a
+stroke (its width the median diameter of those 3 frames, clamped to ``width``);
+the stroke grows by one point a frame while its
 region is seen and ends once it has been lost for more than :data:`LOST` seconds.
 A stroke that would pass :data:`~marblevideo.ops.stroke.MAX_POINTS` points or
 :data:`~marblevideo.ops.stroke.MAX_STEPS` steps ends there, and its region goes on
@@ -41,11 +44,13 @@ FULL_LEVEL = 0.1
 
 
 class _Stroke:
-    """One motion stroke as it grows: canvas points, times, a fixed width."""
+    """One motion stroke as it grows: canvas points, times, a fixed width; its op
+    dict made once per change (what strokes() and take() hand out)."""
 
-    def __init__(self, points: list, times: list, width: float) -> None:
-        self.points, self.times, self.width = points, times, width
+    def __init__(self, points: list, times: list, width: float, spec: MotionSpec) -> None:
+        self.points, self.times, self.width, self.spec = points, times, width, spec
         self.length = sum(math.dist(a, b) for a, b in zip(points, points[1:], strict=False))
+        self._op: dict | None = None
 
     def room(self, point: tuple[float, float]) -> bool:
         """Whether one more point keeps it within the stroke op's limits."""
@@ -56,22 +61,24 @@ class _Stroke:
         self.length += math.dist(self.points[-1], point)
         self.points.append(point)
         self.times.append(t)
+        self._op = None
 
-    def healed(self, spec: MotionSpec) -> float:
-        """When it has completely healed (h = 0 from then on)."""
-        return self.op(spec)["heal"][1]
+    def heal(self) -> tuple[float, float]:
+        """Its ``heal`` [last + memory, last + memory + heal], rounded."""
+        t0 = round(self.times[-1] + self.spec.memory, TIME_DECIMALS)
+        return t0, round(t0 + self.spec.heal, TIME_DECIMALS)
 
-    def op(self, spec: MotionSpec) -> dict:
-        last = self.times[-1]
-        t0 = round(last + spec.memory, TIME_DECIMALS)
-        return {
-            "type": "stroke",
-            "points": [list(p) for p in self.points],
-            "times": list(self.times),
-            "width": self.width,
-            "drag": spec.gain,
-            "heal": [t0, round(t0 + spec.heal, TIME_DECIMALS)],
-        }
+    def op(self) -> dict:
+        if self._op is None:
+            self._op = {
+                "type": "stroke",
+                "points": [list(p) for p in self.points],
+                "times": list(self.times),
+                "width": self.width,
+                "drag": self.spec.gain,
+                "heal": list(self.heal()),
+            }
+        return self._op
 
 
 class _Follow:
@@ -81,6 +88,7 @@ class _Follow:
         self.seen = [(point, t, diameter)]
         self.stroke: int | None = None
         self.step = 0.0  # how far it moved between its last two frames (canvas units)
+        self.settled = True  # False once its centre and its flow disagreed
 
     @property
     def point(self) -> tuple[float, float]:
@@ -121,12 +129,15 @@ class MotionTracker:
 
     def strokes(self) -> list[dict]:
         """The stroke ops not completely healed at the last frame's time, in the order
-        they began (what is rendered then, after the recipe's ops)."""
-        return [self._strokes[n].op(self.spec) for n in self._live]
+        they began (what is rendered then, after the recipe's ops). The dicts are the
+        tracker's own, the same objects until their stroke grows (so comparing them
+        is cheap): copy one before changing it."""
+        return [self._strokes[n].op() for n in self._live]
 
     def take(self) -> list[dict]:
-        """Every stroke op made so far, healed ones too, in the order they began."""
-        return [s.op(self.spec) for s in self._strokes]
+        """Every stroke op made so far, healed ones too, in the order they began
+        (the tracker's own dicts, as :meth:`strokes`)."""
+        return [s.op() for s in self._strokes]
 
     def regions(self) -> list[dict]:
         """The regions followed in the last frame: ``center`` [x, y] and ``radius``
@@ -143,7 +154,7 @@ class MotionTracker:
         """Forget the strokes completely healed at ``t`` (their heal's end, or its
         start when it takes no time, reached). A growing stroke is never healed:
         its last point is at most LOST old and ``memory`` is longer."""
-        self._live = [n for n in self._live if t < self._strokes[n].healed(self.spec)]
+        self._live = [n for n in self._live if t < self._strokes[n].heal()[1]]
 
     # ----------------------------------------------------------------- frames
 
@@ -163,9 +174,9 @@ class MotionTracker:
             return
         a, b = abs(self.to_canvas[0]), abs(self.to_canvas[1])
         dt = t - previous
-        speed = moving(flow, (k * a / dt, k * b / dt), self.spec.threshold)
+        speed = moving(flow, (k * a / dt, k * b / dt), self.spec.threshold, self.flow.shift)
         self._level = min(1.0, float(np.count_nonzero(speed)) / speed.size / FULL_LEVEL)
-        speck = (self.spec.width[0] / 2) ** 2 * math.pi / 4 / (a * b)  # frame pixels
+        speck = self.spec.width[0] ** 2 * math.pi / 4 / (a * b)  # frame pixels
         found = [r for r in regions(speed, k) if r.area >= speck]
         found.sort(key=lambda r: -r.area * r.speed)
         self._follow(found[: self.spec.max_strokes], float(t), k * max(a, b))
@@ -208,28 +219,36 @@ class MotionTracker:
         self._follows += [f for f in free if f.stroke is not None]
 
     def _extend(self, follow: _Follow, point, t: float, diameter: float, speed: float) -> None:
-        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames
-        where its centre moved as fast as the flow says, within :data:`AGREE` (where
-        the flow has not caught up with a fast small object yet, its centre lags)."""
+        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames in
+        which its centre moved as fast as the flow says (within a factor
+        :data:`AGREE`, or ``threshold``), none of them one where it did not (where the
+        flow has not caught up with a fast small object yet, its centre lags and
+        jumps). A step under an eighth of the region's diameter always agrees: there
+        the outline's noise is the centre's motion."""
         step, follow.step = math.dist(follow.point, point), math.dist(follow.point, point)
         moved = step / (t - follow.last)
-        agree = speed / AGREE <= moved <= AGREE * speed or abs(moved - speed) <= self.spec.threshold
-        follow.seen = [*follow.seen[-(FRAMES - 1) :], (point, t, diameter)]
+        agree = (
+            step <= diameter / 8
+            or speed / AGREE <= moved <= AGREE * speed
+            or abs(moved - speed) <= self.spec.threshold
+        )
+        follow.seen = [*follow.seen[-FRAMES:], (point, t, diameter)]
         if follow.stroke is None:
-            if not agree:
-                follow.seen = follow.seen[-1:]
-            if len(follow.seen) >= FRAMES and len({p for p, _, _ in follow.seen}) > 1:
+            if not agree:  # it starts again after this frame
+                follow.seen, follow.settled = follow.seen[-1:], False
+            made = follow.seen[-FRAMES:] if follow.settled else follow.seen[1:]
+            if len(made) == FRAMES and len({p for p, _, _ in made}) > 1:
                 low, high = self.spec.width
-                width = min(high, max(low, float(np.median([s[2] for s in follow.seen]))))
-                points = [p for p, _, _ in follow.seen]
-                times = [round(s[1], TIME_DECIMALS) for s in follow.seen]
-                self._begin(follow, _Stroke(points, times, round(width, DECIMALS)))
+                width = min(high, max(low, float(np.median([s[2] for s in made]))))
+                points = [p for p, _, _ in made]
+                times = [round(s[1], TIME_DECIMALS) for s in made]
+                self._begin(follow, _Stroke(points, times, round(width, DECIMALS), self.spec))
             return
         stroke = self._strokes[follow.stroke]
         if point == stroke.points[-1]:
             return
         if not stroke.room(point):
-            stroke = _Stroke([stroke.points[-1]], [stroke.times[-1]], stroke.width)
+            stroke = _Stroke([stroke.points[-1]], [stroke.times[-1]], stroke.width, self.spec)
             self._begin(follow, stroke)
         stroke.add(point, round(t, TIME_DECIMALS))
 
