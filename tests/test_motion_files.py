@@ -138,6 +138,16 @@ def test_both_routes_make_the_same_take_and_the_same_twice(disc, stirred, tmp_pa
     assert stats.i420_frames == 0 and json.loads(rgba.read_text()) == take
 
 
+def test_audio_and_timing_are_kept(tmp_path):
+    src = write_clip(tmp_path / "in.mp4", size=(96, 64), frames=12, fps=12, audio=True)
+    (tmp_path / "dance.json").write_text(json.dumps(MOTION))
+    api.render_video(src, tmp_path / "dance.json", tmp_path / "out.mkv", **LOSSLESS)
+    api.render_video(src, {"ops": []}, tmp_path / "plain.mkv", **LOSSLESS)  # as without motion
+    out, plain = probe(tmp_path / "out.mkv"), probe(tmp_path / "plain.mkv")
+    assert out.audio_packets == plain.audio_packets == probe(src).audio_packets
+    assert out.pts == plain.pts and out.times == plain.times and len(out.frames) == 12
+
+
 def test_converted_frames_carry_their_luma(disc, tmp_path):
     """--fps 15 keeps every other frame: the analysis sees those (with their luma
     planes), and the stroke still follows the disc at its times."""
