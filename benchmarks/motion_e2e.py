@@ -1,9 +1,9 @@
 """A recipe's ``motion`` in a file render: the CLI on a 720p clip of textured discs
 going round over a still textured ground, the recipe with ``motion`` against the
 same recipe without it and against its take (the same strokes, no analysis;
-paired rounds), and in process the analysis alone per
-frame (each frame's decoded luma plane seen by a StirredRecipe, as the pipeline's
-transform stage sees it)."""
+paired rounds); in process, the analysis alone per frame (each frame's decoded
+luma plane seen by a StirredRecipe, as the pipeline's transform stage sees it)
+and each frame's render alone, with motion and of its take (loop walk, unrolled)."""
 
 from __future__ import annotations
 
@@ -78,6 +78,40 @@ def analysis_ms(clip: Path, recipe: dict) -> tuple[float, float, int]:
     return statistics.median(times), p95, len(stirred.tracker.take())
 
 
+def walks_ms(clip: Path, recipe: dict, device: str | None) -> dict[str, list[float]]:
+    """Seconds of each frame's render alone (RGBA, one in flight finished at once):
+    the recipe with motion through its StirredRecipe (loop walk), and its take
+    through the loop walk and through a program per structure (unrolled)."""
+    from marblevideo.jobs.takes import take_document
+    from marblevideo.marbler import Marbler
+    from marblevideo.media.decode import Reader, open_input
+    from marblevideo.opencl.renderer import Renderer
+
+    with open_input(clip) as container:
+        reader = Reader(container, None, None, {}, luma=True)
+        frames = [(item.luma.copy(), item.rgba, item.t) for item in reader.items()]
+
+    def run(marbler: Marbler, watch: bool):
+        transform, seconds = marbler.transform(), []
+        for luma, rgba, t in frames:
+            if watch:
+                transform.watch(luma, t)
+            began = time.perf_counter()
+            transform.start_rgba(rgba, t, transform.route)()
+            seconds.append(time.perf_counter() - began)
+        return transform, seconds
+
+    stirred, with_motion = run(Marbler(recipe, Renderer(device)), True)
+    take = take_document(recipe, stirred.stirred)
+    return {
+        "with motion (StirredRecipe, loop walk), render only": with_motion,
+        "its take, loop walk": run(Marbler(take, Renderer(device, loop_walk=True)), False)[1],
+        "its take, a program per structure (unrolled)": run(Marbler(take, Renderer(device)), False)[
+            1
+        ],
+    }
+
+
 def motion_e2e(device: str | None, seconds: int = 4) -> None:
     """The CLI with and without ``motion`` on the disc clip (medians of 3 paired
     rounds, x264 veryfast crf 23), and the analysis alone per frame."""
@@ -98,6 +132,7 @@ def motion_e2e(device: str | None, seconds: int = 4) -> None:
         )
         times = paired_rounds(cmds, rounds=3)
         median, p95, strokes = analysis_ms(clip, recipes["with motion"])
+        walks = walks_ms(clip, recipes["with motion"], device)
     print(f"\n## Motion: 1280x720 discs, {seconds} s ({n} frames), two waves RGSS, x264 veryfast")
     print("| command | seconds | ms/frame |")
     print("|---|---|---|")
@@ -113,3 +148,7 @@ def motion_e2e(device: str | None, seconds: int = 4) -> None:
         f"the analysis alone (StirredRecipe.see on the luma plane): {median:.1f} ms median, "
         f"{p95:.1f} ms p95 a frame; {strokes} strokes in the take"
     )
+    print("\n| render of each frame, in process (RGBA, lattice allowed) | total | median a frame |")
+    print("|---|---|---|")
+    for name, ts in walks.items():
+        print(f"| {name} | {sum(ts):.1f} s | {statistics.median(ts) * 1e3:.0f} ms |")
