@@ -163,13 +163,6 @@ def test_converted_frames_carry_their_luma(disc, tmp_path):
     assert all(abs(t * 15 - round(t * 15)) < 1e-4 for t in stroke["times"])
 
 
-@pytest.mark.xfail(
-    strict=True,
-    reason="motion package: the take draws a stroke's first 2 points before the live "
-    "stroke exists (it is made at its 3rd frame), and times rounded to 6 decimals move the "
-    "take's stylus off the frame times; unrounded times, the first 3 all at the 3rd frame's, "
-    "replay bit for bit (tried)",
-)
 def test_the_take_replays_the_same_frames(disc, stirred, tmp_path):
     src, _, folder = disc
     frames, take = stirred

@@ -14,7 +14,11 @@ region is seen and ends once it has been lost for more than :data:`LOST` seconds
 A stroke that would pass :data:`~marblevideo.ops.stroke.MAX_POINTS` points or
 :data:`~marblevideo.ops.stroke.MAX_STEPS` steps ends there, and its region goes on
 as a new stroke from its last point. Points are rounded to :data:`DECIMALS`
-decimals of a canvas unit, times and heals to :data:`TIME_DECIMALS`.
+decimals of a canvas unit; times are the frames' own (not rounded). A stroke
+begins at the second of the 3 frames that made it (its stylus is at its first point
+then, so it is still the identity there) and reaches the third's centre at the
+third: it is never drawn before it is seen, so a take (these strokes as ordinary
+ops) replays the frames exactly.
 
 Everything is causal and deterministic: the strokes after a frame depend only on
 the frames seen so far, through float64 NumPy and OpenCV's DIS, whose flow does not
@@ -38,7 +42,7 @@ LOST = 0.25
 FRAMES = 3
 #: How far (a factor) a new region's centre speed may be from its flow speed.
 AGREE = 1.5
-DECIMALS, TIME_DECIMALS = 2, 6
+DECIMALS = 2
 #: Share of the analysed points moving at which :meth:`MotionTracker.level` is 1.
 FULL_LEVEL = 0.1
 
@@ -64,9 +68,9 @@ class _Stroke:
         self._op = None
 
     def heal(self) -> tuple[float, float]:
-        """Its ``heal`` [last + memory, last + memory + heal], rounded."""
-        t0 = round(self.times[-1] + self.spec.memory, TIME_DECIMALS)
-        return t0, round(t0 + self.spec.heal, TIME_DECIMALS)
+        """Its ``heal`` [last + memory, last + memory + heal]."""
+        t0 = self.times[-1] + self.spec.memory
+        return t0, t0 + self.spec.heal
 
     def op(self) -> dict:
         if self._op is None:
@@ -237,11 +241,11 @@ class MotionTracker:
             if not agree:  # it starts again after this frame
                 follow.seen, follow.settled = follow.seen[-1:], False
             made = follow.seen[-FRAMES:] if follow.settled else follow.seen[1:]
-            if len(made) == FRAMES and len({p for p, _, _ in made}) > 1:
+            if len(made) == FRAMES and made[-2][0] != made[-1][0]:
                 low, high = self.spec.width
                 width = min(high, max(low, float(np.median([s[2] for s in made]))))
-                points = [p for p, _, _ in made]
-                times = [round(s[1], TIME_DECIMALS) for s in made]
+                points = [p for p, _, _ in made[1:]]  # at the 2nd frame its stylus is
+                times = [float(s[1]) for s in made[1:]]  # at rest: a take replays it
                 self._begin(follow, _Stroke(points, times, round(width, DECIMALS), self.spec))
             return
         stroke = self._strokes[follow.stroke]
@@ -250,7 +254,7 @@ class MotionTracker:
         if not stroke.room(point):
             stroke = _Stroke([stroke.points[-1]], [stroke.times[-1]], stroke.width, self.spec)
             self._begin(follow, stroke)
-        stroke.add(point, round(t, TIME_DECIMALS))
+        stroke.add(point, float(t))
 
     def _begin(self, follow: _Follow, stroke: _Stroke) -> None:
         self._strokes.append(stroke)
