@@ -8,6 +8,9 @@ bounded)::
                                                 -> [bounded, drops when full] -> recording
                                                 -> [latest] -> virtual camera
 
+- A recipe with ``motion`` renders each frame with the motion strokes its
+  frames make (:class:`~marblevideo.live.stirring.LiveMotion`, one tracker for
+  the session, kept across edits).
 - The recipe file is polled every 0.5 s; a save reloads it. An invalid save
   keeps the previous recipe running; its one-line RecipeError is printed on
   stderr and shown on the preview page (the designer's, in live mode:
@@ -32,6 +35,7 @@ from marblevideo.live.jpeg import JpegPreview
 from marblevideo.live.meters import Meters
 from marblevideo.live.playback import Playback
 from marblevideo.live.sources import Source
+from marblevideo.live.stirring import LiveMotion
 from marblevideo.serve.recipefile import RecipeFile
 from marblevideo.signals.live import FrameTimed
 
@@ -77,6 +81,7 @@ class LiveSession:
         self._lock = threading.Lock()
         self._marbler = None
         self._marbled_for: int | None = None  # the recipe's version
+        self.motion = LiveMotion(source.fps)  # the recipe's motion, when it has one
         # other signals (audio, marblevideo.signals.live), beside the controllers: by
         # the shown frame's time in its file when audio_by_frame
         self.media_t = 0.0
@@ -142,6 +147,20 @@ class LiveSession:
                 )
                 self._marbled_for = version
             return self._marbler, bypass, mirror
+
+    def _stirred(self, marbler, rgba: np.ndarray, t: float):
+        """``marbler``, or with ``motion`` one of the recipe with the motion strokes
+        that the frame ``rgba`` of frame time ``t`` leaves (one Marbler a frame: the
+        loop walk's one program renders any list of ops)."""
+        recipe = self.motion.see(marbler.recipe, rgba, t)
+        if recipe is marbler.recipe:
+            return marbler
+        return self._Marbler(recipe, renderer=self.renderer, lattice=self.lattice)
+
+    def take_document(self) -> dict:
+        """The recipe's JSON now, with the motion strokes made as ordinary
+        ``stroke`` ops and without ``motion`` (``--automation``'s take)."""
+        return self.motion.take_document(self.file.snapshot()[0])
 
     def _bound(self, recipe):
         """``recipe`` with its signals taken from the session's controllers (and
@@ -220,14 +239,18 @@ class LiveSession:
                 continue
             if cap.media_t is not None:
                 self.media_t = cap.media_t
-            self.show(cap.rgba, cap.ts)
+            self.show(cap.rgba, cap.ts, self.motion.frame_time(cap.media_t, cap.ts, self.started))
 
-    def show(self, rgba: np.ndarray, ts: float) -> np.ndarray:
-        """Marble one captured frame and hand it to every output."""
+    def show(self, rgba: np.ndarray, ts: float, frame_t: float | None = None) -> np.ndarray:
+        """Marble one captured frame and hand it to every output; ``frame_t``: its
+        time for the motion (default: ``ts`` from the session's start)."""
         marbler, bypass, mirror = self._current()
         if mirror:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
         start = time.monotonic()
+        if marbler.recipe.motion is not None:  # the motion goes on while bypassed
+            frame_t = ts - self.started if frame_t is None else frame_t
+            marbler = self._stirred(marbler, rgba, frame_t)
         out = rgba if bypass else marbler.render(rgba, self.clock.now(), animated=True)
         now = time.monotonic()
         self.meters.frame(now, now - start)

@@ -1,0 +1,115 @@
+"""A live session's motion (the recipe's ``motion``, revision 4): each frame rendered
+is seen by one :class:`~marblevideo.motion.StirredRecipe`, and the recipe it
+returns (the recipe's ops, then the motion strokes on top) is what renders.
+
+- Time: the tracker sees a frame at its *frame time*: a file's frames at their
+  time in the file (a looped file goes on after its end, one frame period after
+  its last frame, so the tracker's time never goes back), other sources' at their
+  capture time from the session's start. A file played live and rendered as a
+  file thus give the tracker the same frames at the same times, as long as the
+  live session drops none (a slow session drops frames, and the tracker sees
+  fewer; its strokes then differ from the file render's).
+- Edits: a new recipe keeps the tracker (its strokes, the regions it follows);
+  the new recipe's ``motion`` fields apply from the next frame. A recipe without
+  ``motion`` renders without motion strokes and the tracker waits (it sees no
+  frame); when ``motion`` comes back, it goes on.
+- The state the page shows (``GET /api/motion``: :meth:`LiveMotion.state`) is
+  read under the same lock as the frames are seen.
+"""
+
+from __future__ import annotations
+
+import threading
+
+import numpy as np
+
+
+class LiveMotion:
+    """The motion of one live session (idle until its recipe has ``motion``)."""
+
+    def __init__(self, fps: float):
+        self.period = 1.0 / fps if fps > 0 else 0.0
+        self._lock = threading.Lock()
+        self._stirred = None  # marblevideo.motion.StirredRecipe, made at the first frame
+        self._given = None  # the recipe it was last given
+        self.active = False  # the last frame's recipe had motion
+        self.t: float | None = None  # the last frame's time
+        self.frames = 0  # frames seen
+        # a looped file: the time added to its times in the pass under way
+        self._offset = 0.0
+        self._last_media: float | None = None
+
+    def frame_time(self, media_t: float | None, ts: float, started: float) -> float:
+        """The time the tracker sees a frame at: ``media_t`` (a file's, continued
+        across loops), else ``ts - started`` (capture time from the session's start)."""
+        if media_t is None:
+            return ts - started
+        if self._last_media is not None and media_t < self._last_media:  # a new pass
+            self._offset += self._last_media + self.period
+        self._last_media = media_t
+        return self._offset + media_t
+
+    def see(self, recipe, rgba: np.ndarray, t: float):
+        """The recipe to render frame ``rgba`` of time ``t`` with: ``recipe``
+        itself when it has no ``motion``, else its ops and the motion strokes."""
+        if recipe.motion is None:
+            self.active = False
+            return recipe
+        with self._lock:
+            if recipe is not self._given:
+                self._stirred = _continued(self._stirred, recipe, (rgba.shape[1], rgba.shape[0]))
+            self._given = recipe
+            self.active, self.t = True, t
+            self.frames += 1
+            stirred = self._stirred.see(rgba, t)
+        return stirred if recipe.signals is None else stirred.bind(recipe.signals)
+
+    def state(self) -> dict:
+        """``GET /api/motion``: whether the recipe has motion (``active``), the last
+        frame's ``t``, ``level`` (0..1), the ``regions`` followed ({center, radius,
+        speed, stroke}: canvas units, units per second, the index of its stroke in
+        the take or None) and the ``strokes`` rendered now (stroke ops)."""
+        with self._lock:
+            tracker = None if self._stirred is None else self._stirred.tracker
+            if tracker is None:
+                return {"active": False, "t": None, "level": 0.0, "regions": [], "strokes": []}
+            return {
+                "active": self.active,
+                "t": self.t,
+                "frames": self.frames,
+                "level": float(tracker.level()),
+                "regions": _plain(tracker.regions()),
+                "strokes": _plain(tracker.strokes()),
+            }
+
+    def take_document(self, document: dict) -> dict:
+        """``--automation``: ``document`` with every motion stroke made as ordinary
+        ``stroke`` ops after its own, and without ``motion`` (as it is when no
+        stroke was ever made and the recipe has no motion)."""
+        with self._lock:
+            if self._stirred is None:
+                return {k: v for k, v in document.items() if k != "motion"}
+            return self._stirred.take_document(document)
+
+
+def _continued(stirred, recipe, size: tuple[int, int]):
+    """A StirredRecipe of ``recipe`` over frames of ``size`` that goes on with the
+    tracker of ``stirred`` (None: a new one), under ``recipe``'s motion fields."""
+    from marblevideo.motion import StirredRecipe
+
+    new = StirredRecipe(recipe, size)
+    if stirred is not None:
+        stirred.tracker.spec = recipe.motion
+        new.tracker = stirred.tracker
+    return new
+
+
+def _plain(value):
+    """``value`` with NumPy numbers as Python's (for JSON)."""
+    if isinstance(value, dict):
+        return {k: _plain(v) for k, v in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [_plain(v) for v in value]
+    if isinstance(value, np.generic):
+        return value.item()
+    return value
