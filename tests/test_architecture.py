@@ -22,6 +22,7 @@ LAYERS = {
     "media": 1,
     "ops": 1,
     "recipe": 2,
+    "motion": 2.5,  # frames -> motion strokes: over the recipe, under the video job
     "jobs": 3,
     "reference": 4,
     "signals": 4,

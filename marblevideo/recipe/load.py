@@ -42,6 +42,7 @@ from marblevideo.recipe.faults import (
 )
 from marblevideo.recipe.frame import FrameSpec, OpState
 from marblevideo.recipe.keyframes import Key, Track
+from marblevideo.recipe.motion import MotionSpec, motion_faults
 from marblevideo.recipe.signals import (
     SignalTrack,
     SignalValues,
@@ -151,6 +152,8 @@ class Recipe:
     #: marblevideo extension: animated frames over an input may interpolate the map
     #: from a walked lattice (False: every subsample walked; see Marbler)
     lattice: bool = True
+    #: revision 4's ``motion``: the input's movement becomes strokes (None: it does not)
+    motion: MotionSpec | None = None
 
     @classmethod
     def from_dict(cls, data: object, source: str = "<dict>") -> Recipe:
@@ -160,9 +163,9 @@ class Recipe:
     @property
     def is_animated(self) -> bool:
         """Whether any value depends on time (keys, start/end, a stroke's times,
-        heal, signals)."""
+        heal, signals, motion)."""
         keyed = bool(self.background.key_times) or any(op.times or op.heal for op in self.ops)
-        return keyed or bool(self.signal_uses())
+        return keyed or bool(self.signal_uses()) or self.motion is not None
 
     def signal_uses(self) -> list[tuple[str, SignalTrack]]:
         """(JSON path of the parameter, its track) for every parameter rendered
@@ -300,6 +303,7 @@ def _build(doc: dict, source: str) -> Recipe:
         description=doc.get("description", ""),
         entries=len(doc["ops"]),
         lattice=doc.get("lattice", True),
+        motion=MotionSpec.from_json(doc["motion"]) if "motion" in doc else None,
     )
 
 
@@ -337,7 +341,7 @@ def _key(key: dict) -> Key:
 
 def _semantic_faults(doc: dict) -> list[Fault]:
     """What the schema cannot check, on a structurally valid document."""
-    faults = []
+    faults = [make_fault(doc, ["motion", *p], m) for p, m in motion_faults(doc.get("motion", {}))]
     tracks: list[tuple[list, Any]] = [(["background"], doc.get("background"))]
     for i, op in enumerate(doc["ops"]):
         params = type_def(op["type"]).params

@@ -27,6 +27,7 @@ from marblevideo.recipe.antialias import PATTERNS
 from marblevideo.recipe.colors import CSS_NAMES, HEX_PATTERN, NAME_PATTERN, SHAPES
 from marblevideo.recipe.frame import EDGE_MODES
 from marblevideo.recipe.keyframes import EASE_NAMES
+from marblevideo.recipe.motion import motion_schema
 from marblevideo.recipe.signals import NAME_FORMS
 
 SCHEMA_ID = "urn:marblevideo:recipe:1"
@@ -359,6 +360,7 @@ def _properties() -> dict:
             "description": "marblevideo: animated frames over an input interpolate the "
             "map from a walked lattice where it is smooth; false walks every subsample.",
         },
+        "motion": motion_schema(),
         "ops": {
             "type": "array",
             "items": _ref("op"),

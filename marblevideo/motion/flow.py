@@ -1,0 +1,138 @@
+"""One frame's motion: the luma, its reduction, DIS optical flow against the previous
+frame, the frame's dominant motion taken out, and the moving regions it leaves.
+
+Conventions: a frame's pixel (i, j) covers [i, i+1] x [j, j+1] of *frame
+coordinates* (its centre at (i + 0.5, j + 0.5)), as the contract's geometry says.
+The analysis runs on the luma reduced by an integer factor ``k``
+(:func:`reduction`: the longer side about :data:`REDUCED_SIDE` points, 1280x720 ->
+320x180) with area averaging, so reduced point (u, v) covers frame pixels
+[k u, k u + k) x [k v, k v + k) and its centre is at (k (u + 0.5), k (v + 0.5)).
+
+The flow is OpenCV's DIS (``DISOPTICAL_FLOW_PRESET_ULTRAFAST``, with its finest scale
+brought down to 1 so that a disc of 40 frame pixels still spans several patches),
+computed *backwards*, from the current frame to the previous one, so that it is
+defined where things are now: a moving region lies where the object is in the
+current frame, not where it was. Each computation is seeded with the previous one.
+The dominant motion (a pan, a shaken camera) is the per-axis median of the flow,
+subtracted; what remains, at least ``threshold`` canvas units per second, is moving.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import cv2
+import numpy as np
+
+#: The analysed luma's longer side, about (the reduction factor is an integer).
+REDUCED_SIDE = 320
+#: Reduced points along each edge left out of the moving mask: content entering or
+#: leaving a shaken or panned frame has no match there.
+MARGIN = 2
+#: The smallest moving region kept, in reduced points (smaller ones are specks).
+MIN_POINTS = 6
+#: Whether each flow starts from the last one.
+SEED = True
+_OPEN = np.ones((3, 3), np.uint8)
+
+
+def luma(frame: np.ndarray) -> np.ndarray:
+    """The 8-bit luma of an HxWx3 RGB, HxWx4 RGBA or HxW luma uint8 frame: OpenCV's
+    fixed-point BT.601 weights (0.299 R + 0.587 G + 0.114 B, rounded), alpha
+    ignored; a luma frame is returned as it is. The one definition every caller
+    uses, so that a file and a live session see the same luma."""
+    if frame.ndim == 2:
+        return np.ascontiguousarray(frame, dtype=np.uint8)
+    if frame.ndim != 3 or frame.shape[2] not in (3, 4):
+        raise ValueError(f"expected an HxW, HxWx3 or HxWx4 frame, got shape {frame.shape}")
+    code = cv2.COLOR_RGB2GRAY if frame.shape[2] == 3 else cv2.COLOR_RGBA2GRAY
+    return cv2.cvtColor(np.ascontiguousarray(frame, dtype=np.uint8), code)
+
+
+def reduction(width: int, height: int) -> int:
+    """The integer factor the luma of a ``width`` x ``height`` frame is reduced by."""
+    return max(1, round(max(width, height) / REDUCED_SIDE))
+
+
+def reduce(gray: np.ndarray, k: int) -> np.ndarray:
+    """``gray`` averaged over k x k blocks (the last partial row and column dropped)."""
+    h, w = gray.shape
+    if k == 1:
+        return gray
+    return cv2.resize(
+        gray[: h - h % k, : w - w % k], (w // k, h // k), interpolation=cv2.INTER_AREA
+    )
+
+
+@dataclass(frozen=True)
+class Region:
+    """A moving region of one frame: ``center`` in frame coordinates, ``area`` in
+    frame pixels, ``speed`` its mean remaining motion in frame pixels per frame
+    (x and y scaled to canvas units per second by the caller)."""
+
+    center: tuple[float, float]
+    area: float
+    speed: float
+
+
+class Flow:
+    """The DIS flow between consecutive reduced lumas, each seeded with the last."""
+
+    def __init__(self) -> None:
+        self.dis = cv2.DISOpticalFlow_create(cv2.DISOPTICAL_FLOW_PRESET_ULTRAFAST)
+        self.dis.setFinestScale(1)
+        self.dis.setUseSpatialPropagation(True)
+        self.previous: np.ndarray | None = None
+        self.flow: np.ndarray | None = None
+
+    def reset(self) -> None:
+        self.previous, self.flow = None, None
+
+    def step(self, small: np.ndarray) -> np.ndarray | None:
+        """The motion (dx, dy) per reduced point, from the previous luma to ``small``,
+        at the points of ``small`` (HxWx2 float32), or None for the first frame."""
+        previous, self.previous = self.previous, small
+        if previous is None or previous.shape != small.shape:
+            self.flow = None
+            return None
+        # DIS starts from the flow it is given when it has the images' size
+        seed = None if self.flow is None or not SEED else self.flow.copy()
+        flow = self.dis.calc(small, previous, seed)
+        self.flow = flow
+        return -flow
+
+
+def moving(flow: np.ndarray, scale: tuple[float, float], threshold: float) -> np.ndarray:
+    """The remaining speed per point (``scale``: reduced points per frame -> canvas
+    units per second, per axis), the per-axis median (the dominant motion) taken
+    out, and zero where it is under ``threshold`` or in the margin."""
+    dx = (flow[..., 0] - np.median(flow[..., 0])) * scale[0]
+    dy = (flow[..., 1] - np.median(flow[..., 1])) * scale[1]
+    speed = np.sqrt(dx * dx + dy * dy)
+    speed[speed < threshold] = 0.0
+    m = MARGIN
+    speed[:m], speed[-m:], speed[:, :m], speed[:, -m:] = 0.0, 0.0, 0.0, 0.0
+    return speed
+
+
+def regions(speed: np.ndarray, k: int) -> list[Region]:
+    """The moving regions of ``speed`` (> 0 where moving): connected components of
+    the mask after a 3x3 opening, those of at least :data:`MIN_POINTS` points.
+    Each region's own extent is its points at least half its 90th-percentile speed
+    (the flow's smear past an object's edge, slower, is left out); its centre is
+    their centroid in frame coordinates, its area their frame pixels."""
+    mask = cv2.morphologyEx((speed > 0).astype(np.uint8), cv2.MORPH_OPEN, _OPEN)
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
+    found = []
+    for label in range(1, count):
+        if stats[label, cv2.CC_STAT_AREA] < MIN_POINTS:
+            continue
+        x, y, w, h = (int(stats[label, c]) for c in range(4))
+        box = labels[y : y + h, x : x + w] == label
+        values = speed[y : y + h, x : x + w]
+        inside = values[box]
+        core = box & (values >= 0.5 * float(np.percentile(inside, 90)))
+        vs, us = np.nonzero(core)
+        center = (k * (x + float(us.mean()) + 0.5), k * (y + float(vs.mean()) + 0.5))
+        found.append(Region(center, float(len(us) * k * k), float(inside.mean())))
+    return found
