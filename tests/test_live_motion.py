@@ -84,7 +84,9 @@ def test_a_file_played_live_makes_the_strokes_a_file_render_makes(tmp_path):
     path = encode_clip(_clip(fps=15), tmp_path / "disc.mp4", fps=15)
     (tmp_path / "r.json").write_text(json.dumps(RECIPE))
     renderer = fresh_renderer(loop_walk=True)
-    session = LiveSession(tmp_path / "r.json", MediaSource(str(path)), renderer=renderer, quiet=True)
+    session = LiveSession(
+        tmp_path / "r.json", MediaSource(str(path)), renderer=renderer, quiet=True
+    )
     try:
         session.run(10.0)
     finally:
