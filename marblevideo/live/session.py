@@ -248,9 +248,8 @@ class LiveSession:
         if mirror:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
         start = time.monotonic()
-        if marbler.recipe.motion is not None:  # the motion goes on while bypassed
-            frame_t = ts - self.started if frame_t is None else frame_t
-            marbler = self._stirred(marbler, rgba, frame_t)
+        frame_t = ts - self.started if frame_t is None else frame_t
+        marbler = self._stirred(marbler, rgba, frame_t)  # the motion goes on while bypassed
         out = rgba if bypass else marbler.render(rgba, self.clock.now(), animated=True)
         now = time.monotonic()
         self.meters.frame(now, now - start)

@@ -13,12 +13,13 @@ import { update } from "./store.js";
 // ``width`` is a pair [min, max]: two inputs, motion-width-0 and motion-width-1.
 const inputsOf = (f) => (Array.isArray(f.default) ? f.default.map((_, k) => `motion-${f.name}-${k}`) : [`motion-${f.name}`]);
 
+let fields = [];  // the block's fields, as /api/motion describes them (read once)
 export async function initMotion() {
   const first = await api.motion();
+  fields = first.fields;
   update(() => ({motion: first}));
   $("motion-panel").hidden = false;
-  const fields = $("motion-fields");
-  for (const f of first.fields) {
+  for (const f of fields) {
     const label = document.createElement("label");
     label.title = f.help;
     label.append(f.name);
@@ -33,7 +34,7 @@ export async function initMotion() {
       box.append(el);
     }
     label.append(box);
-    fields.append(label);
+    $("motion-fields").append(label);
   }
   $("motion-on").addEventListener("change", () => setMotion($("motion-on").checked));
   $("motion-show").addEventListener("change", () => update(() => ({showMotion: $("motion-show").checked})));
@@ -49,11 +50,12 @@ function pollMotion() {
 function setMotion(on) {
   return edited((d) => { if (on) d.motion = d.motion || {}; else delete d.motion; });
 }
-// Field ``f`` as its inputs have it (an empty input: the field removed, its default).
+// Field ``f`` as its inputs have it (every input empty: the field removed, its
+// default; one side of a pair empty: that side's default).
 function setField(f) {
   const values = inputsOf(f).map((id) => $(id).value.trim());
-  const value = values.some((v) => v === "") ? undefined
-    : (values.length > 1 ? values.map(Number) : Number(values[0]));
+  const numbers = values.map((v, k) => (v !== "" ? Number(v) : Array.isArray(f.default) ? f.default[k] : f.default));
+  const value = values.every((v) => v === "") ? undefined : (values.length > 1 ? numbers : numbers[0]);
   return edited((d) => {
     const m = {...(d.motion || {})};
     if (value === undefined) delete m[f.name]; else m[f.name] = value;
@@ -62,17 +64,20 @@ function setField(f) {
 }
 
 // The fields: the saved recipe's values (the defaults as placeholders), again after a refusal.
-export const motionFieldsOf = (s) => [s.doc && s.doc.motion, s.refusals, s.motion && s.motion.fields];
+// A field the hand is in keeps what is typed, unless a save was just refused.
+let refusalsShown = 0;
+export const motionFieldsOf = (s) => [s.doc && s.doc.motion, s.refusals, s.motion !== null];
 export function showMotionFields(s) {
-  if (!s.motion || !s.motion.fields) return;
-  const block = s.doc.motion;
+  if (!s.motion) return;
+  const block = s.doc.motion, refused = s.refusals !== refusalsShown;
+  refusalsShown = s.refusals;
   $("motion-on").checked = block !== undefined;
-  for (const f of s.motion.fields) {
+  for (const f of fields) {
     const value = block && block[f.name] !== undefined ? block[f.name] : null;
     inputsOf(f).forEach((id, k) => {
       const el = $(id);
       const shown = Array.isArray(f.default) ? (value && value[k]) : value;
-      el.value = shown === null || shown === undefined ? "" : shown;
+      if (refused || document.activeElement !== el) el.value = shown === null || shown === undefined ? "" : shown;
       el.placeholder = Array.isArray(f.default) ? f.default[k] : f.default;
       el.disabled = block === undefined;
     });
