@@ -8,7 +8,10 @@ returns (the recipe's ops, then the motion strokes on top) is what renders.
   capture time from the session's start. A file played live and rendered as a
   file thus give the tracker the same frames at the same times, as long as the
   live session drops none (a slow session drops frames, and the tracker sees
-  fewer; its strokes then differ from the file render's).
+  fewer; its strokes then differ from the file render's). The frame is
+  rendered at the animation clock's time, as without motion: the two agree
+  while the clock plays from the session's start; a paused, scrubbed or looped
+  clock shows the strokes as they were at its time.
 - Edits: a new recipe keeps the tracker (its strokes, the regions it follows);
   the new recipe's ``motion`` fields apply from the next frame. A recipe without
   ``motion`` renders without motion strokes and the tracker waits (it sees no
