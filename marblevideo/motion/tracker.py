@@ -14,8 +14,8 @@ as a new stroke from its last point. Points are rounded to :data:`DECIMALS`
 decimals of a canvas unit, times and heals to :data:`TIME_DECIMALS`.
 
 Everything is causal and deterministic: the strokes after a frame depend only on
-the frames seen so far, by plain float64 NumPy and OpenCV's single-threaded DIS
-(see :mod:`marblevideo.motion.flow`).
+the frames seen so far, through float64 NumPy and OpenCV's DIS, whose flow does not
+depend on its thread count (see :mod:`marblevideo.motion.flow`).
 """
 
 from __future__ import annotations
@@ -33,6 +33,8 @@ from marblevideo.ops.stylus import step_total
 LOST = 0.25
 #: Consecutive frames that make a followed region a stroke.
 FRAMES = 3
+#: How far (a factor) a new region's centre speed may be from its flow speed.
+AGREE = 1.5
 DECIMALS, TIME_DECIMALS = 2, 6
 #: Share of the analysed points moving at which :meth:`MotionTracker.level` is 1.
 FULL_LEVEL = 0.1
@@ -83,6 +85,14 @@ class _Follow:
     @property
     def point(self) -> tuple[float, float]:
         return self.seen[-1][0]
+
+    @property
+    def predicted(self) -> tuple[float, float]:
+        """Where it would be in the next frame, moving on as between its last two."""
+        if len(self.seen) < 2:
+            return self.point
+        (x0, y0), (x1, y1) = self.seen[-2][0], self.seen[-1][0]
+        return (2 * x1 - x0, 2 * y1 - y0)
 
     @property
     def last(self) -> float:
@@ -155,7 +165,9 @@ class MotionTracker:
         dt = t - previous
         speed = moving(flow, (k * a / dt, k * b / dt), self.spec.threshold)
         self._level = min(1.0, float(np.count_nonzero(speed)) / speed.size / FULL_LEVEL)
-        found = sorted(regions(speed, k), key=lambda r: -r.area * r.speed)
+        speck = (self.spec.width[0] / 2) ** 2 * math.pi / 4 / (a * b)  # frame pixels
+        found = [r for r in regions(speed, k) if r.area >= speck]
+        found.sort(key=lambda r: -r.area * r.speed)
         self._follow(found[: self.spec.max_strokes], float(t), k * max(a, b))
 
     def _canvas(self, region: Region) -> tuple[tuple[float, float], float]:
@@ -171,13 +183,13 @@ class MotionTracker:
         for region in found:
             point, diameter = self._canvas(region)
             near = [
-                (math.dist(f.point, point), n)
+                (math.dist(f.predicted, point), n)
                 for n, f in enumerate(free)
-                if math.dist(f.point, point) <= max(diameter / 2 + f.step, 2 * unit)
+                if math.dist(f.predicted, point) <= max(diameter / 2 + f.step, 2 * unit)
             ]
             if near:
                 follow = free.pop(min(near)[1])
-                self._extend(follow, point, t, diameter)
+                self._extend(follow, point, t, diameter, region.speed)
             else:
                 follow = _Follow(point, t, diameter)
             self._follows.append(follow)
@@ -191,11 +203,17 @@ class MotionTracker:
             )
         self._follows += [f for f in free if f.stroke is not None]
 
-    def _extend(self, follow: _Follow, point: tuple[float, float], t: float, diameter: float):
-        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames."""
-        follow.step = math.dist(follow.point, point)
+    def _extend(self, follow: _Follow, point, t: float, diameter: float, speed: float) -> None:
+        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames
+        where its centre moved as fast as the flow says, within :data:`AGREE` (where
+        the flow has not caught up with a fast small object yet, its centre lags)."""
+        step, follow.step = math.dist(follow.point, point), math.dist(follow.point, point)
+        moved = step / (t - follow.last)
+        agree = speed / AGREE <= moved <= AGREE * speed or abs(moved - speed) <= self.spec.threshold
         follow.seen = [*follow.seen[-(FRAMES - 1) :], (point, t, diameter)]
         if follow.stroke is None:
+            if not agree:
+                follow.seen = follow.seen[-1:]
             if len(follow.seen) >= FRAMES and len({p for p, _, _ in follow.seen}) > 1:
                 low, high = self.spec.width
                 width = min(high, max(low, float(np.median([s[2] for s in follow.seen]))))

@@ -109,7 +109,7 @@ def motion_schema() -> dict:
         for name, default, text in FIELDS
     }
     return {
-        "title": "motion",
+        "title": "motion object",
         "description": "What moves in front of the camera stirs the ink: the movement seen in "
         "the input's frames becomes strokes, added on top of the ops as the frames are rendered.",
         "type": "object",

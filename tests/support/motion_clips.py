@@ -86,6 +86,8 @@ def _paste(frame: np.ndarray, disc: Disc, skin: np.ndarray, t: float) -> None:
     h, w = frame.shape[:2]
     x0, x1 = max(0, int(cx - r - 2)), min(w, int(cx + r + 3))
     y0, y1 = max(0, int(cy - r - 2)), min(h, int(cy + r + 3))
+    if x1 <= x0 or y1 <= y0:
+        return  # out of the frame
     y, x = np.mgrid[y0:y1, x0:x1].astype(np.float64) + 0.5
     cover = np.clip(r + 0.5 - np.hypot(x - cx, y - cy), 0.0, 1.0)[..., None]
     side = skin.shape[0]
