@@ -67,7 +67,10 @@ def six_discs(
     import av
 
     w, h = size
-    path = Path(path or Path(tempfile.gettempdir()) / f"marblevideo-six-discs-{w}x{h}-{seconds:g}s-{fps}.mp4")
+    path = Path(
+        path
+        or Path(tempfile.gettempdir()) / f"marblevideo-six-discs-{w}x{h}-{seconds:g}s-{fps}.mp4"
+    )
     if path.exists():
         return path
     ground = texture(w, h, 1)
