@@ -127,7 +127,8 @@ def get_json(url: str) -> dict:
 
 def page_state(page) -> dict:
     return page.evaluate(
-        "({frames: Number(document.getElementById('sheet').dataset.frames || 0), version})"
+        "({frames: Number(document.getElementById('sheet').dataset.frames || 0), "
+        "version: designer.state.version})"
     )
 
 

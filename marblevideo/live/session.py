@@ -82,6 +82,7 @@ class LiveSession:
         self._marbler = None
         self._marbled_for: int | None = None  # the recipe's version
         self.motion = LiveMotion(source.fps)  # the recipe's motion, when it has one
+        self._stirred_marbler = None  # of the last recipe with motion strokes
         # other signals (audio, marblevideo.signals.live), beside the controllers: by
         # the shown frame's time in its file when audio_by_frame
         self.media_t = 0.0
@@ -155,7 +156,11 @@ class LiveSession:
         recipe = self.motion.see(marbler.recipe, rgba, t)
         if recipe is marbler.recipe:
             return marbler
-        return self._Marbler(recipe, renderer=self.renderer, lattice=self.lattice)
+        if self._stirred_marbler is None or self._stirred_marbler.recipe is not recipe:
+            self._stirred_marbler = self._Marbler(
+                recipe, renderer=self.renderer, lattice=self.lattice
+            )
+        return self._stirred_marbler
 
     def take_document(self) -> dict:
         """The recipe's JSON now, with the motion strokes made as ordinary
