@@ -56,6 +56,9 @@
   with reused maps, animated from the lattice and walked exactly, RGBA), ms
   per frame; with --profile each kernel's device time from a profiling queue
   (kernels_bench.py).
+- motion-e2e: the CLI on a 720p clip of three textured discs going round, two
+  waves with the recipe's ``motion`` against the same without it (paired rounds),
+  and the analysis alone per frame in process (motion_e2e.py).
 - compare BASE [HEAD]: the CLI's static and animated e2e commands of two
   commits (HEAD: default this checkout), each checked out into a temporary
   worktree, paired and alternating (A B A B, --rounds), medians of wall time,

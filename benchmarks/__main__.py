@@ -40,6 +40,7 @@ PARTS = {
     "strokes": [("stroke_bench", "strokes_part", "device")],
     "pst-stir": [("pst_bench", "pst_stir_part", "device")],
     "kernels": [("kernels_bench", "kernels_part", "profile")],
+    "motion-e2e": [("motion_e2e", "motion_e2e", "lengths")],
 }
 
 

@@ -16,6 +16,7 @@ import numpy as np
 
 from marblevideo.errors import UsageError
 from marblevideo.jobs.options import VIDEO_KINDS, as_options, positive, video_options
+from marblevideo.jobs.takes import start_take, take_document, write_take
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.marbler import (
     Marbler,
@@ -248,6 +249,8 @@ def render_video(
     fps: float | None = None,
     renderer: Renderer | None = None,
     options: VideoOptions | None = None,
+    automation: str | os.PathLike | None = None,
+    document: dict | None = None,
     **fields,
 ):
     """Write a video (any output of :mod:`marblevideo.media.formats`: a file, a GIF,
@@ -270,29 +273,42 @@ def render_video(
     input's audio, its first sample at t = 0, and that parameters following
     audio signals hear; exact_walk: animated frames walk every subsample
     instead of interpolating from a lattice). ``renderer`` as for
-    :func:`render_still`.
+    :func:`render_still`. ``automation``: write the take there too
+    (:mod:`marblevideo.jobs.takes`), of the recipe's JSON ``document`` (default:
+    ``recipe``'s, a file or a dict).
     Returns the job's :class:`marblevideo.media.video.Stats`."""
-    from marblevideo.jobs.pipeline import transcode
     from marblevideo.media.encode import plan_output
 
-    recipe = as_recipe(recipe)
+    given, recipe = recipe, as_recipe(recipe)
     source = classify(src)  # standard input: read to tell a still from a video
     if source.kind == "blank":
         blank_canvas(recipe)
     fields = {**fields, "fps": fps, "duration": duration}
     opts = video_options(source, as_options(fields, "render_video", options))
-    # the cheap checks first (the encoder is tried too): an exit during the build
-    # below waits for it
+    # the cheap checks first (the encoder is tried too; a build below delays an exit)
     plan = plan_output(dst, opts)
     check_output(dst, opts.overwrite, source.names)
+    others = [dst, *source.names, recipe.source]
+    document = start_take(automation, given, document, opts.overwrite, others)
     source = source.checked()
     recipe = follow(recipe, source, opts.soundtrack)  # the soundtrack checked there
     marbler = Marbler(recipe, renderer, device=device, fit=opts.fit, lattice=not opts.exact_walk)
     # the program builds (without the GIL) while the input opens
     marbler.renderer.prebuild(Structure.of(recipe, source.kind != "blank"))
-    if source.kind in VIDEO_KINDS:
-        return transcode(source, dst, marbler.transform(opts.size), opts, plan=plan)
-    return _animated(source, marbler, dst, opts, plan)
+    stats, stirred = _job(source, marbler, dst, opts, plan)
+    if automation is not None:
+        write_take(automation, take_document(document, stirred), opts.overwrite)
+    return stats
+
+
+def _job(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
+    """(the video job's stats, the motion that saw its frames: None without)."""
+    from marblevideo.jobs.pipeline import transcode
+
+    if source.kind not in VIDEO_KINDS:
+        return _animated(source, marbler, dst, opts, plan), None
+    transform = marbler.transform(opts.size)
+    return transcode(source, dst, transform, opts, plan=plan), transform.stirred
 
 
 def _animated(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
@@ -307,6 +323,9 @@ def _animated(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
     frames = SheetSource(marbler, tuple(size), image)
     note = fit_note(recipe, None if image is None else image.shape[1::-1], opts.size, opts.fit)
     notes = (note,) if note else ()
+    if recipe.motion is not None:
+        what = "a blank sheet" if image is None else "a still"
+        notes += (f"{recipe.source}: motion follows an input's movement; {what} has none",)
     fps = opts.fps or DEFAULT_FPS
     return render_sheet(dst, frames, duration, fps, opts, plan=plan, notes=notes)
 

@@ -18,6 +18,7 @@ from marblevideo.errors import RecipeError, UsageError
 from marblevideo.jobs.route import Route, frames_route
 from marblevideo.jobs.transforms import PipelinedSource, PipelinedTransform
 from marblevideo.media.yuv import YuvMatrix
+from marblevideo.motion import StirredRecipe
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
 from marblevideo.recipe.frame import (
@@ -83,7 +84,9 @@ class Marbler:
     from a walked lattice where it can be trusted
     (:mod:`marblevideo.opencl.lattice`), unless the recipe says
     ``"lattice": false``; False walks every subsample. Stills always walk every
-    subsample.
+    subsample. A recipe with ``motion`` turns on its renderer's loop walk: its ops
+    change from frame to frame, and one program serves them all (no build per
+    stroke; the loop walk's frames equal the unrolled program's).
     """
 
     def __init__(
@@ -102,6 +105,8 @@ class Marbler:
         self.fit = fit
         #: whether animated frames may interpolate from a lattice (option and recipe)
         self.lattice = lattice and self.recipe.lattice
+        if self.recipe.motion is not None:
+            self.renderer.loop_walk = True
         self._geometry: dict[tuple, Geometry] = {}
 
     def geometry(
@@ -140,14 +145,18 @@ class Marbler:
         lattice = animated and frames_route(self.recipe.is_animated, self.lattice).lattice
         return self.renderer.render(spec, geom, image, static=static, lattice=lattice)
 
-    def frame_at(self, input_size, time, size, view) -> tuple[FrameSpec, Geometry]:
+    def frame_at(
+        self, input_size, time, size, view, recipe: Recipe | None = None
+    ) -> tuple[FrameSpec, Geometry]:
         """The recipe's values at ``time`` (default: its end) and the geometry of a
         render at ``size`` of an input of ``input_size`` (w, h), or of the blank
-        sheet (None)."""
-        t = self.recipe.end_time() if time is None else float(time)
+        sheet (None); ``recipe``: the one rendered at this frame in place of
+        :attr:`recipe` (a stirred recipe's, with its motion strokes)."""
+        recipe = recipe or self.recipe
+        t = recipe.end_time() if time is None else float(time)
         if size is None:
-            size = input_size or blank_size(self.recipe)
-        spec = self.recipe.at(t, self.canvas(input_size))
+            size = input_size or blank_size(recipe)
+        spec = recipe.at(t, self.canvas(input_size))
         if self.fit == "pad" and input_size is not None:
             spec = dataclasses.replace(spec, edges="background")
         return spec, self.geometry(size, input_size, view)
@@ -181,25 +190,44 @@ class FrameTransform(PipelinedTransform):
     output ``size`` (default: the input's): called as ``(rgba, t) -> rgba``, or
     with one frame in flight on the device, RGBA or I420 (converted on the
     device, or warped plane by plane: see :mod:`marblevideo.jobs.pipeline`), the
-    way the job's :class:`~marblevideo.jobs.route.Route` says."""
+    way the job's :class:`~marblevideo.jobs.route.Route` says.
+
+    A recipe with ``motion`` :attr:`watches`: every frame is seen first, in time
+    order (:meth:`watch`, by the pipeline; by ``__call__`` itself), by a
+    :class:`~marblevideo.motion.StirredRecipe`, and rendered with the recipe it
+    returns (the recipe's ops and the motion strokes so far); :attr:`stirred`
+    holds the take (None before the first frame)."""
 
     planar = True
 
     def __init__(self, marbler: Marbler, size: tuple[int, int] | None = None):
         self.marbler, self.size = marbler, size
-        self.moves = marbler.recipe.is_animated
+        self.watches = marbler.recipe.motion is not None
+        self.moves = marbler.recipe.is_animated or self.watches
         self.lattice = marbler.lattice
         #: the route of frames called one by one (``transform(rgba, t)``)
-        self.route = frames_route(self.moves, self.lattice)
+        self.route = frames_route(self.moves, self.lattice, None, self.watches)
+        self.stirred: StirredRecipe | None = None
+        self._current: Recipe | None = None  # the recipe of the frame watched last
 
     def __call__(self, frame: np.ndarray, t: float) -> np.ndarray:
+        if self.watches:
+            self.watch(frame, t)
         return self.start_rgba(frame, t, self.route)()
+
+    def watch(self, frame: np.ndarray, t: float) -> None:
+        """See the input's frame at ``t`` (its luma plane, or RGBA; times increasing):
+        the next frame started renders the recipe stirred by the motion so far."""
+        if self.stirred is None:
+            size = (frame.shape[1], frame.shape[0])
+            self.stirred = StirredRecipe(self.marbler.recipe, size, self.marbler.fit, self.size)
+        self._current = self.stirred.see(frame, t)
 
     def start_rgba(self, frame: np.ndarray, t: float, route: Route) -> Callable[[], np.ndarray]:
         """The frame queued on the device: returns a function that waits for the
         frame and returns it. The video pipeline queues the next frame before
         waiting, so the device works while the host prepares that frame."""
-        spec, geom = self.marbler.frame_at(image_size(frame), t, self.size, None)
+        spec, geom = self.marbler.frame_at(image_size(frame), t, self.size, None, self._current)
         return self.marbler.renderer.render(
             spec, geom, frame, static=route.static, wait=False, lattice=route.lattice
         )
@@ -210,7 +238,7 @@ class FrameTransform(PipelinedTransform):
         """:meth:`start_rgba` for I420 ``planes`` (y, u, v) in ``src``; the frame
         comes back as packed I420 in ``route.i420``."""
         input_size = planes[0].shape[::-1]
-        spec, geom = self.marbler.frame_at(input_size, t, self.size, None)
+        spec, geom = self.marbler.frame_at(input_size, t, self.size, None, self._current)
         return self.marbler.renderer.render_i420(
             spec,
             geom,

@@ -59,6 +59,13 @@ SKIPPED = {
     "marblevideo samples/coffee.mp4 --ops take.json -o replay.mp4": (
         "renders the take the command before writes (tests/test_live_controllers.py does both)"
     ),
+    "marblevideo dancer.mp4 --ops dance -o danced.mp4 --automation danced-take.json": (
+        "a clip of a dancer; tests/test_motion_files.py renders motion over a moving disc "
+        "and writes its take"
+    ),
+    "marblevideo dancer.mp4 --ops danced-take.json -o again.mp4": (
+        "renders the take the command before writes (tests/test_motion_files.py does both)"
+    ),
     "marblevideo --ops wreath-video.json -o wreath.mp4 --size 480x480": (
         "renders the recipe the command before imports (tests/test_pst_import.py does both)"
     ),

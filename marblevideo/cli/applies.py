@@ -49,8 +49,9 @@ def check_options(args: argparse.Namespace) -> tuple[str, str]:
                 raise UsageError(f"{flag}: applies to video outputs; for {out} use --time")
         if args.duration is not None:
             raise UsageError(f"--duration: applies to video outputs; {out} is not one")
-        if args.exact_walk:
-            raise UsageError(f"--exact-walk: applies to video outputs; {out} is not one")
+        for name, flag in (("exact_walk", "--exact-walk"), ("automation", "--automation")):
+            if getattr(args, name, None):
+                raise UsageError(f"{flag}: applies to video outputs; {out} is not one")
         if args.fps is not None and not (job == "still" and source == "sequence"):
             raise UsageError(
                 f"--fps: applies to video outputs (and image-sequence inputs); {out} is not one"

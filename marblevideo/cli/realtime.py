@@ -24,6 +24,7 @@ PASSED = (
     ("crf", "--crf"),
     ("preset", "--preset"),
     ("pix_fmt", "--pix-fmt"),
+    ("automation", "--automation"),
 )
 #: The render options a stream does not take: (dest, flag).
 REFUSED = (
@@ -64,7 +65,8 @@ def render_realtime(args: argparse.Namespace) -> int:
             argv += [flag, str(getattr(args, dest))]
     for item in args.encoder_opt:
         argv += ["--encoder-opt", item]
-    for dest, flag in (("quiet", "-q"), ("verbose", "--verbose"), ("exact_walk", "--exact-walk")):
+    flags = (("quiet", "-q"), ("verbose", "--verbose"), ("exact_walk", "--exact-walk"))
+    for dest, flag in (*flags, ("overwrite", "-y")):
         if getattr(args, dest):
             argv.append(flag)
     return run_live(argv)

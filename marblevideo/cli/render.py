@@ -179,6 +179,14 @@ _VIDEO = (
         ),
     ),
     (
+        ("--automation",),
+        dict(
+            metavar="FILE",
+            help="write the take: the recipe with its motion strokes as ordinary strokes "
+            "and no motion (rendering FILE over the same input gives the same frames)",
+        ),
+    ),
+    (
         ("--realtime",),
         dict(
             action="store_true",
@@ -258,7 +266,8 @@ def _where(dst) -> str:
 
 
 def render_command(argv: list[str]) -> int:
-    from marblevideo.api import as_recipe, render_still
+    from marblevideo.api import render_still
+    from marblevideo.recipe.load import read_recipe
     from marblevideo.signals.follow import check as check_signals
     from marblevideo.signals.follow import follow
 
@@ -266,7 +275,7 @@ def render_command(argv: list[str]) -> int:
     if wants_realtime(args):
         return render_realtime(args)
     configure_logging(args.verbose)
-    recipe = as_recipe(args.ops)  # validated before any input is opened
+    document, recipe = read_recipe(args.ops)  # validated before any input is opened
     size = resolve_size(args.size, args.input)
     job, _ = check_options(args)
     check_signals(recipe, args.input, args.soundtrack)  # refusals before any work
@@ -305,9 +314,9 @@ def render_command(argv: list[str]) -> int:
         from marblevideo.api import render_video
 
         render = render_video
-    stats = render(
-        args.input, recipe, args.output, device=args.device, options=_video_options(args, size)
-    )
+    take = dict(automation=args.automation, document=document)
+    options = _video_options(args, size)
+    stats = render(args.input, recipe, args.output, device=args.device, options=options, **take)
     if not args.quiet:
         print(f"marblevideo: {stats.summary(_where(args.output))}", file=sys.stderr)
     return 0

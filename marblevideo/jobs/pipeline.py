@@ -141,7 +141,8 @@ def transcode(
         colors = {k: getattr(vin.codec_context, k) for k in COLOR_FIELDS}
         route = video_route(transform, colors, plan, options.size)
         marble = TransformStage(transform, route, options.size, options.fit, notify)
-        reader = Reader(container, options.start, options.end, own, route.planar, pts_origin)
+        span = options.start, options.end
+        reader = Reader(container, *span, own, route.planar, pts_origin, route.luma)
         clock = _Clock(vin, None if source.kind == "sequence" else options.fps)
 
         def produce() -> Iterator[VideoItem | AudioItem]:

@@ -37,9 +37,8 @@ def retimed(
         nonlocal next_slot
         offset = float(frame.pts * time_base) - frame.t  # output clock - input clock
         while next_slot < upto:
-            yield VideoItem(
-                frame.rgba, next_slot, 1, float(next_slot / rate) - offset, frame.i420, frame.matrix
-            )
+            t = float(next_slot / rate) - offset
+            yield VideoItem(frame.rgba, next_slot, 1, t, frame.i420, frame.matrix, luma=frame.luma)
             next_slot += 1
 
     for item in items:

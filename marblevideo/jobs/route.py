@@ -21,11 +21,15 @@ class Route:
     (the input's own, or :data:`SHEET_MATRIX`); None: as RGBA. ``lattice``: animated
     frames over an input interpolate the map from a walked lattice where it can be
     trusted; False walks every subsample. ``static``: every frame repeats the first
-    one's values, so its maps are walked once and kept (the tables of reused maps)."""
+    one's values, so its maps are walked once and kept (the tables of reused maps).
+    ``luma``: the transform sees each frame's luma before marbling it (a recipe's
+    ``motion``), so the reader hands over the frame's decoded luma plane, the same
+    whether its pixels travel as I420 or RGBA."""
 
     i420: YuvMatrix | None = None
     lattice: bool = False
     static: bool = False
+    luma: bool = False
 
     @property
     def planar(self) -> bool:
@@ -33,23 +37,27 @@ class Route:
         return self.i420 is not None
 
 
-def frames_route(moves: bool, lattice: bool, i420: YuvMatrix | None = None) -> Route:
+def frames_route(
+    moves: bool, lattice: bool, i420: YuvMatrix | None = None, luma: bool = False
+) -> Route:
     """The route of an input's frames for a recipe that ``moves`` (or not) and allows
-    the ``lattice``: a lattice only for frames that move; tables for those that do not."""
-    return Route(i420, lattice and moves, not moves)
+    the ``lattice``: a lattice only for frames that move; tables for those that do not;
+    ``luma``: the transform sees each frame's luma."""
+    return Route(i420, lattice and moves, not moves, luma)
 
 
 def video_route(transform, colors: dict, plan: OutputPlan, size) -> Route:
     """The route of an input's frames through ``transform`` (a
     :class:`~marblevideo.jobs.transforms.PipelinedTransform`: whether it is
-    ``planar``, its recipe ``moves``, it allows the ``lattice``): I420 in the input's
+    ``planar``, its recipe ``moves``, it allows the ``lattice``, it ``watches`` each
+    frame's luma): I420 in the input's
     tags (``colors``) where the output is yuv420p of an even ``size`` (None: the
     input's; odd inputs go as RGBA frame by frame)."""
     matrix = None
     even = not (size and any(v % 2 for v in size))
     if transform.planar and plan.pix_fmt == "yuv420p" and even:
         matrix = YuvMatrix.of(colors["colorspace"], colors["color_range"])
-    return frames_route(transform.moves, transform.lattice, matrix)
+    return frames_route(transform.moves, transform.lattice, matrix, transform.watches)
 
 
 def sheet_route(planar: bool, moves: bool, plan: OutputPlan) -> Route:

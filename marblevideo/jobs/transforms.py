@@ -28,12 +28,18 @@ class PipelinedTransform:
     """A transform of an input's frames with one frame in flight. ``planar``: it
     takes I420 frames too; ``moves``: the recipe is animated; ``lattice``: it may
     interpolate animated frames from a lattice (what :func:`~marblevideo.jobs.route.video_route`
-    decides the route from). A plain function ``(rgba, t) -> rgba`` is one through
-    :func:`pipelined`."""
+    decides the route from); ``watches``: it sees every frame's luma first
+    (:meth:`watch`, a recipe's ``motion``). A plain function ``(rgba, t) -> rgba`` is
+    one through :func:`pipelined`."""
 
     planar = False
     moves = True
     lattice = False
+    watches = False
+
+    def watch(self, frame: np.ndarray, t: float) -> None:
+        """See the input's frame at ``t`` before it is started, in time order: its
+        decoded luma plane (H, W) uint8 where it has one, else the RGBA frame."""
 
     def start_rgba(self, rgba: np.ndarray, t: float, route: Route) -> Finish:
         """Start the frame ``rgba`` at ``t``: the function that returns it marbled."""
@@ -123,6 +129,8 @@ class TransformStage:
             if note:
                 self.notify(note)
         self.first = False
+        if self.transform.watches:
+            self.transform.watch(item.luma if item.luma is not None else item.rgba, item.t)
         if item.i420 is not None:
             started = self.transform.start_i420(item.i420, item.t, item.matrix, self.route)
             started = _finished(started, "i420")

@@ -105,6 +105,26 @@ def frame_planes(frame: av.VideoFrame) -> tuple[np.ndarray, np.ndarray, np.ndarr
     )
 
 
+#: Decoded formats whose first plane is the 8-bit luma (Y) itself, one byte a pixel.
+LUMA_FORMATS = frozenset(
+    ("yuv420p", "yuvj420p", "yuv422p", "yuvj422p", "yuv444p", "yuvj444p", "yuv440p", "yuvj440p")
+    + ("yuv411p", "yuv410p", "nv12", "nv21", "gray")
+)
+
+
+def frame_luma(frame: av.VideoFrame) -> np.ndarray | None:
+    """The frame's luma plane as decoded (its 8-bit Y codes, no conversion), upright
+    as :func:`upright` turns it: a view of its buffer where no turn is needed (rows
+    padded to the line size), else a copy; None for a frame whose format is not one
+    of :data:`LUMA_FORMATS` (RGB, high bit depths: read the RGBA frame instead)."""
+    if frame.format.name not in LUMA_FORMATS:
+        return None
+    plane = frame.planes[0]
+    y = np.frombuffer(plane, np.uint8).reshape(-1, plane.line_size)[: frame.height, : frame.width]
+    turns = round(frame.rotation / 90) % 4
+    return np.ascontiguousarray(np.rot90(y, turns)) if turns else y
+
+
 def upright(frame: av.VideoFrame) -> np.ndarray:
     """The frame as the viewer sees it: RGBA, display rotation applied, C-contiguous."""
     rgba = frame.to_ndarray(
@@ -122,7 +142,8 @@ class Reader:
     ``pts_origin``: video timestamps are given as ``pts - pts_origin`` whatever
     the range (a segment of a split render, :mod:`marblevideo.jobs.segments`);
     by default they are unchanged without a range, else start at 0 at the
-    first kept frame.
+    first kept frame. ``luma``: each video item carries its frame's luma plane
+    (:func:`frame_luma`), whichever way its pixels travel.
     """
 
     def __init__(
@@ -133,8 +154,10 @@ class Reader:
         audio: dict[int, str],
         i420: bool = False,
         pts_origin: int | None = None,
+        luma: bool = False,
     ):
         self.container = container
+        self.luma = luma
         self.pts_origin = pts_origin
         self.i420 = i420  # hand over upright, even-sized 8-bit 4:2:0 frames as I420
         self.video = container.streams.video[0]
@@ -251,8 +274,11 @@ class Reader:
         ):
             matrix = YuvMatrix.of(frame.colorspace, frame.color_range, frame.format.name)
             if matrix is not None:
-                return VideoItem(None, pts, frame.duration or 0, t, frame_planes(frame), matrix)
-        return VideoItem(upright(frame), pts, frame.duration or 0, t)
+                item = VideoItem(None, pts, frame.duration or 0, t, frame_planes(frame), matrix)
+                item.luma = item.i420[0] if self.luma else None
+                return item
+        luma = frame_luma(frame) if self.luma else None
+        return VideoItem(upright(frame), pts, frame.duration or 0, t, luma=luma)
 
     def _shifted(self, item: AudioItem) -> AudioItem:
         payload = item.payload

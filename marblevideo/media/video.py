@@ -84,6 +84,9 @@ class VideoItem:
     i420: np.ndarray | tuple | None = None  # I420, packed or as planes (marblevideo.media.yuv)
     matrix: YuvMatrix | None = None  # the colour matrix and range of ``i420``
     key: bool = False  # encode as a keyframe (a stream's keyframes by time)
+    #: the frame's luma plane as decoded (8-bit Y, upright) where the job asks for it
+    #: (a recipe's ``motion`` reads it) and the frame has one; None: read ``rgba``
+    luma: np.ndarray | None = None
 
     @property
     def shape(self) -> tuple[int, int]:

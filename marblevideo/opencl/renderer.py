@@ -195,6 +195,15 @@ class Renderer:
         self.last_reused = False
 
     @property
+    def loop_walk(self) -> bool:
+        """Whether every recipe walks its ops in a loop (see the class); settable."""
+        return self.programs.loop
+
+    @loop_walk.setter
+    def loop_walk(self, on: bool) -> None:
+        self.programs.loop = bool(on)
+
+    @property
     def last_full_pixels(self) -> int | None:
         """Pixels the last render gave the full pattern, when it was adaptive (else None)."""
         return self.adaptive_walk.last_full_pixels

@@ -15,6 +15,12 @@ draw it (a frame at the time of the one shown before it is rendered first and
 dropped, so the renderer reuses its maps exactly where the single render does).
 Decoded frames then equal a single render's wherever the encoder is lossless
 (``--crf 0`` with x264); timestamps and audio packets always do.
+
+A recipe with ``motion``: a segment's strokes come from the frames before it, so
+the whole input's motion is analysed here first, once
+(:func:`marblevideo.jobs.takes.motion_pass`: every frame decoded, its luma plane
+only, nothing marbled), and every segment renders the take (the recipe with the
+motion strokes as ordinary strokes), which gives a single render's frames.
 """
 
 from __future__ import annotations
@@ -32,6 +38,13 @@ from marblevideo.jobs.options import as_options
 from marblevideo.jobs.pipeline import transcode
 from marblevideo.jobs.route import Route
 from marblevideo.jobs.segments import Segment, join_segments, plan_segments, segment_plan
+from marblevideo.jobs.takes import (
+    motion_pass,
+    start_take,
+    take_document,
+    take_recipe,
+    write_take,
+)
 from marblevideo.jobs.transforms import PipelinedTransform
 from marblevideo.marbler import Marbler, RecipeLike, as_recipe
 from marblevideo.media.encode import plan_output
@@ -125,6 +138,8 @@ def render_split(
     jobs: int | None = None,
     device: str | None = None,
     options: VideoOptions | None = None,
+    automation: str | os.PathLike | None = None,
+    document: dict | None = None,
     **fields,
 ) -> Stats:
     """Render video ``src`` to ``dst`` in segments (see the module) on ``cluster``:
@@ -132,23 +147,29 @@ def render_split(
     local one, ``jobs`` workers) or "serial" (here, one segment after another).
     ``segments``: how many to cut (default: one per about 45 s); ``options`` (or
     ``fields``) as :func:`marblevideo.api.render_video`'s, but no ``start``, ``end``,
-    ``duration`` or ``fps``.
+    ``duration`` or ``fps``; ``automation`` and ``document`` as there too.
     Returns the joined output's :class:`~marblevideo.media.video.Stats`.
     Raises UsageError before any work; MediaError naming a segment that failed."""
     began = time.monotonic()
     if cluster not in CLUSTERS:
         raise UsageError(f"--cluster: expected one of {', '.join(CLUSTERS)}, got {cluster!r}")
     opts = as_options(fields, "render_split", options)
-    recipe = as_recipe(recipe)
+    given, recipe = recipe, as_recipe(recipe)
     source = check_split(src, opts)
     check_signals(recipe, source)
     recipe = recipe.bind(None)  # each worker analyses the input's audio itself
     plan = plan_output(dst, opts)
     segment_plan(plan, dst)
     dst = check_output(dst, opts.overwrite, source.names)
+    others = [dst, *source.names, recipe.source]
+    document = start_take(automation, given, document, opts.overwrite, others)
     source = source.checked()
     if cluster == "ray":
         require_ray()
+    stirred = None
+    if recipe.motion is not None:  # the whole input's strokes, once, for every segment
+        stirred = motion_pass(source, recipe, opts.fit, opts.size)
+        recipe = take_recipe(recipe, stirred)
     parts = plan_segments(src, segments)
     if segments and len(parts) < segments:
         notify = job_notify(opts, Stats())
@@ -156,6 +177,8 @@ def render_split(
     job = SegmentJob(str(source.path.resolve()), recipe, _shared(opts, plan))
     make_pool = partial(RayPool, jobs, device) if cluster == "ray" else partial(SerialPool, device)
     stats = _run_segments(make_pool, job, parts, (src, dst), plan, opts)
+    if automation is not None:
+        write_take(automation, take_document(document, stirred), opts.overwrite)
     stats.seconds = time.monotonic() - began
     return stats
 
