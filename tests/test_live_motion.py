@@ -21,8 +21,6 @@ from motion_video import encode_clip
 from marblevideo.design.live import LiveDesign
 from marblevideo.live.session import LiveSession
 from marblevideo.live.sources import MediaSource
-from marblevideo.media.decode import open_input, upright
-from marblevideo.motion import StirredRecipe
 from marblevideo.recipe import parse_recipe
 
 pytestmark = pytest.mark.tier("integration")
@@ -64,38 +62,28 @@ def test_a_live_take_holds_motion_strokes_that_follow_the_disc(cli, tmp_path):
 WAVE = {"type": "wave", "amplitude": 4, "wavelength": 120, "phase": 0, "angle": 90}
 
 
-def _file_strokes(path, recipe) -> list[dict]:
-    """The strokes a file render's tracker makes: every frame of ``path`` as PyAV
-    decodes it (upright RGBA) at its time from the first frame."""
-    stirred = StirredRecipe(recipe, (480, 360))
-    with open_input(str(path)) as container:
-        stream = container.streams.video[0]
-        t0 = None
-        for frame in container.decode(stream):
-            t0 = frame.time if t0 is None else t0
-            stirred.see(upright(frame), frame.time - t0)
-    return stirred.tracker.take()
-
-
-def test_a_file_played_live_makes_the_strokes_a_file_render_makes(tmp_path):
-    """The live session must drop no frame for its tracker to see every frame, so
-    the clip is small and at 15 fps (a session that drops frames makes fewer
-    points: BENCHMARKS.md says when a machine keeps up)."""
+def test_a_file_played_live_makes_the_take_a_file_render_makes(cli, tmp_path):
+    """The tracker sees each frame's decoded luma plane at its time in the file,
+    live as in a file render. The live session must drop no frame for its tracker
+    to see every frame, so the clip is small and at 15 fps (a session that drops
+    frames makes fewer points: BENCHMARKS.md says when a machine keeps up)."""
     path = encode_clip(_clip(fps=15), tmp_path / "disc.mp4", fps=15)
-    (tmp_path / "r.json").write_text(json.dumps(RECIPE))
+    (tmp_path / "r.json").write_text(json.dumps({**RECIPE, "ops": [WAVE]}))
     renderer = fresh_renderer(loop_walk=True)
-    session = LiveSession(
-        tmp_path / "r.json", MediaSource(str(path)), renderer=renderer, quiet=True
-    )
+    source = MediaSource(str(path))
+    session = LiveSession(tmp_path / "r.json", source, renderer=renderer, quiet=True)
     try:
         session.run(10.0)
     finally:
         session.close()
     assert session.source.frames.dropped == 0, "the session dropped frames: too slow to compare"
     assert session.frames == 30
-    take = session.take_document()["ops"]
-    assert take and take == _file_strokes(path, session.recipe)
+    live_take = session.take_document()
+    assert len(live_take["ops"]) == 2
     assert renderer.programs.built == 1  # the loop walk's one program, whatever the ops
+    done = cli("disc.mp4", "--ops", "r.json", "-o", "out.mp4", "--automation", "take.json", "-q")
+    assert done.returncode == 0, done.stderr
+    assert json.loads((tmp_path / "take.json").read_text()) == live_take
 
 
 def _frames(clip):

@@ -149,11 +149,11 @@ class LiveSession:
                 self._marbled_for = version
             return self._marbler, bypass, mirror
 
-    def _stirred(self, marbler, rgba: np.ndarray, t: float):
+    def _stirred(self, marbler, frame: np.ndarray, t: float):
         """``marbler``, or with ``motion`` one of the recipe with the motion strokes
-        that the frame ``rgba`` of frame time ``t`` leaves (one Marbler a frame: the
-        loop walk's one program renders any list of ops)."""
-        recipe = self.motion.see(marbler.recipe, rgba, t)
+        that ``frame`` (RGBA or its luma plane) of frame time ``t`` leaves (the loop
+        walk's one program renders any list of ops)."""
+        recipe = self.motion.see(marbler.recipe, frame, t)
         if recipe is marbler.recipe:
             return marbler
         if self._stirred_marbler is None or self._stirred_marbler.recipe is not recipe:
@@ -244,17 +244,23 @@ class LiveSession:
                 continue
             if cap.media_t is not None:
                 self.media_t = cap.media_t
-            self.show(cap.rgba, cap.ts, self.motion.frame_time(cap.media_t, cap.ts, self.started))
+            frame_t = self.motion.frame_time(cap.media_t, cap.ts, self.started)
+            self.show(cap.rgba, cap.ts, frame_t, cap.luma)
 
-    def show(self, rgba: np.ndarray, ts: float, frame_t: float | None = None) -> np.ndarray:
+    def show(
+        self, rgba: np.ndarray, ts: float, frame_t: float | None = None, luma=None
+    ) -> np.ndarray:
         """Marble one captured frame and hand it to every output; ``frame_t``: its
-        time for the motion (default: ``ts`` from the session's start)."""
+        time for the motion (default: ``ts`` from the session's start); ``luma``:
+        its decoded luma plane, which the motion sees (default: the RGBA's luma)."""
         marbler, bypass, mirror = self._current()
         if mirror:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
+            luma = None if luma is None else luma[:, ::-1]
         start = time.monotonic()
         frame_t = ts - self.started if frame_t is None else frame_t
-        marbler = self._stirred(marbler, rgba, frame_t)  # the motion goes on while bypassed
+        seen = rgba if luma is None else luma
+        marbler = self._stirred(marbler, seen, frame_t)  # the motion goes on while bypassed
         out = rgba if bypass else marbler.render(rgba, self.clock.now(), animated=True)
         now = time.monotonic()
         self.meters.frame(now, now - start)

@@ -5,7 +5,9 @@ returns (the recipe's ops, then the motion strokes on top) is what renders.
 - Time: the tracker sees a frame at its *frame time*: a file's frames at their
   time in the file (a looped file goes on after its end, one frame period after
   its last frame, so the tracker's time never goes back), other sources' at their
-  capture time from the session's start. A file played live and rendered as a
+  capture time from the session's start. A file's frames are seen as their
+  decoded luma plane, as a file render sees them (a camera's as the RGBA's
+  luma). A file played live and rendered as a
   file thus give the tracker the same frames at the same times, as long as the
   live session drops none (a slow session drops frames, and the tracker sees
   fewer; its strokes then differ from the file render's). The frame is
@@ -52,19 +54,21 @@ class LiveMotion:
         self._last_media = media_t
         return self._offset + media_t
 
-    def see(self, recipe, rgba: np.ndarray, t: float):
-        """The recipe to render frame ``rgba`` of time ``t`` with: ``recipe``
-        itself when it has no ``motion``, else its ops and the motion strokes."""
+    def see(self, recipe, frame: np.ndarray, t: float):
+        """The recipe to render ``frame`` (RGBA, or its luma plane) of time ``t``
+        with: ``recipe`` itself when it has no ``motion``, else its ops and the
+        motion strokes."""
         if recipe.motion is None:
             self.active = False
             return recipe
         with self._lock:
             if recipe is not self._given:
-                self._stirred = _continued(self._stirred, recipe, (rgba.shape[1], rgba.shape[0]))
+                size = (frame.shape[1], frame.shape[0])
+                self._stirred = _continued(self._stirred, recipe, size)
             self._given = recipe
             self.active, self.t = True, t
             self.frames += 1
-            stirred = self._stirred.see(rgba, t)
+            stirred = self._stirred.see(frame, t)
         return stirred if recipe.signals is None else stirred.bind(recipe.signals)
 
     def state(self) -> dict:
