@@ -82,7 +82,6 @@ class LiveSession:
         self._marbler = None
         self._marbled_for: int | None = None  # the recipe's version
         self.motion = LiveMotion(source.fps)  # the recipe's motion, when it has one
-        self._stirred_marbler = None  # of the last recipe with motion strokes
         # other signals (audio, marblevideo.signals.live), beside the controllers: by
         # the shown frame's time in its file when audio_by_frame
         self.media_t = 0.0
@@ -148,19 +147,6 @@ class LiveSession:
                 )
                 self._marbled_for = version
             return self._marbler, bypass, mirror
-
-    def _stirred(self, marbler, frame: np.ndarray, t: float):
-        """``marbler``, or with ``motion`` one of the recipe with the motion strokes
-        that ``frame`` (RGBA or its luma plane) of frame time ``t`` leaves (the loop
-        walk's one program renders any list of ops)."""
-        recipe = self.motion.see(marbler.recipe, frame, t)
-        if recipe is marbler.recipe:
-            return marbler
-        if self._stirred_marbler is None or self._stirred_marbler.recipe is not recipe:
-            self._stirred_marbler = self._Marbler(
-                recipe, renderer=self.renderer, lattice=self.lattice
-            )
-        return self._stirred_marbler
 
     def take_document(self) -> dict:
         """The recipe's JSON now, with the motion strokes made as ordinary
@@ -260,7 +246,7 @@ class LiveSession:
         start = time.monotonic()
         frame_t = ts - self.started if frame_t is None else frame_t
         seen = rgba if luma is None else luma
-        marbler = self._stirred(marbler, seen, frame_t)  # the motion goes on while bypassed
+        marbler = self.motion.marbler(marbler, seen, frame_t)  # it goes on while bypassed
         out = rgba if bypass else marbler.render(rgba, self.clock.now(), animated=True)
         now = time.monotonic()
         self.meters.frame(now, now - start)

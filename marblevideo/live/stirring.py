@@ -37,6 +37,7 @@ class LiveMotion:
         self._lock = threading.Lock()
         self._stirred = None  # marblevideo.motion.StirredRecipe, made at the first frame
         self._given = None  # the recipe it was last given
+        self._marbler = None  # the Marbler of the last recipe with motion strokes
         self.active = False  # the last frame's recipe had motion
         self.t: float | None = None  # the last frame's time
         self.frames = 0  # frames seen
@@ -70,6 +71,19 @@ class LiveMotion:
             self.frames += 1
             stirred = self._stirred.see(frame, t)
         return stirred if recipe.signals is None else stirred.bind(recipe.signals)
+
+    def marbler(self, marbler, frame: np.ndarray, t: float):
+        """``marbler``, or with ``motion`` one of the same renderer for the recipe
+        with the motion strokes that ``frame`` of time ``t`` leaves (kept while the
+        strokes do not change; the loop walk's one program renders any ops)."""
+        recipe = self.see(marbler.recipe, frame, t)
+        if recipe is marbler.recipe:
+            return marbler
+        if self._marbler is None or self._marbler.recipe is not recipe:
+            self._marbler = type(marbler)(
+                recipe, renderer=marbler.renderer, fit=marbler.fit, lattice=marbler.lattice
+            )
+        return self._marbler
 
     def state(self) -> dict:
         """``GET /api/motion``: whether the recipe has motion (``active``), the last
