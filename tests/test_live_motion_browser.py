@@ -13,7 +13,7 @@ import json
 import math
 
 import pytest
-from live_helpers import REFUSED, LiveProcess, wait_for, watched_page
+from live_helpers import REFUSED, LiveProcess, designer_page, wait_for, watched_page
 from motion_clips import Disc, disc_clip, line
 from motion_video import encode_clip
 
@@ -97,3 +97,21 @@ def test_the_motion_panel_shows_edits_and_meters_the_motion(browser, tmp_path):
         page.close()
     finally:
         assert live.stop() == 0
+
+
+def test_the_designer_edits_the_motion_block_without_meter(browser, tmp_path):
+    """In design mode the panel edits the block (the renders there have no motion
+    strokes: they come from an input's frames), with no meter and no overlay."""
+    recipe = tmp_path / "d.json"
+    recipe.write_text(json.dumps({"marblevideo": 1, "canvas": [320, 240], "ops": []}))
+    saved = lambda: json.loads(recipe.read_text())  # noqa: E731
+    with designer_page(browser, tmp_path, "--ops", recipe) as (page, errors):
+        assert page.is_visible("#motion-panel") and not page.is_checked("#motion-on")
+        assert not page.is_visible("#motion-level") and not page.is_visible("#motion-show")
+        page.wait_for_selector("#motion-heal:disabled")
+        page.check("#motion-on")
+        wait_for(lambda: saved().get("motion") == {}, "motion not added")
+        page.fill("#motion-heal", "3")
+        page.press("#motion-heal", "Enter")
+        wait_for(lambda: saved().get("motion") == {"heal": 3}, "heal not saved")
+        assert errors == []

@@ -52,9 +52,10 @@ async function start() {
   await loadRecipe(get().info);
   restoreHistory();
   const {info} = get();
-  if (isLive()) { await liveStats(); await initMotion(); }
+  if (isLive()) await liveStats();
   else setTime(info.input.kind === "video" ? 0 : Math.min(info.end, get().duration));
   update(() => ({error: info.error}));
+  await initMotion();
   for (const [select, view] of VIEWS) subscribe(select, view);
   document.body.dataset.ready = "1";
   replayEarly();

@@ -1,14 +1,15 @@
-// Motion (live mode): the recipe's ``motion`` block (what moves in front of the
-// camera stirs the ink). "on" adds the block (its fields at their defaults) or
-// removes it; each field is saved into the recipe as any edit (a refusal is
-// shown, and the fields show the saved recipe again); a meter shows the motion
-// seen (level, 0..1); "show" draws the regions followed and the motion strokes
-// over the sheet (overlay.js). The fields and their bounds come from GET
-// /api/motion, polled at 10 Hz into the store (``motion``).
+// Motion: the recipe's ``motion`` block (what moves in the input stirs the
+// ink). "on" adds the block (its fields at their defaults) or removes it; each
+// field is saved into the recipe as any edit (a refusal is shown, and the fields
+// show the saved recipe again). The fields and their bounds come from GET
+// /api/motion. Live mode only (the strokes come from the live frames): a meter
+// of the motion seen (level, 0..1) and "show", which draws the regions followed
+// and the motion strokes over the sheet (overlay.js); /api/motion is polled at
+// 10 Hz into the store (``motion``).
 import * as api from "./api.js";
 import { $ } from "./dom.js";
 import { edited } from "./recipe.js";
-import { update } from "./store.js";
+import { isLive, update } from "./store.js";
 
 // ``width`` is a pair [min, max]: two inputs, motion-width-0 and motion-width-1.
 const inputsOf = (f) => (Array.isArray(f.default) ? f.default.map((_, k) => `motion-${f.name}-${k}`) : [`motion-${f.name}`]);
@@ -38,7 +39,8 @@ export async function initMotion() {
   }
   $("motion-on").addEventListener("change", () => setMotion($("motion-on").checked));
   $("motion-show").addEventListener("change", () => update(() => ({showMotion: $("motion-show").checked})));
-  pollMotion();
+  for (const id of ["motion-level", "motion-show-label"]) $(id).hidden = !isLive();
+  if (isLive()) pollMotion();
 }
 function pollMotion() {
   setTimeout(async () => {
