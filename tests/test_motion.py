@@ -174,6 +174,47 @@ def test_two_discs_apart_make_two_strokes_each_following_its_own():
         follows(stroke, discs[owner])
 
 
+@pytest.mark.slow
+def test_max_strokes_follows_the_largest_area_times_speed_first():
+    w, h = SIZE
+    small = Disc(50, (60, 80), line(300), 0.3, 1.1)
+    large = Disc(110, (w - 80, h - 90), line(300, 180), 0.3, 1.1, seed=9)
+    take = track(disc_clip([small, large], SIZE, seconds=1.5), MotionSpec(max_strokes=1)).take()
+    assert len(take) == 1
+    follows(take[0], large)
+
+
+def paused(speed: float, moving: float, pause: float):
+    """Along +x at ``speed``, still for ``pause`` s after ``moving`` s, then on."""
+    return lambda s: (speed * (s if s < moving else max(moving, s - pause)), 0.0)
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("pause", "strokes"), [(0.1, 1), (0.6, 2)])
+def test_a_pause_longer_than_a_quarter_second_ends_the_stroke(pause, strokes):
+    disc = Disc(80, (70, 180), paused(300, 0.5, pause), 0.3, 0.8 + pause + 0.5)
+    take = track(disc_clip([disc], SIZE, seconds=disc.t1 + 0.4)).take()
+    assert len(take) == strokes, [(s["times"][0], s["times"][-1]) for s in take]
+    for stroke in take:
+        for point, t in zip(stroke["points"], stroke["times"], strict=True):
+            assert math.dist(point, disc.center(t)) <= 20
+    if strokes == 2:
+        assert take[0]["times"][-1] <= 0.8 + 0.2 and take[1]["times"][0] >= 0.8 + pause
+
+
+@pytest.mark.parametrize("fit", [None, "stretch", "crop", "pad"])
+def test_frame_points_map_to_the_canvas_as_the_render_samples_them(fit):
+    """frame_to_canvas inverts the render's canvas -> input map (Geometry.to_input)."""
+    from marblevideo.motion.stirred import frame_to_canvas
+
+    canvas, size, out = (400.0, 300.0), (640, 360), (800, 600)
+    a, b, c, d = frame_to_canvas(canvas, size, fit, out)
+    sx, sy, ox, oy = geometry(canvas, out, size, None, fit).to_input
+    for cx, cy in [(0.0, 0.0), (123.5, 77.25), (400.0, 300.0)]:
+        px, py = cx * sx + ox, cy * sy + oy
+        assert (px * a + c, py * b + d) == pytest.approx((cx, cy), abs=1e-9)
+
+
 SHORT = [Disc(60, (60, 180), line(300), 0.2, 0.9)]
 
 
@@ -248,6 +289,8 @@ def test_a_stirred_recipe_renders_as_the_reference_renders_its_take(renderer, sh
     for frame, t in short_clip:
         recipe = stirred.see(frame, t)
         assert recipe.motion is None and recipe.ops[0].type == "drop"
+        plain = {"canvas": [320, 180], "ops": [*document["ops"], *stirred.tracker.strokes()]}
+        assert recipe.ops == parse_recipe(plain).ops  # as if the file held the strokes
         if round(t * 30) not in (15, 27, 36):
             continue
         strokes = recipe.ops[1:]

@@ -17,8 +17,9 @@ current frame, not where it was. Each computation is seeded with the previous on
 (a motion under way is followed from frame to frame). DIS gives the same flow
 whatever OpenCV's thread count (its work is split by rows, each computed alike), so
 the analysis is deterministic bit for bit without setting it.
-The dominant motion (a pan, a shaken camera) is the per-axis median of the flow,
-subtracted; what remains, at least ``threshold`` canvas units per second, is moving.
+The dominant motion (a pan, a shaken camera) is the per-axis median of the flow
+(:func:`dominant`), subtracted; what remains, at least ``threshold`` canvas units
+per second, is moving.
 """
 
 from __future__ import annotations
@@ -37,6 +38,11 @@ MARGIN = 2
 MIN_POINTS = 6
 #: Whether each flow starts from the last one.
 SEED = True
+#: Reduced points per frame apart from the dominant motion from which a point's
+#: flow is carried to where it goes, to seed the next frame's.
+CARRY = 0.5
+#: A region's own extent: its points at least this share of its 90th-percentile speed.
+CORE = 0.5
 _OPEN = np.ones((3, 3), np.uint8)
 
 
@@ -104,16 +110,46 @@ class Flow:
         # DIS starts from the flow it is given when it has the images' size
         seed = None if self.flow is None or not SEED else self.flow.copy()
         flow = self.dis.calc(small, previous, seed)
-        self.flow = flow
+        self.flow = carried(flow)
         return -flow
+
+
+def dominant(flow: np.ndarray) -> tuple[float, float]:
+    """The frame's dominant motion: the per-axis median of the flow at every other
+    point of every other row (a pan or a shake moves them all)."""
+    sample = flow[::2, ::2].reshape(-1, 2)
+    return float(np.median(sample[:, 0])), float(np.median(sample[:, 1]))
+
+
+def carried(flow: np.ndarray) -> np.ndarray:
+    """The seed of the next frame's (backward) flow: each point that moves apart
+    from the dominant motion carried on by one more frame of its own motion (where
+    a fast object will be, its flow already), the fastest winning where several
+    land on one point; the other points keep their flow."""
+    h, w = flow.shape[:2]
+    apart = np.hypot(*(flow - np.float32(dominant(flow))).transpose(2, 0, 1))
+    vs, us = np.nonzero(apart > CARRY)
+    if len(us) == 0:
+        return flow
+    b = flow[vs, us]
+    x = np.rint(us - b[:, 0]).astype(np.int64)
+    y = np.rint(vs - b[:, 1]).astype(np.int64)
+    inside = (x >= 0) & (x < w) & (y >= 0) & (y < h)
+    order = np.argsort(-apart[vs, us][inside], kind="stable")
+    where = (y[inside] * w + x[inside])[order]
+    where, first = np.unique(where, return_index=True)  # the fastest at each point
+    seed = flow.copy()
+    seed.reshape(-1, 2)[where] = b[inside][order][first]
+    return seed
 
 
 def moving(flow: np.ndarray, scale: tuple[float, float], threshold: float) -> np.ndarray:
     """The remaining speed per point (``scale``: reduced points per frame -> canvas
     units per second, per axis), the per-axis median (the dominant motion) taken
     out, and zero where it is under ``threshold`` or in the margin."""
-    dx = (flow[..., 0] - np.median(flow[..., 0])) * scale[0]
-    dy = (flow[..., 1] - np.median(flow[..., 1])) * scale[1]
+    mx, my = dominant(flow)
+    dx = (flow[..., 0] - mx) * scale[0]
+    dy = (flow[..., 1] - my) * scale[1]
     speed = np.sqrt(dx * dx + dy * dy)
     speed[speed < threshold] = 0.0
     m = MARGIN
@@ -138,7 +174,7 @@ def regions(speed: np.ndarray, k: int) -> list[Region]:
         box = labels[y : y + h, x : x + w] == label
         values = speed[y : y + h, x : x + w]
         top = float(np.percentile(values[box], 90))
-        vs, us = np.nonzero(box & (values >= 0.5 * top))
+        vs, us = np.nonzero(box & (values >= CORE * top))
         center = (k * (x + float(us.mean()) + 0.5), k * (y + float(vs.mean()) + 0.5))
         found.append(Region(center, float(len(us) * k * k), top))
     return found

@@ -17,7 +17,7 @@ import numpy as np
 
 from marblevideo.motion.tracker import MotionTracker
 from marblevideo.recipe.frame import geometry
-from marblevideo.recipe.load import Op, Recipe, parse_recipe
+from marblevideo.recipe.load import Op, Recipe, build_op, parse_recipe
 
 
 def frame_to_canvas(
@@ -52,7 +52,7 @@ class StirredRecipe:
             recipe.motion, frame_to_canvas(canvas, input_size, fit, out_size)
         )
         self._plain = dataclasses.replace(recipe, motion=None)
-        self._ops: dict[str, tuple[dict, Op]] = {}  # a stroke's key -> (its op dict, its Op)
+        self._ops: dict[str, tuple[dict, Op]] = {}  # by a stroke's start: (its dict, its Op)
         self._current: tuple[list[dict], Recipe] = ([], self._plain)
 
     def see(self, frame: np.ndarray, t: float) -> Recipe:
@@ -64,7 +64,9 @@ class StirredRecipe:
         strokes = self.tracker.strokes()
         if strokes == self._current[0]:
             return self._current[1]
-        ops = [self._op(stroke) for stroke in strokes]
+        made: dict[str, tuple[dict, Op]] = {}
+        ops = [self._op(stroke, made) for stroke in strokes]
+        self._ops = made  # the healed ones forgotten
         base = len(self._plain.ops)
         entries = self._plain.entries
         ops = [
@@ -76,22 +78,27 @@ class StirredRecipe:
         self._current = (strokes, recipe)
         return recipe
 
-    def _op(self, stroke: dict) -> Op:
-        """The stroke as an Op, parsed as any recipe's stroke (and cached by its
-        start, so that only a growing stroke is parsed again)."""
+    def _op(self, stroke: dict, ops: dict) -> Op:
+        """The stroke as an Op: parsed as any recipe's stroke when it begins (so
+        validated like one); once it grows, built from its dict without the
+        schema's walk over every point (the tracker appends points within the
+        stroke op's limits), so that a long stroke costs little a frame. ``ops``
+        collects this frame's (dict, Op) by the stroke's start."""
         key = repr((stroke["points"][0], stroke["times"][0]))
         cached = self._ops.get(key)
-        if cached is None or cached[0] != stroke:
+        if cached is None:
             op = parse_recipe({"ops": [stroke]}, self.recipe.source).ops[0]
-            self._ops[key] = cached = (copy.deepcopy(stroke), op)
-        live = {repr((s["points"][0], s["times"][0])) for s in self.tracker.strokes()}
-        self._ops = {k: v for k, v in self._ops.items() if k in live or k == key}
-        return cached[1]
+        elif cached[0] == stroke:
+            op = cached[1]
+        else:
+            op = build_op(stroke, 0)
+        ops[key] = (stroke, op)
+        return op
 
     def take_document(self, document: dict) -> dict:
         """The recipe JSON ``document`` with every motion stroke made so far (healed
         ones too) appended to its ops and without ``motion``: it renders the same
         frames over the same input anywhere."""
         take = {k: copy.deepcopy(v) for k, v in document.items() if k != "motion"}
-        take["ops"] = [*take.get("ops", []), *self.tracker.take()]
+        take["ops"] = [*take.get("ops", []), *copy.deepcopy(self.tracker.take())]
         return take

@@ -41,11 +41,13 @@ FULL_LEVEL = 0.1
 
 
 class _Stroke:
-    """One motion stroke as it grows: canvas points, times, a fixed width."""
+    """One motion stroke as it grows: canvas points, times, a fixed width; its op
+    dict made once per change (what strokes() and take() hand out)."""
 
-    def __init__(self, points: list, times: list, width: float) -> None:
-        self.points, self.times, self.width = points, times, width
+    def __init__(self, points: list, times: list, width: float, spec: MotionSpec) -> None:
+        self.points, self.times, self.width, self.spec = points, times, width, spec
         self.length = sum(math.dist(a, b) for a, b in zip(points, points[1:], strict=False))
+        self._op: dict | None = None
 
     def room(self, point: tuple[float, float]) -> bool:
         """Whether one more point keeps it within the stroke op's limits."""
@@ -56,22 +58,24 @@ class _Stroke:
         self.length += math.dist(self.points[-1], point)
         self.points.append(point)
         self.times.append(t)
+        self._op = None
 
-    def healed(self, spec: MotionSpec) -> float:
-        """When it has completely healed (h = 0 from then on)."""
-        return self.op(spec)["heal"][1]
+    def heal(self) -> tuple[float, float]:
+        """Its ``heal`` [last + memory, last + memory + heal], rounded."""
+        t0 = round(self.times[-1] + self.spec.memory, TIME_DECIMALS)
+        return t0, round(t0 + self.spec.heal, TIME_DECIMALS)
 
-    def op(self, spec: MotionSpec) -> dict:
-        last = self.times[-1]
-        t0 = round(last + spec.memory, TIME_DECIMALS)
-        return {
-            "type": "stroke",
-            "points": [list(p) for p in self.points],
-            "times": list(self.times),
-            "width": self.width,
-            "drag": spec.gain,
-            "heal": [t0, round(t0 + spec.heal, TIME_DECIMALS)],
-        }
+    def op(self) -> dict:
+        if self._op is None:
+            self._op = {
+                "type": "stroke",
+                "points": [list(p) for p in self.points],
+                "times": list(self.times),
+                "width": self.width,
+                "drag": self.spec.gain,
+                "heal": list(self.heal()),
+            }
+        return self._op
 
 
 class _Follow:
@@ -121,12 +125,15 @@ class MotionTracker:
 
     def strokes(self) -> list[dict]:
         """The stroke ops not completely healed at the last frame's time, in the order
-        they began (what is rendered then, after the recipe's ops)."""
-        return [self._strokes[n].op(self.spec) for n in self._live]
+        they began (what is rendered then, after the recipe's ops). The dicts are the
+        tracker's own, the same objects until their stroke grows (so comparing them
+        is cheap): copy one before changing it."""
+        return [self._strokes[n].op() for n in self._live]
 
     def take(self) -> list[dict]:
-        """Every stroke op made so far, healed ones too, in the order they began."""
-        return [s.op(self.spec) for s in self._strokes]
+        """Every stroke op made so far, healed ones too, in the order they began
+        (the tracker's own dicts, as :meth:`strokes`)."""
+        return [s.op() for s in self._strokes]
 
     def regions(self) -> list[dict]:
         """The regions followed in the last frame: ``center`` [x, y] and ``radius``
@@ -143,7 +150,7 @@ class MotionTracker:
         """Forget the strokes completely healed at ``t`` (their heal's end, or its
         start when it takes no time, reached). A growing stroke is never healed:
         its last point is at most LOST old and ``memory`` is longer."""
-        self._live = [n for n in self._live if t < self._strokes[n].healed(self.spec)]
+        self._live = [n for n in self._live if t < self._strokes[n].heal()[1]]
 
     # ----------------------------------------------------------------- frames
 
@@ -190,8 +197,12 @@ class MotionTracker:
             if near:
                 follow = free.pop(min(near)[1])
                 self._extend(follow, point, t, diameter, region.speed)
-            else:
+            elif (
+                len(self._follows) + sum(f.stroke is not None for f in free) < self.spec.max_strokes
+            ):
                 follow = _Follow(point, t, diameter)
+            else:  # as many followed as may be, strokes lost for a moment included
+                continue
             self._follows.append(follow)
             self._regions.append(
                 {
@@ -219,13 +230,13 @@ class MotionTracker:
                 width = min(high, max(low, float(np.median([s[2] for s in follow.seen]))))
                 points = [p for p, _, _ in follow.seen]
                 times = [round(s[1], TIME_DECIMALS) for s in follow.seen]
-                self._begin(follow, _Stroke(points, times, round(width, DECIMALS)))
+                self._begin(follow, _Stroke(points, times, round(width, DECIMALS), self.spec))
             return
         stroke = self._strokes[follow.stroke]
         if point == stroke.points[-1]:
             return
         if not stroke.room(point):
-            stroke = _Stroke([stroke.points[-1]], [stroke.times[-1]], stroke.width)
+            stroke = _Stroke([stroke.points[-1]], [stroke.times[-1]], stroke.width, self.spec)
             self._begin(follow, stroke)
         stroke.add(point, round(t, TIME_DECIMALS))
 

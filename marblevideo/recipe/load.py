@@ -269,6 +269,22 @@ def _params(op: dict) -> dict[str, Track]:
     return params
 
 
+def build_op(op: dict, index: int, entry: int = -1, layout: tuple | None = None) -> Op:
+    """The Op of a valid op (of a recipe :func:`parse_recipe` accepted, or one
+    known valid by construction: a motion stroke growing); nothing is checked."""
+    start, end, heal = op.get("start"), op.get("end"), op.get("heal")
+    return Op(
+        type=op["type"],
+        params=_params(op),
+        start=None if start is None else float(start),
+        end=None if end is None else float(end),
+        index=index,
+        layout=layout,
+        entry=entry,
+        heal=None if heal is None else (float(heal[0]), float(heal[1])),
+    )
+
+
 def _build(doc: dict, source: str) -> Recipe:
     ops = []
     expanded = [
@@ -278,20 +294,7 @@ def _build(doc: dict, source: str) -> Recipe:
         for d in (expand(op) if op["type"] in LAYOUTS else [op])
     ]
     for index, (op, entry, layout) in enumerate(expanded):
-        params = _params(op)
-        start, end, heal = op.get("start"), op.get("end"), op.get("heal")
-        ops.append(
-            Op(
-                type=op["type"],
-                params=params,
-                start=None if start is None else float(start),
-                end=None if end is None else float(end),
-                index=index,
-                layout=layout,
-                entry=entry,
-                heal=None if heal is None else (float(heal[0]), float(heal[1])),
-            )
-        )
+        ops.append(build_op(op, index, entry, layout))
     canvas = doc.get("canvas")
     return Recipe(
         ops=tuple(ops),

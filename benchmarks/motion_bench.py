@@ -1,0 +1,155 @@
+"""The ``motion`` analysis (marblevideo.motion): time per frame of
+:meth:`MotionTracker.see` at 1280x720, against decoding the same frames (the
+baseline a file render pays anyway), side by side in one run.
+
+Writes a SECONDS-long 1280x720 30 fps clip (x264, in a temporary folder) of two
+textured discs moving over a textured background, then, in ROUNDS rounds,
+decodes it to RGB frames (timing each decode) and feeds them to a fresh tracker
+(timing each ``see``; the first frame, which has no flow, left out), and times the
+analysis' parts on the same frames. Prints medians and 95th percentiles in ms, the
+machine, the CPU's flags and the load average. Run from the repository root:
+``python -m benchmarks.motion_bench [SECONDS] [ROUNDS]``.
+"""
+
+from __future__ import annotations
+
+import os
+import statistics
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+import av
+import cv2
+import numpy as np
+
+from marblevideo.motion import MotionSpec, MotionTracker, luma
+from marblevideo.motion.flow import Flow, moving, reduce, reduction, regions
+
+from .common import header
+
+SIZE, FPS = (1280, 720), 30
+
+
+def _texture(w: int, h: int, seed: int) -> np.ndarray:
+    rng = np.random.default_rng(seed)
+    noise = cv2.GaussianBlur(rng.normal(0, 1, (h, w, 3)).astype(np.float32), (0, 0), 2.0)
+    return np.clip(128 + noise * 60 / noise.std(), 0, 255).astype(np.uint8)
+
+
+def frames(seconds: float):
+    """The clip's RGB frames: two discs (diameters 120 and 200) crossing the frame."""
+    w, h = SIZE
+    ground, skin = _texture(w, h, 1), _texture(240, 240, 2)
+    for n in range(round(seconds * FPS)):
+        frame = ground.copy()
+        t = n / FPS
+        for d, x, y in ((120, 100 + 300 * t, 200), (200, w - 150 - 200 * t, 480 + 60 * np.sin(t))):
+            x, y = int(x) % w, int(y)
+            mask = np.zeros((h, w), np.uint8)
+            cv2.circle(mask, (x, y), d // 2, 1, -1)
+            shifted = np.roll(skin, (y % 240, x % 240), axis=(0, 1))
+            tile = np.tile(shifted, (h // 240 + 1, w // 240 + 1, 1))[:h, :w]
+            frame[mask > 0] = tile[mask > 0]
+        yield frame
+
+
+def write_clip(path: Path, seconds: float) -> None:
+    with av.open(str(path), "w") as out:
+        stream = out.add_stream("libx264", rate=FPS)
+        stream.width, stream.height, stream.pix_fmt = *SIZE, "yuv420p"
+        stream.options = {"preset": "veryfast", "crf": "18"}
+        for image in frames(seconds):
+            out.mux(stream.encode(av.VideoFrame.from_ndarray(image, format="rgb24")))
+        out.mux(stream.encode())
+
+
+def decoded(path: Path) -> tuple[list[np.ndarray], list[float]]:
+    """Every frame as RGB, and each decode's time in ms."""
+    images, times = [], []
+    with av.open(str(path)) as container:
+        stream = container.streams.video[0]
+        stream.thread_type = "NONE"
+        it = container.decode(stream)
+        while True:
+            began = time.perf_counter()
+            try:
+                frame = next(it)
+            except StopIteration:
+                break
+            images.append(frame.to_ndarray(format="rgb24"))
+            times.append((time.perf_counter() - began) * 1000)
+    return images, times
+
+
+def analysed(images: list[np.ndarray]) -> tuple[list[float], list[float], int]:
+    """Each ``see``'s wall and CPU time (all the process' threads) in ms, the first
+    frame left out, and the strokes made."""
+    tracker = MotionTracker(MotionSpec(), (1.0, 1.0, 0.0, 0.0))
+    wall, cpu = [], []
+    for n, image in enumerate(images):
+        began, used = time.perf_counter(), time.process_time()
+        tracker.see(image, n / FPS)
+        wall.append((time.perf_counter() - began) * 1000)
+        cpu.append((time.process_time() - used) * 1000)
+    return wall[1:], cpu[1:], len(tracker.take())
+
+
+def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
+    """The analysis' steps timed apart, ms per frame."""
+    flow, k = Flow(), reduction(*SIZE)
+    out: dict[str, list[float]] = {"luma": [], "reduce": [], "DIS + seed": [], "regions": []}
+    for image in images:
+        t0 = time.perf_counter()
+        gray = luma(image)
+        t1 = time.perf_counter()
+        small = reduce(gray, k)
+        t2 = time.perf_counter()
+        field = flow.step(small)
+        t3 = time.perf_counter()
+        if field is None:
+            continue
+        regions(moving(field, (k * FPS, k * FPS), 60.0), k)
+        t4 = time.perf_counter()
+        for name, a, b in zip(out, (t0, t1, t2, t3), (t1, t2, t3, t4), strict=True):
+            out[name].append((b - a) * 1000)
+    return out
+
+
+def _row(name: str, times: list[float]) -> str:
+    p95 = float(np.percentile(times, 95))
+    return f"| {name} | {statistics.median(times):.2f} | {p95:.2f} | {len(times)} |"
+
+
+def main() -> None:
+    seconds = float(sys.argv[1]) if len(sys.argv) > 1 else 10.0
+    rounds = int(sys.argv[2]) if len(sys.argv) > 2 else 3
+    header()
+    print(f"# OpenCV {cv2.__version__}, {cv2.getNumThreads()} threads; load average before: "
+          + " ".join(f"{x:.2f}" for x in os.getloadavg()))  # fmt: skip
+    decode, see, cpu, steps, strokes = [], [], [], {}, 0
+    with tempfile.TemporaryDirectory() as folder:
+        path = Path(folder) / "clip.mp4"
+        write_clip(path, seconds)
+        for _ in range(rounds):
+            images, took = decoded(path)
+            decode += took
+            took, used, strokes = analysed(images)
+            see += took
+            cpu += used
+            for name, values in parts(images).items():
+                steps.setdefault(name, []).extend(values)
+    print(f"1280x720 {FPS} fps, {seconds:g} s, {rounds} rounds; {strokes} strokes a round")
+    print("| per frame | median ms | p95 ms | frames |")
+    print("|---|---|---|---|")
+    print(_row("decode to RGB (baseline)", decode))
+    print(_row("MotionTracker.see", see))
+    print(_row("MotionTracker.see, CPU time (all threads)", cpu))
+    for name, values in steps.items():
+        print(_row(f"  {name}", values))
+    print("# load average after: " + " ".join(f"{x:.2f}" for x in os.getloadavg()))
+
+
+if __name__ == "__main__":
+    main()
