@@ -131,12 +131,22 @@ def _check_still(source: Input, recipe, dst, ext: str, size, overwrite: bool):
 
 
 def _still_notes(notify, marbler: Marbler, input_size, size, fit, time) -> None:
-    """Tell a stretched input or fitted canvas, and a still at rest at the end."""
-    notes = [fit_note(marbler.recipe, input_size, size, fit)]
+    """Tell a stretched input or fitted canvas, a still at rest at the end, and a
+    motion that a still cannot follow."""
+    recipe = marbler.recipe
+    notes = [fit_note(recipe, input_size, size, fit), motion_note(recipe, "a still")]
     if time is None:
         notes.append(rest_note(marbler.recipe, marbler.canvas(input_size)))
     for note in filter(None, notes):
         notify(note)
+
+
+def motion_note(recipe, what: str) -> str | None:
+    """The notice for a recipe's ``motion`` where nothing moves (``what``: a still, a
+    blank sheet): it makes no stroke there."""
+    if recipe.motion is None:
+        return None
+    return f"{recipe.source}: motion follows an input's movement; {what} has none"
 
 
 def _write_still(out: np.ndarray, dst, ext: str, has_alpha: bool, overwrite: bool, inputs):
@@ -323,9 +333,8 @@ def _animated(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
     frames = SheetSource(marbler, tuple(size), image)
     note = fit_note(recipe, None if image is None else image.shape[1::-1], opts.size, opts.fit)
     notes = (note,) if note else ()
-    if recipe.motion is not None:
-        what = "a blank sheet" if image is None else "a still"
-        notes += (f"{recipe.source}: motion follows an input's movement; {what} has none",)
+    note = motion_note(recipe, "a blank sheet" if image is None else "a still")
+    notes += (note,) if note else ()
     fps = opts.fps or DEFAULT_FPS
     return render_sheet(dst, frames, duration, fps, opts, plan=plan, notes=notes)
 

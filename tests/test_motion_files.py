@@ -14,7 +14,7 @@ import av
 import numpy as np
 import pytest
 from clips import probe, write_clip
-from helpers import files, one_line
+from helpers import files, fresh_renderer, one_line
 from motion_clips import Disc, disc_clip, line
 
 from marblevideo import api
@@ -113,6 +113,18 @@ def test_the_strokes_follow_the_disc_and_stir_only_near_it(disc, stirred):
     assert changed > 1000  # the disc stirred the ink
 
 
+def test_one_program_serves_every_frame_whatever_strokes_come(disc, stirred, tmp_path):
+    """The op list changes from frame to frame (strokes appear and grow): the frames
+    walk their ops in a loop, one program built for the whole render."""
+    src, _, folder = disc
+    renderer = fresh_renderer()
+    api.render_video(src, folder / "dance.json", tmp_path / "o.mkv", renderer=renderer,
+                     **LOSSLESS)  # fmt: skip
+    assert renderer.loop_walk and renderer.programs.built == 1
+    assert all(np.array_equal(a, b) for a, b in zip(probe(tmp_path / "o.mkv").frames,
+                                                    stirred[0], strict=True))  # fmt: skip
+
+
 def test_both_routes_make_the_same_take_and_the_same_twice(disc, stirred, tmp_path):
     src, _, folder = disc
     _, take = stirred
@@ -202,6 +214,8 @@ def test_a_blank_sheet_or_a_still_has_no_motion(cli, tmp_path):
     assert proc.returncode == 0, proc.stderr
     assert "r.json: motion follows an input's movement; a blank sheet has none" in proc.stderr
     assert json.loads((tmp_path / "t.json").read_text()) == {"canvas": [64, 48], "ops": []}
+    proc = cli("--ops", "r.json", "-o", "still.png")
+    assert proc.returncode == 0 and "a still has none" in proc.stderr, proc.stderr
 
 
 @pytest.mark.parametrize(
