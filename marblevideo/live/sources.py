@@ -76,6 +76,12 @@ class Latest:
             self.closed = True
             self._cond.notify_all()
 
+    @property
+    def waiting(self) -> bool:
+        """Whether the last item put has not been taken yet."""
+        with self._cond:
+            return self._seq > self._taken
+
 
 class Source:
     """Base of the live sources: a capture thread feeding ``frames`` until ``stop``."""

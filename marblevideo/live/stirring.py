@@ -15,7 +15,8 @@ returns (the recipe's ops, then the motion strokes on top) is what renders.
   while the clock plays from the session's start; a paused, scrubbed or looped
   clock shows the strokes as they were at its time.
 - Edits: a new recipe keeps the tracker (its strokes, the regions it follows);
-  the new recipe's ``motion`` fields apply from the next frame. A recipe without
+  the new recipe's ``motion`` fields apply from the next frame (a stroke keeps
+  the gain, memory and heal it was made with; strokes made after take the new). A recipe without
   ``motion`` renders without motion strokes and the tracker waits (it sees no
   frame); when ``motion`` comes back, it goes on.
 - The state the page shows (``GET /api/motion``: :meth:`LiveMotion.state`) is
