@@ -147,3 +147,33 @@ def test_a_recipe_without_motion_leaves_the_frames_and_the_tracker_alone(tmp_pat
         assert session.take_document() == doc
     finally:
         session.close()
+
+
+def test_a_take_holds_the_controllers_keys_and_the_motion_strokes(tmp_path, renderer):
+    """``--automation`` over a recipe with a controller signal and ``motion``: the
+    signal becomes keys as before, and the motion strokes are appended."""
+    from argparse import Namespace
+
+    from marblevideo.cli.controllers import write_take
+
+    clip = _clip()
+    bound = {**WAVE, "amplitude": {"signal": "osc:/a", "range": [0, 8]}}
+    (tmp_path / "r.json").write_text(json.dumps({**RECIPE, "ops": [bound]}))
+    source = MediaSource(str(encode_clip(clip, tmp_path / "disc.mp4")))
+    session = LiveSession(tmp_path / "r.json", source, renderer=renderer, quiet=True)
+    try:
+        for rgba, t in _frames(clip):
+            if t == 1.0:
+                session.controllers.receive("osc:/a", 0.5, t=1.0)
+            session.show(rgba, 0.0, t)
+        session.started -= 2.0  # the take's end: two seconds of session
+        write_take(
+            Namespace(automation=tmp_path / "take.json", overwrite=True, quiet=True), session
+        )
+    finally:
+        session.close()
+    take = json.loads((tmp_path / "take.json").read_text())
+    wave, stroke = take["ops"]
+    assert [k["v"] for k in wave["amplitude"]["keys"]] == [0.0, 4.0]
+    assert stroke["type"] == "stroke" and "motion" not in take
+    _follows(stroke, clip.discs[0])

@@ -7,18 +7,18 @@ returns (the recipe's ops, then the motion strokes on top) is what renders.
   its last frame, so the tracker's time never goes back), other sources' at their
   capture time from the session's start. A file's frames are seen as their
   decoded luma plane, as a file render sees them (a camera's as the RGBA's
-  luma). A file played live and rendered as a
-  file thus give the tracker the same frames at the same times, as long as the
-  live session drops none (a slow session drops frames, and the tracker sees
-  fewer; its strokes then differ from the file render's). The frame is
+  luma). A file played live and rendered as a file thus give the tracker the
+  same frames at the same times, as long as the live session drops none (a
+  slow session drops frames, and the tracker sees fewer; its strokes then
+  differ from the file render's). The frame is
   rendered at the animation clock's time, as without motion: the two agree
   while the clock plays from the session's start; a paused, scrubbed or looped
   clock shows the strokes as they were at its time.
 - Edits: a new recipe keeps the tracker (its strokes, the regions it follows);
   the new recipe's ``motion`` fields apply from the next frame (a stroke keeps
-  the gain, memory and heal it was made with; strokes made after take the new). A recipe without
-  ``motion`` renders without motion strokes and the tracker waits (it sees no
-  frame); when ``motion`` comes back, it goes on.
+  the gain, memory and heal it was made with; the strokes made after take the
+  new ones). A recipe without ``motion`` renders without motion strokes and the
+  tracker waits (it sees no frame); when ``motion`` comes back, it goes on.
 - The state the page shows (``GET /api/motion``: :meth:`LiveMotion.state`) is
   read under the same lock as the frames are seen.
 """
@@ -39,6 +39,7 @@ class LiveMotion:
         self._stirred = None  # marblevideo.motion.StirredRecipe, made at the first frame
         self._given = None  # the recipe it was last given
         self._marbler = None  # the Marbler of the last recipe with motion strokes
+        self._bound = (None, None)  # (the last stirred recipe, it with the signals bound)
         self.active = False  # the last frame's recipe had motion
         self.t: float | None = None  # the last frame's time
         self.frames = 0  # frames seen
@@ -71,7 +72,11 @@ class LiveMotion:
             self.active, self.t = True, t
             self.frames += 1
             stirred = self._stirred.see(frame, t)
-        return stirred if recipe.signals is None else stirred.bind(recipe.signals)
+        if recipe.signals is None:
+            return stirred
+        if self._bound[0] is not stirred:  # the same object while the strokes do not change
+            self._bound = (stirred, stirred.bind(recipe.signals))
+        return self._bound[1]
 
     def marbler(self, marbler, frame: np.ndarray, t: float):
         """``marbler``, or with ``motion`` one of the same renderer for the recipe
