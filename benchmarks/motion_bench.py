@@ -110,7 +110,7 @@ def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
         t3 = time.perf_counter()
         if field is None:
             continue
-        regions(moving(field, (k * FPS, k * FPS), 60.0), k)
+        regions(moving(field, (k * FPS, k * FPS), 60.0, flow.shift), k)
         t4 = time.perf_counter()
         for name, a, b in zip(out, (t0, t1, t2, t3), (t1, t2, t3, t4), strict=True):
             out[name].append((b - a) * 1000)

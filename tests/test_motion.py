@@ -129,8 +129,8 @@ def follows(stroke: dict, disc: Disc) -> None:
     assert d / 2 <= stroke["width"] <= 1.5 * d and low <= stroke["width"] <= high
 
 
-def moving_disc(d: float, speed: float, path: str) -> Disc:
-    w, h = SIZE
+def moving_disc(d: float, speed: float, path: str, size=SIZE) -> Disc:
+    w, h = size
     if path == "line":
         seconds = min(1.0, (w - d - 60) / speed)
         return Disc(d, (30 + d / 2, h / 2), line(speed), 0.3, 0.3 + seconds)
@@ -153,6 +153,17 @@ def test_a_moving_disc_makes_one_stroke_that_follows_it(d, speed, path):
         round(take[0]["times"][-1] + 6.0, 6),
         round(take[0]["times"][-1] + 8.0, 6),
     ]
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize(("speed", "path"), [(100, "line"), (600, "arc")])
+def test_at_720p_a_disc_of_100_px_makes_one_stroke_that_follows_it(speed, path):
+    """At 1280x720 the luma is reduced by 4 (docs/recipe-format.md: a 40 px disc is
+    not followed surely there; 100 px is)."""
+    disc = moving_disc(100, speed, path, (1280, 720))
+    take = track(disc_clip([disc], (1280, 720), seconds=disc.t1 + 0.4)).take()
+    assert len(take) == 1
+    follows(take[0], disc)
 
 
 @pytest.mark.slow

@@ -96,6 +96,8 @@ class Flow:
         self.dis.setUseSpatialPropagation(True)
         self.previous: np.ndarray | None = None
         self.flow: np.ndarray | None = None
+        #: the dominant motion of the last flow returned (reduced points per frame)
+        self.shift = (0.0, 0.0)
 
     def reset(self) -> None:
         self.previous, self.flow = None, None
@@ -110,7 +112,8 @@ class Flow:
         # DIS starts from the flow it is given when it has the images' size
         seed = None if self.flow is None or not SEED else self.flow.copy()
         flow = self.dis.calc(small, previous, seed)
-        self.flow = carried(flow)
+        mx, my = dominant(flow)
+        self.flow, self.shift = carried(flow, (mx, my)), (-mx, -my)
         return -flow
 
 
@@ -121,14 +124,17 @@ def dominant(flow: np.ndarray) -> tuple[float, float]:
     return float(np.median(sample[:, 0])), float(np.median(sample[:, 1]))
 
 
-def carried(flow: np.ndarray) -> np.ndarray:
+def carried(flow: np.ndarray, shift: tuple[float, float]) -> np.ndarray:
     """The seed of the next frame's (backward) flow: each point that moves apart
     from the dominant motion carried on by one more frame of its own motion (where
     a fast object will be, its flow already), the fastest winning where several
-    land on one point; the other points keep their flow."""
+    land on one point; the other points keep their flow. ``shift``: its
+    :func:`dominant` motion."""
     h, w = flow.shape[:2]
-    apart = np.hypot(*(flow - np.float32(dominant(flow))).transpose(2, 0, 1))
-    vs, us = np.nonzero(apart > CARRY)
+    mx, my = shift
+    dx, dy = flow[..., 0] - np.float32(mx), flow[..., 1] - np.float32(my)
+    apart = dx * dx + dy * dy  # squared
+    vs, us = np.nonzero(apart > CARRY * CARRY)
     if len(us) == 0:
         return flow
     b = flow[vs, us]
@@ -143,11 +149,16 @@ def carried(flow: np.ndarray) -> np.ndarray:
     return seed
 
 
-def moving(flow: np.ndarray, scale: tuple[float, float], threshold: float) -> np.ndarray:
+def moving(
+    flow: np.ndarray,
+    scale: tuple[float, float],
+    threshold: float,
+    shift: tuple[float, float] | None = None,
+) -> np.ndarray:
     """The remaining speed per point (``scale``: reduced points per frame -> canvas
-    units per second, per axis), the per-axis median (the dominant motion) taken
-    out, and zero where it is under ``threshold`` or in the margin."""
-    mx, my = dominant(flow)
+    units per second, per axis), the dominant motion (``shift``, else
+    :func:`dominant`'s) taken out, and zero where it is under ``threshold`` or in the margin."""
+    mx, my = dominant(flow) if shift is None else shift
     dx = (flow[..., 0] - mx) * scale[0]
     dy = (flow[..., 1] - my) * scale[1]
     speed = np.sqrt(dx * dx + dy * dy)

@@ -1,12 +1,15 @@
 """Frames in, motion strokes out: the contract's ``motion`` rules (docs/recipe-format.md).
 
 :class:`MotionTracker` sees the input's frames in order and follows the moving
-regions that :mod:`marblevideo.motion.flow` finds in each: a region is matched to
-the nearest followed one (their centres within a gate of its radius plus the
-distance it moved last, at least 2 reduced points), the regions with the largest
-area x speed first, at most ``max_strokes`` followed at once. A region followed
-for 3 consecutive frames becomes a stroke (its width the median diameter of those
-3 frames, clamped to ``width``); the stroke grows by one point a frame while its
+regions that :mod:`marblevideo.motion.flow` finds in each (those narrower than
+the smallest ``width`` are specks, left out): a region is matched to the followed
+one nearest to its predicted centre (moving on as between its last two frames;
+within a gate of the region's radius plus the distance it moved last, at least 2
+reduced points), the regions with the largest area x speed first, at most
+``max_strokes`` followed at once. A region followed for 3 consecutive frames
+(whose centre moved as its flow says, see :meth:`MotionTracker._extend`) becomes a
+stroke (its width the median diameter of those 3 frames, clamped to ``width``);
+the stroke grows by one point a frame while its
 region is seen and ends once it has been lost for more than :data:`LOST` seconds.
 A stroke that would pass :data:`~marblevideo.ops.stroke.MAX_POINTS` points or
 :data:`~marblevideo.ops.stroke.MAX_STEPS` steps ends there, and its region goes on
@@ -85,6 +88,7 @@ class _Follow:
         self.seen = [(point, t, diameter)]
         self.stroke: int | None = None
         self.step = 0.0  # how far it moved between its last two frames (canvas units)
+        self.settled = True  # False once its centre and its flow disagreed
 
     @property
     def point(self) -> tuple[float, float]:
@@ -170,9 +174,9 @@ class MotionTracker:
             return
         a, b = abs(self.to_canvas[0]), abs(self.to_canvas[1])
         dt = t - previous
-        speed = moving(flow, (k * a / dt, k * b / dt), self.spec.threshold)
+        speed = moving(flow, (k * a / dt, k * b / dt), self.spec.threshold, self.flow.shift)
         self._level = min(1.0, float(np.count_nonzero(speed)) / speed.size / FULL_LEVEL)
-        speck = (self.spec.width[0] / 2) ** 2 * math.pi / 4 / (a * b)  # frame pixels
+        speck = self.spec.width[0] ** 2 * math.pi / 4 / (a * b)  # frame pixels
         found = [r for r in regions(speed, k) if r.area >= speck]
         found.sort(key=lambda r: -r.area * r.speed)
         self._follow(found[: self.spec.max_strokes], float(t), k * max(a, b))
@@ -215,21 +219,29 @@ class MotionTracker:
         self._follows += [f for f in free if f.stroke is not None]
 
     def _extend(self, follow: _Follow, point, t: float, diameter: float, speed: float) -> None:
-        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames
-        where its centre moved as fast as the flow says, within :data:`AGREE` (where
-        the flow has not caught up with a fast small object yet, its centre lags)."""
+        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames in
+        which its centre moved as fast as the flow says (within a factor
+        :data:`AGREE`, or ``threshold``), none of them one where it did not (where the
+        flow has not caught up with a fast small object yet, its centre lags and
+        jumps). A step under an eighth of the region's diameter always agrees: there
+        the outline's noise is the centre's motion."""
         step, follow.step = math.dist(follow.point, point), math.dist(follow.point, point)
         moved = step / (t - follow.last)
-        agree = speed / AGREE <= moved <= AGREE * speed or abs(moved - speed) <= self.spec.threshold
-        follow.seen = [*follow.seen[-(FRAMES - 1) :], (point, t, diameter)]
+        agree = (
+            step <= diameter / 8
+            or speed / AGREE <= moved <= AGREE * speed
+            or abs(moved - speed) <= self.spec.threshold
+        )
+        follow.seen = [*follow.seen[-FRAMES:], (point, t, diameter)]
         if follow.stroke is None:
-            if not agree:
-                follow.seen = follow.seen[-1:]
-            if len(follow.seen) >= FRAMES and len({p for p, _, _ in follow.seen}) > 1:
+            if not agree:  # it starts again after this frame
+                follow.seen, follow.settled = follow.seen[-1:], False
+            made = follow.seen[-FRAMES:] if follow.settled else follow.seen[1:]
+            if len(made) == FRAMES and len({p for p, _, _ in made}) > 1:
                 low, high = self.spec.width
-                width = min(high, max(low, float(np.median([s[2] for s in follow.seen]))))
-                points = [p for p, _, _ in follow.seen]
-                times = [round(s[1], TIME_DECIMALS) for s in follow.seen]
+                width = min(high, max(low, float(np.median([s[2] for s in made]))))
+                points = [p for p, _, _ in made]
+                times = [round(s[1], TIME_DECIMALS) for s in made]
                 self._begin(follow, _Stroke(points, times, round(width, DECIMALS), self.spec))
             return
         stroke = self._strokes[follow.stroke]
