@@ -1,15 +1,15 @@
-"""A video job's take (``--automation FILE`` on a file render) and the motion pass
-that a split render analyses first (docs/recipe-format.md, "motion").
+"""A video job's take (``--automation FILE`` on a file render) and the frames a
+segment of a split render sees before its own (docs/recipe-format.md, "motion").
 
 - The take is the recipe's JSON with every motion stroke made appended to its ops
   as an ordinary ``stroke`` and without ``motion``
   (:meth:`marblevideo.motion.StirredRecipe.take_document`); rendering it over the
   same input gives the same frames. A job without motion strokes (no ``motion``, a
   still, a blank sheet) writes the recipe's JSON without ``motion``.
-- :func:`motion_pass` sees every frame of a whole input in time order as the video
-  job would (the same frames, times and luma: :class:`~marblevideo.media.decode.Reader`'s
-  luma plane, decoded only, nothing marbled), so that the segments of a split render
-  can each render the take (:func:`take_recipe`) and equal a single render.
+- :func:`watch_before` shows a segment's transform the frames before the segment
+  (decoded only, their luma planes, nothing marbled), so that its motion goes on
+  from where a single render's is there: a split render's frames equal a single
+  render's, strokes included.
 
 Files are written atomically (a temporary file beside the target, renamed; ``-y``
 to replace one).
@@ -18,17 +18,16 @@ to replace one).
 from __future__ import annotations
 
 import copy
-import dataclasses
 import json
 import os
 from pathlib import Path
 
 from marblevideo.errors import UsageError
+from marblevideo.jobs.transforms import PipelinedTransform
 from marblevideo.media.decode import Reader, open_input
-from marblevideo.media.inputs import Input
 from marblevideo.media.output import atomic_output, check_output
 from marblevideo.motion import StirredRecipe
-from marblevideo.recipe import Recipe, parse_recipe
+from marblevideo.recipe import Recipe
 from marblevideo.recipe.load import read_recipe
 
 
@@ -62,12 +61,15 @@ def start_take(path, recipe, document: dict | None, overwrite: bool, others) -> 
     return document
 
 
-def take_document(document: dict, stirred: StirredRecipe | None) -> dict:
+def take_document(document: dict, stirred: StirredRecipe | list | None) -> dict:
     """The take of ``document`` after a job whose motion ``stirred`` saw its frames
-    (None: no frame was seen, no stroke)."""
-    if stirred is not None:
+    (or the list of every stroke it made; None: no frame was seen, no stroke)."""
+    if isinstance(stirred, StirredRecipe):
         return stirred.take_document(document)
-    return {k: copy.deepcopy(v) for k, v in document.items() if k != "motion"}
+    take = {k: copy.deepcopy(v) for k, v in document.items() if k != "motion"}
+    if stirred:
+        take["ops"] = [*take.get("ops", []), *stirred]
+    return take
 
 
 def write_take(path, document: dict, overwrite: bool) -> dict:
@@ -77,33 +79,17 @@ def write_take(path, document: dict, overwrite: bool) -> dict:
     return document
 
 
-def motion_pass(
-    source: str | os.PathLike | Input, recipe: Recipe, fit, size
-) -> StirredRecipe | None:
-    """Every frame of video ``source`` seen by a :class:`StirredRecipe` of ``recipe``
-    (which has ``motion``) rendered at ``size`` with ``fit``, as a single render's
-    transform sees them; None for an input without frames."""
-    stirred = None
+def watch_before(source, transform: PipelinedTransform, start: float | None) -> int:
+    """Show ``transform`` (one that :attr:`~PipelinedTransform.watches`) every frame of
+    video ``source`` before ``start`` seconds, in time order, as a whole render's
+    transform stage shows them (the reader's luma plane, else the RGBA frame), without
+    marbling them: a segment's motion then starts from the state a single render has
+    there. The number of frames seen."""
+    if start is None:
+        return 0
+    seen = 0
     with open_input(source) as container:
-        reader = Reader(container, None, None, {}, i420=True, luma=True)
-        for item in reader.items():
-            frame = item.luma if item.luma is not None else item.rgba
-            if stirred is None:
-                stirred = StirredRecipe(recipe, (frame.shape[1], frame.shape[0]), fit, size)
-            stirred.see(frame, item.t)
-    return stirred
-
-
-def take_recipe(recipe: Recipe, stirred: StirredRecipe | None) -> Recipe:
-    """``recipe`` with every stroke of ``stirred``'s take appended to its ops as
-    ordinary strokes and no ``motion``: what the take renders."""
-    strokes = [] if stirred is None else stirred.tracker.take()
-    plain = dataclasses.replace(recipe, motion=None)
-    if not strokes:
-        return plain
-    ops = parse_recipe({"ops": strokes}, recipe.source).ops
-    base, entries = len(plain.ops), plain.entries
-    ops = tuple(
-        dataclasses.replace(op, index=base + n, entry=entries + n) for n, op in enumerate(ops)
-    )
-    return dataclasses.replace(plain, ops=plain.ops + ops, entries=entries + len(ops))
+        for item in Reader(container, None, start, {}, i420=True, luma=True).items():
+            transform.watch(item.luma if item.luma is not None else item.rgba, item.t)
+            seen += 1
+    return seen

@@ -17,10 +17,11 @@ Decoded frames then equal a single render's wherever the encoder is lossless
 (``--crf 0`` with x264); timestamps and audio packets always do.
 
 A recipe with ``motion``: a segment's strokes come from the frames before it, so
-the whole input's motion is analysed here first, once
-(:func:`marblevideo.jobs.takes.motion_pass`: every frame decoded, its luma plane
-only, nothing marbled), and every segment renders the take (the recipe with the
-motion strokes as ordinary strokes), which gives a single render's frames.
+each segment starts its analysis early: its worker first shows the segment's
+transform every frame before the segment (:func:`marblevideo.jobs.takes.watch_before`:
+decoded, luma plane only, nothing marbled), and its motion then goes on exactly
+as a single render's does there. The last segment's strokes are the whole
+input's: the take (``automation``).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ import os
 import shutil
 import tempfile
 import time
+from collections.abc import Callable
 from dataclasses import dataclass
 from functools import partial
 from pathlib import Path
@@ -38,13 +40,7 @@ from marblevideo.jobs.options import as_options
 from marblevideo.jobs.pipeline import transcode
 from marblevideo.jobs.route import Route
 from marblevideo.jobs.segments import Segment, join_segments, plan_segments, segment_plan
-from marblevideo.jobs.takes import (
-    motion_pass,
-    start_take,
-    take_document,
-    take_recipe,
-    write_take,
-)
+from marblevideo.jobs.takes import start_take, take_document, watch_before, write_take
 from marblevideo.jobs.transforms import PipelinedTransform
 from marblevideo.marbler import Marbler, RecipeLike, as_recipe
 from marblevideo.media.encode import plan_output
@@ -78,25 +74,36 @@ class Primed(PipelinedTransform):
     def __init__(self, transform: PipelinedTransform, before: float | None):
         self.transform, self.before = transform, before
         self.planar, self.moves, self.lattice = transform.planar, transform.moves, transform.lattice
+        self.watches = transform.watches
+        self._seen = None  # the frame watched, shown to the transform once primed
+
+    def watch(self, frame, t: float) -> None:
+        self._seen = (frame, t)
+
+    def _primed(self, start: Callable[[float], Callable], t: float):
+        """The frame at ``before`` drawn (with the motion of the frame before) and
+        dropped, then the frame watched shown, then the frame at ``t`` started."""
+        if self.before is not None:
+            start(self.before)()
+            self.before = None
+        if self._seen is not None:
+            self.transform.watch(*self._seen)
+            self._seen = None
+        return start(t)
 
     def start_rgba(self, frame, t: float, route: Route):
-        if self.before is not None:
-            self.transform.start_rgba(frame, self.before, route)()
-            self.before = None
-        return self.transform.start_rgba(frame, t, route)
+        return self._primed(lambda at: self.transform.start_rgba(frame, at, route), t)
 
     def start_i420(self, planes, t: float, src, route: Route):
-        if self.before is not None:
-            self.transform.start_i420(planes, self.before, src, route)()
-            self.before = None
-        return self.transform.start_i420(planes, t, src, route)
+        return self._primed(lambda at: self.transform.start_i420(planes, at, src, route), t)
 
 
 def render_segment(
     job: SegmentJob, segment: Segment, dst: str, renderer=None
-) -> tuple[int, list[str]]:
+) -> tuple[int, list[str], list[dict]]:
     """Render ``segment`` of ``job`` to the MP4 ``dst`` (atomically); the frames
-    written and the notices (which the job's driver tells, each once)."""
+    written, the notices (which the job's driver tells, each once) and the motion
+    strokes made up to the segment's end (the whole take in the last one)."""
     options = VideoOptions(**job.options)
     options.start, options.end = segment.start, segment.end
     options.audio, options.quiet, options.progress, options.overwrite = "none", True, "off", True
@@ -106,9 +113,13 @@ def render_segment(
     marbler = Marbler(
         recipe, renderer, fit=options.fit or "stretch", lattice=not options.exact_walk
     )
-    transform = Primed(marbler.transform(options.size), segment.before)
-    stats = transcode(job.src, dst, transform, options, plan=plan, pts_origin=segment.origin)
-    return stats.frames, stats.notes
+    transform = marbler.transform(options.size)
+    if transform.watches:
+        watch_before(job.src, transform, segment.start)
+    primed = Primed(transform, segment.before)
+    stats = transcode(job.src, dst, primed, options, plan=plan, pts_origin=segment.origin)
+    strokes = transform.stirred.tracker.take() if transform.stirred is not None else []
+    return stats.frames, stats.notes, strokes
 
 
 def check_split(src, options: VideoOptions) -> Input:
@@ -166,19 +177,15 @@ def render_split(
     source = source.checked()
     if cluster == "ray":
         require_ray()
-    stirred = None
-    if recipe.motion is not None:  # the whole input's strokes, once, for every segment
-        stirred = motion_pass(source, recipe, opts.fit, opts.size)
-        recipe = take_recipe(recipe, stirred)
     parts = plan_segments(src, segments)
     if segments and len(parts) < segments:
         notify = job_notify(opts, Stats())
         notify(f"{src}: {segments} segments asked; its keyframes allow {len(parts)}")
     job = SegmentJob(str(source.path.resolve()), recipe, _shared(opts, plan))
     make_pool = partial(RayPool, jobs, device) if cluster == "ray" else partial(SerialPool, device)
-    stats = _run_segments(make_pool, job, parts, (src, dst), plan, opts)
+    stats, strokes = _run_segments(make_pool, job, parts, (src, dst), plan, opts)
     if automation is not None:
-        write_take(automation, take_document(document, stirred), opts.overwrite)
+        write_take(automation, take_document(document, strokes), opts.overwrite)
     stats.seconds = time.monotonic() - began
     return stats
 
@@ -206,7 +213,7 @@ def _run_segments(make_pool, job: SegmentJob, parts: list[Segment], src_dst, pla
         pool = make_pool()
         paths = [str(folder / f"{s.index:05d}.mp4") for s in parts]
         calls = [(job, s, path) for s, path in zip(parts, paths, strict=True)]
-        notes = run_calls(pool, calls, parts, progress_mode(opts.progress, opts.quiet))
+        notes, strokes = run_calls(pool, calls, parts, progress_mode(opts.progress, opts.quiet))
         pool.close()  # the workers' part is done: the join runs here
         pool = None
         notify = job_notify(opts, Stats())
@@ -219,17 +226,21 @@ def _run_segments(make_pool, job: SegmentJob, parts: list[Segment], src_dst, pla
         if pool is not None:
             pool.close()
         shutil.rmtree(folder, ignore_errors=True)
-    return stats
+    return stats, strokes
 
 
-def run_calls(pool, calls: list[tuple], parts: list[Segment], progress: str) -> list[str]:
-    """Every segment's call on ``pool``, with a bar of segments; their notices,
-    each once; MediaError naming the first segment that failed."""
+def run_calls(pool, calls: list[tuple], parts: list[Segment], progress: str):
+    """Every segment's call on ``pool``, with a bar of segments: (their notices, each
+    once; the last segment's motion strokes, the whole take); MediaError naming the
+    first segment that failed."""
     notes: dict[str, None] = {}
+    strokes: list[dict] = []
     with Progress(len(calls), progress, unit="segment") as bar:
         for index, result in pool.run(render_segment, calls, [str(s) for s in parts]):
             if isinstance(result, Exception):
                 raise MediaError(f"{parts[index]} failed: {result}")
             notes.update(dict.fromkeys(result[1]))
+            if parts[index].end is None:
+                strokes = result[2]
             bar.update()
-    return list(notes)
+    return list(notes), strokes
