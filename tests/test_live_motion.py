@@ -122,6 +122,10 @@ def test_an_edit_keeps_the_tracker_and_new_strokes_take_the_new_fields(tmp_path,
                 assert math.dist(region["center"], first.center(clip.times[n - 1])) <= 20
                 assert [s["drag"] for s in state["strokes"]] == [1.0]
                 assert {f["name"] for f in state["fields"]} >= {"gain", "width", "heal"}
+                meter = json.loads(design.api("GET", "/api/motion", "shapes=0", None)[1])
+                assert (
+                    meter["level"] == state["level"] and meter["regions"] == meter["strokes"] == []
+                )
             session.show(rgba, 0.0, t)
         take = session.take_document()
     finally:

@@ -20,7 +20,8 @@ edit the live recipe file:
   (:mod:`marblevideo.controllers.api`).
 - ``GET /api/motion``: the recipe's motion as of the last frame: ``active``,
   ``level`` (0..1), the ``regions`` followed and the motion ``strokes`` rendered
-  (:meth:`marblevideo.live.stirring.LiveMotion.state`; canvas units), and the
+  (:meth:`marblevideo.live.stirring.LiveMotion.state`; canvas units; with
+  ``?shapes=0`` the two lists are left empty), and the
   ``fields`` of a ``motion`` block the page edits
   (:func:`marblevideo.design.describe.describe_motion`).
 
@@ -66,7 +67,8 @@ class LiveDesign:
         if (method, path) == ("GET", "/api/ops"):
             return json_answer(describe_ops())
         if (method, path) == ("GET", "/api/motion"):
-            return json_answer({**self.live.motion.state(), "fields": describe_motion()})
+            state = self.live.motion.state(shapes="shapes=0" not in query.split("&"))
+            return json_answer({**state, "fields": describe_motion()})
         answer = controllers_api(self.live, method, path)  # meters and learn
         if answer is not None:
             return json_answer(answer[1], answer[0])

@@ -91,11 +91,12 @@ class LiveMotion:
             )
         return self._marbler
 
-    def state(self) -> dict:
+    def state(self, shapes: bool = True) -> dict:
         """``GET /api/motion``: whether the recipe has motion (``active``), the last
         frame's ``t``, ``level`` (0..1), the ``regions`` followed ({center, radius,
         speed, stroke}: canvas units, units per second, the index of its stroke in
-        the take or None) and the ``strokes`` rendered now (stroke ops)."""
+        the take or None) and the ``strokes`` rendered now (stroke ops); both lists
+        empty unless ``shapes`` (the page's meter needs only the level)."""
         with self._lock:
             tracker = None if self._stirred is None else self._stirred.tracker
             if tracker is None:
@@ -105,8 +106,8 @@ class LiveMotion:
                 "t": self.t,
                 "frames": self.frames,
                 "level": float(tracker.level()),
-                "regions": _plain(tracker.regions()),
-                "strokes": _plain(tracker.strokes()),
+                "regions": _plain(tracker.regions()) if shapes else [],
+                "strokes": _plain(tracker.strokes()) if shapes else [],
             }
 
     def take_document(self, document: dict) -> dict:

@@ -5,11 +5,11 @@
 // /api/motion. Live mode only (the strokes come from the live frames): a meter
 // of the motion seen (level, 0..1) and "show", which draws the regions followed
 // and the motion strokes over the sheet (overlay.js); /api/motion is polled at
-// 10 Hz into the store (``motion``).
+// 10 Hz into the store (``motion``), its regions and strokes only while shown.
 import * as api from "./api.js";
 import { $ } from "./dom.js";
 import { edited } from "./recipe.js";
-import { isLive, update } from "./store.js";
+import { get, isLive, update } from "./store.js";
 
 // ``width`` is a pair [min, max]: two inputs, motion-width-0 and motion-width-1.
 const inputsOf = (f) => (Array.isArray(f.default) ? f.default.map((_, k) => `motion-${f.name}-${k}`) : [`motion-${f.name}`]);
@@ -44,7 +44,10 @@ export async function initMotion() {
 }
 function pollMotion() {
   setTimeout(async () => {
-    try { const m = await api.motion(); update(() => ({motion: m})); } catch (e) { /* offline: poll says it */ }
+    try {
+      const m = await api.motion(get().showMotion);  // the shapes only while they are shown
+      update(() => ({motion: m}));
+    } catch (e) { /* offline: poll says it */ }
     pollMotion();
   }, 100);
 }
