@@ -49,13 +49,16 @@ def test_a_live_take_holds_motion_strokes_that_follow_the_disc(cli, tmp_path):
     assert done.returncode == 0, done.stderr
     take = json.loads((tmp_path / "take.json").read_text())
     assert "motion" not in take and take["ops"][0] == WAVE
+    # one stroke while the disc moves (a session that dropped frames may have
+    # split it: every piece follows the disc, and together they span its motion)
     strokes = take["ops"][1:]
-    assert len(strokes) == 1 and strokes[0]["type"] == "stroke"
-    stroke = strokes[0]
-    _follows(stroke, clip.discs[0])
-    assert stroke["times"][0] <= 0.3 + 0.2 and stroke["times"][-1] >= 1.3 - 0.2
-    assert D / 2 <= stroke["width"] <= 3 * D / 2
-    assert stroke["heal"] == [round(stroke["times"][-1] + 6, 6), round(stroke["times"][-1] + 8, 6)]
+    assert strokes and all(op["type"] == "stroke" for op in strokes)
+    for stroke in strokes:
+        _follows(stroke, clip.discs[0])
+        assert D / 2 <= stroke["width"] <= 3 * D / 2
+        last = stroke["times"][-1]
+        assert stroke["heal"] == [round(last + 6, 6), round(last + 8, 6)]
+    assert strokes[0]["times"][0] <= 0.3 + 0.2 and strokes[-1]["times"][-1] >= 1.3 - 0.2
     parse_recipe(take, "take.json")  # renders anywhere: a valid recipe without motion
 
 
