@@ -184,3 +184,26 @@ def test_a_take_holds_the_controllers_keys_and_the_motion_strokes(tmp_path, rend
     assert [k["v"] for k in wave["amplitude"]["keys"]] == [0.0, 4.0]
     assert stroke["type"] == "stroke" and "motion" not in take
     _follows(stroke, clip.discs[0])
+
+
+def test_a_paused_clock_shows_the_motion_strokes_as_the_frames_made_them(tmp_path, renderer):
+    """With the clock paused at 0 (the recipe's ops held still), the strokes are
+    moved to it: the disc's path is dragged as the frames made it; the take keeps
+    them in the frames' time."""
+    clip = _clip()
+    (tmp_path / "r.json").write_text(json.dumps(RECIPE))
+    source = MediaSource(str(encode_clip(clip, tmp_path / "disc.mp4")))
+    session = LiveSession(tmp_path / "r.json", source, renderer=renderer, quiet=True)
+    session.control({"paused": True, "time": 0})
+    try:
+        for rgba, t in _frames(clip):
+            out = session.show(rgba, 0.0, t)
+            if t == 1.2:
+                path = np.abs(out[160:200, 150:330, :3].astype(int) - rgba[160:200, 150:330, :3])
+                still = np.abs(out[300:, :, :3].astype(int) - rgba[300:, :, :3])
+                assert path.mean() > 8 * max(still.mean(), 0.5), (path.mean(), still.mean())
+        take = session.take_document()
+    finally:
+        session.close()
+    assert session.clock.now() == 0
+    assert 0.3 <= take["ops"][0]["times"][0] <= 0.5  # the frames' time, not the clock's

@@ -245,9 +245,9 @@ class LiveSession:
             luma = None if luma is None else luma[:, ::-1]
         start = time.monotonic()
         frame_t = ts - self.started if frame_t is None else frame_t
-        seen = rgba if luma is None else luma
-        marbler = self.motion.marbler(marbler, seen, frame_t)  # it goes on while bypassed
-        out = rgba if bypass else marbler.render(rgba, self.clock.now(), animated=True)
+        seen, shown = (rgba if luma is None else luma), self.clock.now()
+        marbler = self.motion.marbler(marbler, seen, frame_t, shown)  # on while bypassed
+        out = rgba if bypass else marbler.render(rgba, shown, animated=True)
         now = time.monotonic()
         self.meters.frame(now, now - start)
         self.frames += 1

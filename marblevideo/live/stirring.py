@@ -10,10 +10,12 @@ returns (the recipe's ops, then the motion strokes on top) is what renders.
   luma). A file played live and rendered as a file thus give the tracker the
   same frames at the same times, as long as the live session drops none (a
   slow session drops frames, and the tracker sees fewer; its strokes then
-  differ from the file render's). The frame is
-  rendered at the animation clock's time, as without motion: the two agree
-  while the clock plays from the session's start; a paused, scrubbed or looped
-  clock shows the strokes as they were at its time.
+  differ from the file render's). The frame is rendered at the animation
+  clock's time, as without motion: the two agree (within :data:`SHIFT`) while
+  the clock plays from the session's start; when the clock is paused, scrubbed
+  or looped, the motion strokes are moved in time to it, so they show as the
+  frames made them while the recipe's own ops follow the clock (the take keeps
+  them in the frames' time).
 - Edits: a new recipe keeps the tracker (its strokes, the regions it follows);
   the new recipe's ``motion`` fields apply from the next frame (a stroke keeps
   the gain, memory and heal it was made with; the strokes made after take the
@@ -25,9 +27,14 @@ returns (the recipe's ops, then the motion strokes on top) is what renders.
 
 from __future__ import annotations
 
+import dataclasses
 import threading
 
 import numpy as np
+
+#: Seconds between a frame's time and the animation clock's beyond which the
+#: motion strokes are moved to the clock (it is paused, scrubbed or looped).
+SHIFT = 0.5
 
 
 class LiveMotion:
@@ -78,18 +85,36 @@ class LiveMotion:
             self._bound = (stirred, stirred.bind(recipe.signals))
         return self._bound[1]
 
-    def marbler(self, marbler, frame: np.ndarray, t: float):
+    def marbler(self, marbler, frame: np.ndarray, t: float, shown: float | None = None):
         """``marbler``, or with ``motion`` one of the same renderer for the recipe
         with the motion strokes that ``frame`` of time ``t`` leaves (kept while the
-        strokes do not change; the loop walk's one program renders any ops)."""
+        strokes do not change; the loop walk's one program renders any ops).
+        ``shown``: the animation clock's time the frame is rendered at; more than
+        :data:`SHIFT` s from ``t`` (paused, scrubbed, looped), the strokes are moved
+        by the difference in time, so they show as the frames made them."""
         recipe = self.see(marbler.recipe, frame, t)
         if recipe is marbler.recipe:
             return marbler
+        if shown is not None and abs(shown - t) > SHIFT:
+            recipe = self._shifted(marbler.recipe, shown - t)
         if self._marbler is None or self._marbler.recipe is not recipe:
             self._marbler = type(marbler)(
                 recipe, renderer=marbler.renderer, fit=marbler.fit, lattice=marbler.lattice
             )
         return self._marbler
+
+    def _shifted(self, base, shift: float):
+        """``base`` (the recipe without motion strokes) with the motion strokes of
+        now, their ``times`` and ``heal`` moved by ``shift`` seconds."""
+        from marblevideo.recipe.load import build_op
+
+        with self._lock:
+            strokes = self._stirred.tracker.strokes()
+        n, entries = len(base.ops), base.entries
+        ops = [build_op(_moved(op, shift), n + k, entries + k) for k, op in enumerate(strokes)]
+        return dataclasses.replace(
+            base, ops=base.ops + tuple(ops), entries=entries + len(ops), motion=None
+        )
 
     def state(self, shapes: bool = True) -> dict:
         """``GET /api/motion``: whether the recipe has motion (``active``), the last
@@ -118,6 +143,15 @@ class LiveMotion:
             if self._stirred is None:
                 return {k: v for k, v in document.items() if k != "motion"}
             return self._stirred.take_document(document)
+
+
+def _moved(op: dict, shift: float) -> dict:
+    """The stroke op ``op`` ``shift`` seconds later (its times and heal)."""
+    return {
+        **op,
+        "times": [t + shift for t in op["times"]],
+        "heal": [op["heal"][0] + shift, op["heal"][1] + shift],
+    }
 
 
 def _continued(stirred, recipe, size: tuple[int, int]):
