@@ -78,7 +78,10 @@ def test_the_motion_panel_shows_edits_and_meters_the_motion(browser, tmp_path):
         page.fill("#motion-gain", "2.5")
         page.press("#motion-gain", "Enter")
         wait_for(lambda: saved().get("motion") == {"gain": 2.5}, "gain not saved")
-        page.fill("#motion-width-0", "30")
+        page.fill("#motion-width-0", "30")  # a pair's other side: its default
+        page.press("#motion-width-0", "Enter")
+        wait_for(lambda: saved()["motion"].get("width") == [30, 200], "width not saved")
+        page.wait_for_function("designer.state.doc.motion.width !== undefined")
         page.fill("#motion-width-1", "150")
         page.press("#motion-width-1", "Enter")
         wait_for(lambda: saved()["motion"].get("width") == [30, 150], f"width not saved: {saved()}")
