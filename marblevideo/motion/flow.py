@@ -31,6 +31,9 @@ import numpy as np
 
 #: The analysed luma's longer side, about (the reduction factor is an integer).
 REDUCED_SIDE = 320
+#: The shortest side analysed (DIS needs 12 points at least): a frame whose shorter
+#: side is below it shows no motion.
+MIN_SIDE = 16
 #: Reduced points along each edge left out of the moving mask: content entering or
 #: leaving a shaken or panned frame has no match there.
 MARGIN = 2
@@ -50,7 +53,9 @@ def luma(frame: np.ndarray) -> np.ndarray:
     """The 8-bit luma of an HxWx3 RGB, HxWx4 RGBA or HxW luma uint8 frame: OpenCV's
     fixed-point BT.601 weights (0.299 R + 0.587 G + 0.114 B, rounded), alpha
     ignored; a luma frame is returned as it is. The one definition every caller
-    uses, so that a file and a live session see the same luma."""
+    uses, so that a file and a live session see the same luma: feed it the same
+    kind of frame everywhere (an I420 frame's Y plane is not the luma of its RGB
+    conversion: its range and matrix differ)."""
     if frame.ndim == 2:
         return np.ascontiguousarray(frame, dtype=np.uint8)
     if frame.ndim != 3 or frame.shape[2] not in (3, 4):
@@ -60,8 +65,11 @@ def luma(frame: np.ndarray) -> np.ndarray:
 
 
 def reduction(width: int, height: int) -> int:
-    """The integer factor the luma of a ``width`` x ``height`` frame is reduced by."""
-    return max(1, round(max(width, height) / REDUCED_SIDE))
+    """The integer factor the luma of a ``width`` x ``height`` frame is reduced by:
+    its longer side to about :data:`REDUCED_SIDE`, its shorter side kept at least
+    :data:`MIN_SIDE` where it can be."""
+    k = max(1, round(max(width, height) / REDUCED_SIDE))
+    return max(1, min(k, min(width, height) // MIN_SIDE))
 
 
 def reduce(gray: np.ndarray, k: int) -> np.ndarray:
@@ -104,9 +112,12 @@ class Flow:
 
     def step(self, small: np.ndarray) -> np.ndarray | None:
         """The motion (dx, dy) per reduced point, from the previous luma to ``small``,
-        at the points of ``small`` (HxWx2 float32), or None for the first frame."""
+        at the points of ``small`` (HxWx2 float32), or None for the first frame (and
+        for a luma smaller than :data:`MIN_SIDE`)."""
         previous, self.previous = self.previous, small
-        if previous is None or previous.shape != small.shape:
+        if min(small.shape) < MIN_SIDE:
+            self.previous = None  # too small to analyse
+        if previous is None or previous.shape != small.shape or self.previous is None:
             self.flow = None
             return None
         # DIS starts from the flow it is given when it has the images' size

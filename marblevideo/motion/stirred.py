@@ -35,7 +35,9 @@ def frame_to_canvas(
 
 class StirredRecipe:
     """``recipe`` (which has ``motion``) over an input of ``input_size`` (w, h)
-    rendered at ``out_size`` (default the input's size) with ``fit``."""
+    rendered at ``out_size`` (default the input's size) with ``fit``. An input
+    whose size changes needs a new StirredRecipe (the frame -> canvas map is
+    fixed); its ``tracker`` gives the regions and level of the last frame."""
 
     def __init__(
         self,
