@@ -6,7 +6,14 @@ by default) -> a 6-op animated recipe with RGSS antialiasing -> JPEG (quality 80
 the time from a frame's capture timestamp to its JPEG being ready to send.
 
     python -m benchmarks.live_bench [--size 1280x720] [--seconds 10]
-        [--preview-width 640] [--record out.mp4] [--device P:D]
+        [--preview-width 640] [--record out.mp4] [--device P:D] [--motion]
+
+``--motion``: the source is a looped clip of six textured discs going round
+(:mod:`benchmarks.motion_clip`, decoded by PyAV at its own pace as a file source
+is) and the recipe the ``dance`` preset (two keyed waves and ``motion``, six
+strokes at most): six motion strokes active, growing while their discs move.
+Reported besides: each frame's time (tracker and render) median and p95, the
+motion strokes and their points at the end, the ops walked per frame.
 
 Not a test: numbers depend on the machine (see BENCHMARKS.md).
 """
@@ -65,18 +72,32 @@ def _reader(url: str, stop: threading.Event, counter: list[int]) -> None:
 
 
 def bench(
-    size, seconds, warmup, preview_width, record, device, fps, recipe_dict=RECIPE, lattice=True
+    size,
+    seconds,
+    warmup,
+    preview_width,
+    record,
+    device,
+    fps,
+    recipe_dict=RECIPE,
+    lattice=True,
+    motion=False,
 ):
     from marblevideo.cli.arguments import parse_size
     from marblevideo.live.session import LiveSession
-    from marblevideo.live.sources import TestPattern
+    from marblevideo.live.sources import MediaSource, TestPattern
     from marblevideo.serve.server import Server
 
     w, h = parse_size(size)
     with tempfile.TemporaryDirectory() as tmp:
         recipe = Path(tmp) / "bench.json"
         recipe.write_text(json.dumps(recipe_dict))
-        source = TestPattern((w, h), fps)
+        if motion:
+            from .motion_clip import six_discs
+
+            source = MediaSource(str(six_discs(size=(w, h), fps=round(fps))), loop=True)
+        else:
+            source = TestPattern((w, h), fps)
         session = LiveSession(
             recipe,
             source,
@@ -94,6 +115,15 @@ def bench(
             recorder = recorder_for(args, record)
             recorder.start(w, h, fps)
             session.recorder = recorder
+        frame_s: list[float] = []  # each frame's time after the warm-up (tracker and render)
+        shown = session.meters.frame
+
+        def frame(now: float, render_s: float) -> None:
+            if "start" in marks:
+                frame_s.append(render_s)
+            shown(now, render_s)
+
+        session.meters.frame = frame
         server = Server(session, 0)
         server.start()
         stop = threading.Event()
@@ -106,11 +136,22 @@ def bench(
 
         def sample():
             time.sleep(warmup)
-            marks["start"] = (time.monotonic(), session.frames, received[0])
+            marks["start"] = (
+                time.monotonic(),
+                session.frames,
+                received[0],
+                session.source.frames.dropped,
+            )
             session.meters.clear()
             time.sleep(seconds)
-            marks["end"] = (time.monotonic(), session.frames, received[0])
+            marks["end"] = (
+                time.monotonic(),
+                session.frames,
+                received[0],
+                session.source.frames.dropped,
+            )
             session.stats_at_end = session.stats()
+            session.motion_at_end = session.motion.state()
             session.stop_event.set()
 
         threading.Thread(target=sample, daemon=True).start()
@@ -122,8 +163,9 @@ def bench(
             session.close()
             if recorder is not None:
                 recorder.close()
-        (t0, f0, r0), (t1, f1, r1) = marks["start"], marks["end"]
-        stats = session.stats_at_end
+        (t0, f0, r0, d0), (t1, f1, r1, d1) = marks["start"], marks["end"]
+        stats, moved = session.stats_at_end, session.motion_at_end
+        ms = sorted(1000 * x for x in frame_s)
         return {
             "size": f"{w}x{h}",
             "source_fps": fps,
@@ -135,6 +177,13 @@ def bench(
             "latency_p95_ms": stats["latency_p95_ms"],
             "render_median_ms": stats["render_ms"],
             "source_dropped": stats["dropped"],
+            "dropped_measured": d1 - d0,
+            "frame_median_ms": round(ms[len(ms) // 2], 1) if ms else None,
+            "frame_p95_ms": round(ms[int(0.95 * (len(ms) - 1))], 1) if ms else None,
+            "motion_strokes": len(moved["strokes"]),
+            "motion_points": sum(len(op["points"]) for op in moved["strokes"]),
+            "ops_per_frame": len(recipe_dict["ops"]) + len(moved["strokes"]),
+            "programs_built": session.renderer.programs.built,
             "device": session.renderer.info.name,
         }
 
@@ -156,8 +205,24 @@ def main() -> None:
     p.add_argument(
         "--exact-walk", action="store_true", help="walk every subsample (no lattice; issue 35)"
     )
+    p.add_argument(
+        "--motion",
+        action="store_true",
+        help="six discs going round (a looped clip) through the dance preset (motion)",
+    )
+    p.add_argument(
+        "--without-motion",
+        action="store_true",
+        help="with --motion: the same source and recipe without its motion (the baseline)",
+    )
     args = p.parse_args()
     recipe = RECIPE
+    if args.motion:
+        from marblevideo.bundled import presets
+
+        recipe = json.loads(presets()["dance"].read_text())
+        if args.without_motion:
+            del recipe["motion"]
     if args.twelve:
         from .common import animated12
 
@@ -172,8 +237,12 @@ def main() -> None:
         args.fps,
         recipe,
         lattice=not args.exact_walk,
+        motion=args.motion,
     )
     result["recipe"] = "12-op animated" if args.twelve else "6-op animated"
+    if args.motion:
+        result["recipe"] = "dance (2 keyed waves" + ")" * args.without_motion
+        result["recipe"] += "" if args.without_motion else ", motion)"
     result["walk"] = "exact" if args.exact_walk else "lattice"
     result["machine"] = f"{platform.machine()} {platform.processor() or ''}".strip()
     print(json.dumps(result))

@@ -18,7 +18,14 @@ the session and the page took against the edits made, and the recording's
 duration and frame count (PyAV) against the session's.
 
     python -m benchmarks.soak_bench [--minutes 10] [--size 1280x720]
-        [--edit-every 15] [--out soak.json] [--trace]
+        [--edit-every 15] [--out soak.json] [--trace] [--motion]
+
+``--motion``: the source is the looped clip of six discs going round
+(:mod:`benchmarks.motion_clip`) and the recipe the ``dance`` preset (motion);
+each edit changes a wave and the motion's gain. Sampled besides (``GET
+/api/motion``): the motion strokes rendered, their points, and the ops walked
+per frame (the recipe's and the strokes), which must stay bounded (strokes heal
+``memory`` + ``heal`` seconds after their last point).
 
 ``--trace`` runs the same session in this process with a client thread in
 place of the browser and compares tracemalloc snapshots taken after the
@@ -57,8 +64,21 @@ def rss_mb(pid: int) -> float:
     raise RuntimeError(f"no VmRSS for {pid}")
 
 
-def edited(n: int) -> dict:
-    """The recipe's ``n``-th edit: the comb's strength and the drop's radius moved."""
+def dance() -> dict:
+    """The ``dance`` preset's recipe (the motion soak's)."""
+    from marblevideo.bundled import presets
+
+    return json.loads(presets()["dance"].read_text())
+
+
+def edited(n: int, motion: bool = False) -> dict:
+    """The recipe's ``n``-th edit: the comb's strength and the drop's radius moved
+    (``motion``: the first wave's wavelength and the motion's gain)."""
+    if motion:
+        doc = dance()
+        doc["ops"][0]["wavelength"] = 380 + 20 * (n % 5)
+        doc["motion"]["gain"] = 1.0 + 0.25 * (n % 4)
+        return doc
     doc = copy.deepcopy(RECIPE)
     doc["ops"][1]["alpha"] = 40 + 10 * (n % 5)
     doc["ops"][0]["radius"] = 100 + 5 * (n % 7)
@@ -72,11 +92,19 @@ def save(path: Path, doc: dict) -> None:
     os.replace(tmp, path)
 
 
-def start_live(folder: Path, size: str, seconds: float) -> tuple[subprocess.Popen, str]:
+def start_live(
+    folder: Path, size: str, seconds: float, motion: bool = False
+) -> tuple[subprocess.Popen, str]:
     recipe = folder / "soak-recipe.json"
-    save(recipe, RECIPE)
+    save(recipe, dance() if motion else RECIPE)
+    source = ["test", "--size", size]
+    if motion:
+        from .motion_clip import six_discs
+
+        w, h = map(int, size.split("x"))
+        source = [str(six_discs(size=(w, h))), "--loop"]
     cmd = [
-        sys.executable, "-m", "marblevideo", "live", "test", "--size", size,
+        sys.executable, "-m", "marblevideo", "live", *source,
         "--ops", str(recipe), "--preview", "--port", "0", "-o", str(folder / "soak.mp4"),
         "--duration", str(seconds),
     ]  # fmt: skip
@@ -99,11 +127,14 @@ def get_json(url: str) -> dict:
 
 def page_state(page) -> dict:
     return page.evaluate(
-        "({frames: Number(document.getElementById('sheet').dataset.frames || 0), version})"
+        "({frames: Number(document.getElementById('sheet').dataset.frames || 0), "
+        "version: designer.state.version})"
     )
 
 
-def soak(folder: Path, page, proc, url: str, minutes: float, edit_every: float) -> list[dict]:
+def soak(
+    folder: Path, page, proc, url: str, minutes: float, edit_every: float, motion: bool = False
+) -> list[dict]:
     """Sample every SAMPLE seconds for ``minutes``, saving an edit every ``edit_every``."""
     recipe = folder / "soak-recipe.json"
     samples, edits = [], 0
@@ -112,10 +143,11 @@ def soak(folder: Path, page, proc, url: str, minutes: float, edit_every: float) 
     while (now := time.monotonic()) - start < minutes * 60:
         if now >= next_edit:
             edits += 1
-            save(recipe, edited(edits))
+            save(recipe, edited(edits, motion))
             next_edit += edit_every
         stats = get_json(url + "stats")
         shown = page_state(page)
+        moved = get_json(url + "api/motion") if motion else {"strokes": []}
         samples.append(
             {
                 "t": round(now - start, 2),
@@ -130,6 +162,9 @@ def soak(folder: Path, page, proc, url: str, minutes: float, edit_every: float) 
                 "page_version": shown["version"],
                 "rss_mb": round(rss_mb(proc.pid), 1),
                 "edits": edits,
+                "motion_strokes": len(moved["strokes"]),
+                "motion_points": sum(len(op["points"]) for op in moved["strokes"]),
+                "ops_per_frame": len(get_json(url + "api/recipe")["ops"]) + len(moved["strokes"]),
             }
         )
         time.sleep(max(0.0, start + len(samples) * SAMPLE - time.monotonic()))
@@ -149,6 +184,8 @@ def per_minute(samples: list[dict]) -> list[dict]:
                     "page_fps": round((s["page_frames"] - prev["page_frames"]) / dt, 1),
                     "latency_ms": s["latency_ms"],
                     "rss_mb": s["rss_mb"],
+                    "ops_per_frame": s["ops_per_frame"],
+                    "motion_points": s["motion_points"],
                 }
             )
             prev = s
@@ -190,6 +227,7 @@ def summary(samples, rec, edits) -> dict:
     return {
         "minutes": round(last["t"] / 60, 2),
         "per_minute": per_minute(samples),
+        "rss_start_mb": samples[0]["rss_mb"],
         "rss_after_warmup_mb": warm[0]["rss_mb"],
         "rss_end_mb": last["rss_mb"],
         "rss_growth_after_warmup_mb": round(last["rss_mb"] - warm[0]["rss_mb"], 1),
@@ -200,18 +238,24 @@ def summary(samples, rec, edits) -> dict:
         "page_reloads": last["page_version"] - samples[0]["page_version"],
         "recipe_errors": sorted({s["error"] for s in samples if s["error"]}),
         "record_dropped": last["record_dropped"],
+        "ops_per_frame_range": [
+            min(x["ops_per_frame"] for x in samples),
+            max(x["ops_per_frame"] for x in samples),
+        ],
+        "motion_points_max": max(x["motion_points"] for x in samples),
         "recording": rec,
     }
 
 
 def markdown(result: dict) -> str:
     lines = [
-        "| minute | session fps | page fps | latency ms | RSS MB |",
-        "|---:|---:|---:|---:|---:|",
+        "| minute | session fps | page fps | latency ms | RSS MB | ops per frame | stroke points |",
+        "|---:|---:|---:|---:|---:|---:|---:|",
     ]
     for r in result["per_minute"]:
         lines.append(
-            f"| {r['minute']} | {r['fps']} | {r['page_fps']} | {r['latency_ms']} | {r['rss_mb']} |"
+            f"| {r['minute']} | {r['fps']} | {r['page_fps']} | {r['latency_ms']} | {r['rss_mb']} "
+            f"| {r['ops_per_frame']} | {r['motion_points']} |"
         )
     return "\n".join(lines)
 
@@ -222,13 +266,13 @@ def run(args) -> dict:
     chromium = os.environ.get("MARBLEVIDEO_CHROMIUM") or shutil.which("chromium")
     with tempfile.TemporaryDirectory() as tmp, sync_playwright() as p:
         folder = Path(tmp)
-        proc, url = start_live(folder, args.size, args.minutes * 60 + 120)
+        proc, url = start_live(folder, args.size, args.minutes * 60 + 120, args.motion)
         browser = p.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
         try:
             page = browser.new_page(viewport={"width": 1300, "height": 900})
             page.goto(url)
             page.wait_for_selector("body[data-ready='1'][data-mode='live']", timeout=60000)
-            samples = soak(folder, page, proc, url, args.minutes, args.edit_every)
+            samples = soak(folder, page, proc, url, args.minutes, args.edit_every, args.motion)
         finally:
             browser.close()
             proc.send_signal(signal.SIGINT)
@@ -321,6 +365,9 @@ def main() -> None:
     p.add_argument("--out", help="write every sample and the summary to this JSON file")
     p.add_argument(
         "--trace", action="store_true", help="in this process, no browser: Python heap vs RSS"
+    )
+    p.add_argument(
+        "--motion", action="store_true", help="six discs going round through the dance preset"
     )
     args = p.parse_args()
     if args.trace:

@@ -42,6 +42,9 @@ SKIPPED = {
         "needs camera 0 and a v4l2loopback virtual camera"
     ),
     "marblevideo midi": "needs a MIDI system (ALSA's sequencer, /dev/snd/seq)",
+    "marblevideo live 0 --ops dance --preview": (
+        "needs camera 0 (tests/test_live_motion.py runs the motion over a file source)"
+    ),
     "marblevideo devices --check": (
         "the device self-test (a minute of kernel builds on a cold cache): "
         "tests/test_selfcheck.py runs this very command and checks its report"

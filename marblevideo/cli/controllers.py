@@ -31,7 +31,8 @@ def add_controller_arguments(p: argparse.ArgumentParser, automation: bool = True
         "--automation",
         metavar="FILE",
         help="when the session ends, write the recipe with each controller signal "
-        "replaced by keyframes of what it did (renders anywhere)",
+        "replaced by keyframes of what it did, and its motion strokes as stroke ops "
+        "(renders anywhere)",
     )
 
 
@@ -107,11 +108,12 @@ def report_controllers(args, session) -> None:
 
 
 def write_take(args, session) -> None:
-    """``--automation``: the take, from the session's start to now."""
+    """``--automation``: the take, from the session's start to now (with the motion
+    strokes made as ``stroke`` ops, :meth:`~marblevideo.live.session.LiveSession.take_document`)."""
     from marblevideo.controllers.automation import write_automation
 
     end = time.monotonic() - session.started
-    doc = session.file.snapshot()[0]
+    doc = session.take_document()
     write_automation(args.automation, doc, session.controllers, end, args.overwrite)
     if not args.quiet:
         print(f"marblevideo: wrote {args.automation}", file=sys.stderr, flush=True)

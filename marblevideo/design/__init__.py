@@ -37,6 +37,10 @@ everything through this HTTP API, which scripts and tests may use too:
   pixels, the ``canvas`` [W, H] and where it sits in the frame (``scale`` s and
   ``offset`` [dx, dy]: pixel = s * canvas point + offset, the recipe format's
   geometry), the recipe's ``end`` time and number of ``ops``.
+- ``GET /api/motion``: the ``fields`` of the recipe's ``motion`` block as the
+  page edits them (live mode adds the motion of the last frame:
+  :mod:`marblevideo.design.live`); the designer's renders have no motion strokes
+  (they come from an input's frames: file renders and live sessions).
 - ``GET /api/ops``: every op and layout type with its parameters (name, kind,
   help, whether optional and keyable, slider ranges as data) and the tools that
   draw it (:mod:`marblevideo.design.describe`).

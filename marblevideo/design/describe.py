@@ -93,3 +93,28 @@ def describe_ops() -> dict:
     }
     ink = {t: v for t, v in ops.items() if v["family"] == "ink"}
     return {**ink, **layouts, **{t: v for t, v in ops.items() if t not in ink}}
+
+
+@lru_cache(maxsize=1)
+def describe_motion() -> tuple[dict, ...]:
+    """The recipe's ``motion`` fields as the page edits them (``GET /api/motion``'s
+    ``fields``): name, ``help``, ``default`` (a pair for ``width``), ``integer``,
+    and the schema's ``minimum`` and ``maximum`` where it gives them."""
+    from marblevideo.recipe.motion import FIELDS, motion_schema
+
+    props = motion_schema()["properties"]
+    fields = []
+    for name, default, text in FIELDS:
+        prop = props[name]
+        bounds = prop.get("items", prop)
+        field = {
+            "name": name,
+            "help": text,
+            "default": list(default) if isinstance(default, tuple) else default,
+            "integer": prop.get("type") == "integer",
+        }
+        for key in ("minimum", "maximum"):
+            if key in bounds:
+                field[key] = bounds[key]
+        fields.append(field)
+    return tuple(fields)

@@ -22,6 +22,12 @@ edit the live recipe file:
   each send (:mod:`marblevideo.live.preview`); 400 when invalid.
 - ``GET /api/signals``, ``POST /api/learn``: the controllers' meters and learn
   (:mod:`marblevideo.controllers.api`).
+- ``GET /api/motion``: the recipe's motion as of the last frame: ``active``,
+  ``level`` (0..1), the ``regions`` followed and the motion ``strokes`` rendered
+  (:meth:`marblevideo.live.stirring.LiveMotion.state`; canvas units; with
+  ``?shapes=0`` the two lists are left empty), and the
+  ``fields`` of a ``motion`` block the page edits
+  (:func:`marblevideo.design.describe.describe_motion`).
 
 The page draws the newest marbled frame (``GET /frame.jpg?after=SEQ``) and
 polls ``/stats`` (fps, latency, the clock); ``POST /control`` pauses, seeks
@@ -32,7 +38,7 @@ recipes (``/api/frame.*``): the frame shown is the live one.
 from __future__ import annotations
 
 from marblevideo.controllers.api import controllers_api
-from marblevideo.design.describe import describe_ops
+from marblevideo.design.describe import describe_motion, describe_ops
 from marblevideo.design.session import WEB, page_info
 from marblevideo.errors import MediaError, RecipeError
 from marblevideo.serve.server import json_answer, request_json
@@ -64,6 +70,9 @@ class LiveDesign:
             return json_answer(self.info())
         if (method, path) == ("GET", "/api/ops"):
             return json_answer(describe_ops())
+        if (method, path) == ("GET", "/api/motion"):
+            state = self.live.motion.state(shapes="shapes=0" not in query.split("&"))
+            return json_answer({**state, "fields": describe_motion()})
         answer = controllers_api(self.live, method, path)  # meters and learn
         if answer is not None:
             return json_answer(answer[1], answer[0])

@@ -21,7 +21,7 @@ from urllib.parse import parse_qs
 
 from marblevideo.controllers.api import learn, signals_state
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
-from marblevideo.design.describe import describe_ops
+from marblevideo.design.describe import describe_motion, describe_ops
 from marblevideo.errors import MarbleError, RecipeError, UsageError
 from marblevideo.marbler import Marbler, blank_size
 from marblevideo.recipe import Recipe, parse_recipe
@@ -30,6 +30,10 @@ from marblevideo.serve.server import json_answer, request_json
 
 RELOAD_POLL = 0.25
 RAW = "application/octet-stream"
+#: ``GET /api/motion`` of the designer: its renders are of the recipe's ops (the
+#: motion strokes come from frames: renders of files, live sessions); the page
+#: edits the ``motion`` block with the ``fields`` it adds.
+NO_MOTION = {"active": False, "t": None, "level": 0.0, "regions": [], "strokes": []}
 #: The page: ``index.html`` and its ES modules, served as ``/web/NAME``.
 WEB = resources.files("marblevideo.design") / "web"
 
@@ -240,6 +244,7 @@ class DesignSession:
             ("GET", "/api/design.svg"): lambda: (self.svg(q), "image/svg+xml"),
             ("GET", "/api/signals"): lambda: (self.signals(), None),
             ("POST", "/api/learn"): lambda: (learn(self.controllers), None),
+            ("GET", "/api/motion"): lambda: ({**NO_MOTION, "fields": describe_motion()}, None),
         }
         if (method, path) == ("GET", "/api/recipe"):  # 409 while FILE is broken on disk
             code, doc = self.document.answer()

@@ -8,6 +8,9 @@ bounded)::
                                                 -> [bounded, drops when full] -> recording
                                                 -> [latest] -> virtual camera
 
+- A recipe with ``motion`` renders each frame with the motion strokes its
+  frames make (:class:`~marblevideo.live.stirring.LiveMotion`, one tracker for
+  the session, kept across edits).
 - The recipe file is polled every 0.5 s; a save reloads it. An invalid save
   keeps the previous recipe running; its one-line RecipeError is printed on
   stderr and shown on the preview page (the designer's, in live mode:
@@ -33,6 +36,7 @@ from marblevideo.live.meters import Meters
 from marblevideo.live.playback import Playback
 from marblevideo.live.preview import LivePreview
 from marblevideo.live.sources import Source
+from marblevideo.live.stirring import LiveMotion
 from marblevideo.serve.recipefile import RecipeFile
 from marblevideo.signals.live import FrameTimed
 
@@ -80,6 +84,7 @@ class LiveSession:
         self._marbled_for: object = None  # the recipe's version (or a preview's serial)
         #: the stroke being drawn on the designer's page, shown until a save
         self.drawing = LivePreview(str(self.recipe_path))
+        self.motion = LiveMotion(source.fps)  # the recipe's motion, when it has one
         # other signals (audio, marblevideo.signals.live), beside the controllers: by
         # the shown frame's time in its file when audio_by_frame
         self.media_t = 0.0
@@ -148,6 +153,11 @@ class LiveSession:
                 )
                 self._marbled_for = key
             return self._marbler, bypass, mirror
+
+    def take_document(self) -> dict:
+        """The recipe's JSON now, with the motion strokes made as ordinary
+        ``stroke`` ops and without ``motion`` (``--automation``'s take)."""
+        return self.motion.take_document(self.file.snapshot()[0])
 
     def _bound(self, recipe):
         """``recipe`` with its signals taken from the session's controllers (and
@@ -226,15 +236,24 @@ class LiveSession:
                 continue
             if cap.media_t is not None:
                 self.media_t = cap.media_t
-            self.show(cap.rgba, cap.ts)
+            frame_t = self.motion.frame_time(cap.media_t, cap.ts, self.started)
+            self.show(cap.rgba, cap.ts, frame_t, cap.luma)
 
-    def show(self, rgba: np.ndarray, ts: float) -> np.ndarray:
-        """Marble one captured frame and hand it to every output."""
+    def show(
+        self, rgba: np.ndarray, ts: float, frame_t: float | None = None, luma=None
+    ) -> np.ndarray:
+        """Marble one captured frame and hand it to every output; ``frame_t``: its
+        time for the motion (default: ``ts`` from the session's start); ``luma``:
+        its decoded luma plane, which the motion sees (default: the RGBA's luma)."""
         marbler, bypass, mirror = self._current()
         if mirror:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
+            luma = None if luma is None else luma[:, ::-1]
         start = time.monotonic()
-        out = rgba if bypass else marbler.render(rgba, self.clock.now(), animated=True)
+        frame_t = ts - self.started if frame_t is None else frame_t
+        seen, shown = (rgba if luma is None else luma), self.clock.now()
+        marbler = self.motion.marbler(marbler, seen, frame_t, shown)  # on while bypassed
+        out = rgba if bypass else marbler.render(rgba, shown, animated=True)
         now = time.monotonic()
         self.meters.frame(now, now - start)
         self.frames += 1

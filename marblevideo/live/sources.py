@@ -29,12 +29,15 @@ from marblevideo.limits import DEFAULT_FPS
 @dataclass
 class Captured:
     """One captured frame: RGBA (H, W, 4) uint8, capture time (monotonic s), sequence
-    number, and for a file its time in the file (s; None for live devices)."""
+    number, for a file its time in the file (s; None for live devices), and for a
+    decoded YUV frame its luma plane as decoded (H, W) uint8, which the motion
+    sees as a file render's does (None: the motion takes the RGBA's luma)."""
 
     rgba: np.ndarray
     ts: float
     seq: int
     media_t: float | None = None
+    luma: np.ndarray | None = None
 
 
 class Latest:
@@ -73,6 +76,12 @@ class Latest:
             self.closed = True
             self._cond.notify_all()
 
+    @property
+    def waiting(self) -> bool:
+        """Whether the last item put has not been taken yet."""
+        with self._cond:
+            return self._seq > self._taken
+
 
 class Source:
     """Base of the live sources: a capture thread feeding ``frames`` until ``stop``."""
@@ -103,11 +112,15 @@ class Source:
             self.frames.close()
 
     def publish(
-        self, rgba: np.ndarray, ts: float | None = None, media_t: float | None = None
+        self,
+        rgba: np.ndarray,
+        ts: float | None = None,
+        media_t: float | None = None,
+        luma: np.ndarray | None = None,
     ) -> None:
         self._seq += 1
         now = time.monotonic() if ts is None else ts
-        self.frames.put(Captured(rgba, now, self._seq, media_t))
+        self.frames.put(Captured(rgba, now, self._seq, media_t, luma))
 
     def capture(self) -> None:  # pragma: no cover - abstract
         raise NotImplementedError
@@ -254,7 +267,7 @@ class MediaSource(Source):
         return container
 
     def capture(self) -> None:
-        from marblevideo.media.decode import upright
+        from marblevideo.media.decode import frame_luma, upright
 
         origin = time.monotonic()  # wall-clock time of t = 0 of the current pass
         while not self._stop.is_set():
@@ -271,7 +284,7 @@ class MediaSource(Source):
                     return
                 if self._stop.is_set():
                     return
-                self.publish(upright(frame), media_t=t)
+                self.publish(upright(frame), media_t=t, luma=_copy(frame_luma(frame)))
             if not self.loop:
                 return
             self._container.close()
@@ -282,6 +295,11 @@ class MediaSource(Source):
 
     def close(self) -> None:
         self._container.close()
+
+
+def _copy(plane: np.ndarray | None) -> np.ndarray | None:
+    """A plane of its own (a decoded frame's buffer is the decoder's to reuse)."""
+    return None if plane is None else plane.copy()
 
 
 _DEVICE = re.compile(r"^/dev/video\d+$")

@@ -6,6 +6,8 @@ export const ops = () => getJSON("/api/ops");
 export const info = () => getJSON("/api/info");
 export const stats = () => getJSON("/stats");
 export const signals = () => getJSON("/api/signals");
+// Live mode's motion of the last frame (``shapes``: its regions and strokes too).
+export const motion = (shapes = true) => getJSON(`/api/motion${shapes ? "" : "?shapes=0"}`);
 export const recipe = () => fetch("/api/recipe");  // 409 while FILE on disk is broken
 export const putRecipe = (doc) => fetch("/api/recipe", {method: "PUT", headers: JSON_HEADERS, body: JSON.stringify(doc)});
 export const post = (path, obj) => fetch(path, {method: "POST", headers: JSON_HEADERS, body: JSON.stringify(obj)});

@@ -17,6 +17,7 @@ import { overlayOf, pointsOf, showOverlay } from "./overlay.js";
 import { initPalette, paletteOf, showPalette } from "./palette.js";
 import { paramsOf, showParams } from "./params.js";
 import { initPointer, replayEarly } from "./pointer.js";
+import { initMotion, motionFieldsOf, motionLevelOf, showMotionFields, showMotionLevel } from "./motion.js";
 import { loadInfo, loadRecipe, poll } from "./recipe.js";
 import { fitSheet, resize, sheetOf, showSheet, sizeOf, whenIdle } from "./sheet.js";
 import { get, isLive, subscribe, update } from "./store.js";
@@ -38,6 +39,8 @@ const VIEWS = [
   [paramsOf, showParams],
   [overlayOf, showOverlay],
   [sheetOf, showSheet],
+  [motionFieldsOf, showMotionFields],
+  [motionLevelOf, showMotionLevel],
   [(s) => [s.gesture === null], resume],  // the clock goes on after a gesture
 ];
 
@@ -52,6 +55,7 @@ async function start() {
   if (isLive()) await liveStats();
   else setTime(info.input.kind === "video" ? 0 : Math.min(info.end, get().duration));
   update(() => ({error: info.error}));
+  await initMotion();
   for (const [select, view] of VIEWS) subscribe(select, view);
   document.body.dataset.ready = "1";
   replayEarly();

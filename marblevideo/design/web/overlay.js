@@ -34,7 +34,7 @@ export function handleAt(px, s = get()) {
   return null;
 }
 
-export const overlayOf = (s) => [s.doc, s.selected, s.gesture, s.info.size];
+export const overlayOf = (s) => [s.doc, s.selected, s.gesture, s.info.size, s.showMotion && s.motion];
 export function showOverlay(s) {
   octx.clearRect(0, 0, overlay.width, overlay.height);
   const w = lineWidth(), g = s.gesture;
@@ -49,6 +49,28 @@ export function showOverlay(s) {
   if (g && g.path) drawPath(g.path, w);
   else if (g && g.line) drawLine(g.a, g.b, g.label, w);
   overlay.dataset.label = g && g.line && !g.path ? g.label : "";
+  drawMotion(s.showMotion ? s.motion : null, w);
+}
+// Live mode's motion (shown): each region followed as a circle, each motion
+// stroke as a polyline; data-circles lists the circles drawn ([x, y, r] frame pixels).
+function drawMotion(m, w) {
+  const circles = [];
+  if (m) {
+    octx.strokeStyle = "rgba(255,80,200,0.9)"; octx.lineWidth = w;
+    for (const op of m.strokes) {
+      octx.beginPath();
+      op.points.map(toPixel).forEach(([x, y], k) => (k ? octx.lineTo(x, y) : octx.moveTo(x, y)));
+      octx.stroke();
+    }
+    octx.strokeStyle = "rgba(80,255,120,0.95)"; octx.lineWidth = 2 * w;
+    for (const region of m.regions) {
+      const [x, y] = toPixel(region.center), r = Math.max(2 * w, region.radius * get().info.scale);
+      octx.beginPath(); octx.arc(x, y, r, 0, 2 * Math.PI); octx.stroke();
+      circles.push([Math.round(x), Math.round(y), Math.round(r)]);
+    }
+  }
+  overlay.dataset.circles = JSON.stringify(circles);
+  overlay.dataset.motionT = m && m.t !== null ? m.t.toFixed(3) : "";
 }
 function drawLine(from, to, label, w) {
   const [a, b] = [from, to].map(toPixel);

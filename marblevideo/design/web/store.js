@@ -31,6 +31,8 @@ let state = {
   refusals: 0,  // saves refused: the editors show the recipe again after each
   status: "",  // the footer's line
   live: null,  // live mode: the session's counters and switches (GET /stats)
+  motion: null,  // live mode: the motion of the last frame (GET /api/motion)
+  showMotion: false,  // live mode: the motion's regions and strokes drawn over the sheet
 };
 const views = [];
 
