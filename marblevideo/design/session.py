@@ -328,8 +328,25 @@ class DesignSession:
     def start(self) -> None:
         """Watch FILE for changes made by other programs (controllers' time starts)."""
         self.controllers.start()
+        threading.Thread(target=self._prebuild, name="marblevideo-build").start()
         self._watcher = threading.Thread(target=self._watch, name="marblevideo-watch", daemon=True)
         self._watcher.start()
+
+    def _prebuild(self) -> None:
+        """Build the programs the page asks for first, in the order it does: the
+        quick frame's (no antialiasing), the exact one's, the layers' map's. Not a
+        daemon: the OpenCL compiler must not be killed mid-build."""
+        from marblevideo.opencl.program import Structure
+
+        _, recipe, _ = self.document.snapshot()
+        has_input = self.backdrop.kind != "blank"
+        exact = Structure.of(recipe, has_input)
+        for structure in (dataclasses.replace(exact, antialias="none"), exact,
+                          dataclasses.replace(exact, has_input=True)):  # fmt: skip
+            if self.stop_event.is_set():
+                return
+            with contextlib.suppress(Exception):  # reported by the render that needs it
+                self.renderer.programs.get(structure)
 
     def _watch(self) -> None:
         while not self.stop_event.wait(RELOAD_POLL):
