@@ -154,8 +154,8 @@ def pixel(page, x: float, y: float) -> str:
     return page.evaluate(
         """([x, y]) => {
             const sheet = document.getElementById('sheet'), [fw, fh] = designer.state.info.size;
-            const d = sheet.getContext('2d')
-                .getImageData(Math.floor(x * sheet.width / fw), Math.floor(y * sheet.height / fh), 1, 1).data;
+            const px = Math.floor(x * sheet.width / fw), py = Math.floor(y * sheet.height / fh);
+            const d = sheet.getContext('2d').getImageData(px, py, 1, 1).data;
             return '#' + [d[0], d[1], d[2]].map((c) => c.toString(16).padStart(2, '0')).join('');
         }""",
         [x, y],

@@ -58,10 +58,14 @@ export function fitSheet() {
 }
 export const sizeOf = (s) => s.info.size;
 function observed(entry) {
+  // the device-pixel box where it is the CSS box x devicePixelRatio (snapped);
+  // an emulated ratio (headless) leaves it at CSS pixels: then the product
+  const dpr = window.devicePixelRatio || 1, css = entry.contentRect;
   const box = entry.devicePixelContentBoxSize && entry.devicePixelContentBoxSize[0];
-  const dpr = window.devicePixelRatio || 1;
-  const w = box ? box.inlineSize : Math.round(entry.contentRect.width * dpr);
-  const h = box ? box.blockSize : Math.round(entry.contentRect.height * dpr);
+  const near = (v, c) => Math.abs(v - c * dpr) <= 1.5;
+  const exact = box && near(box.inlineSize, css.width) && near(box.blockSize, css.height);
+  const w = exact ? box.inlineSize : Math.round(css.width * dpr);
+  const h = exact ? box.blockSize : Math.round(css.height * dpr);
   const now = get().screen;
   if (w > 0 && h > 0 && (!now || now[0] !== w || now[1] !== h)) update(() => ({screen: [w, h]}));
 }
