@@ -52,7 +52,10 @@ export function fitSheet() {
   if (!s.info) return;
   const [w, h] = s.info.size, stage = $("stage");
   const k = Math.min((stage.clientWidth - 20) / w, (stage.clientHeight - 20) / h);
-  const cssW = Math.max(64, Math.floor(w * k));
+  let cssW = Math.max(64, Math.floor(w * k));
+  for (let c = cssW; c > Math.max(64, cssW - 64); c--) {  // a width whose height is whole: the frame's aspect exactly
+    if (Number.isInteger(c * h / w)) { cssW = c; break; }
+  }
   sheet.style.width = `${cssW}px`;
   sheet.style.height = `${Math.max(16, Math.round(h * cssW / w))}px`;
 }
