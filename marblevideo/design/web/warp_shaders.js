@@ -1,0 +1,225 @@
+// GLSL ES 3.00 sources of the warp (warp.js): one full-screen pass that walks a
+// device pixel's canvas point back through the ops above (a map), the changing
+// op (its inverse, float32, as marblevideo/reference and kernels/ops/*.cl) and
+// a stroke's accumulated whole steps (a displacement map), then samples the
+// base bilinearly (pixel centres at +0.5, taps mapped by the recipe's edges);
+// and one pass that folds a chunk of whole stroke steps into that map.
+// Rows of the framebuffer run bottom-up: device pixel (x, y) with y down is
+// gl_FragCoord (x + 0.5, H - y - 0.5); the base and the above map are uploaded
+// top row first, so their texel (i, j) is device pixel (i, j).
+
+export const VERTEX = `#version 300 es
+void main() {
+  vec2 v = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+  gl_Position = vec4(v * 2.0 - 1.0, 0.0, 1.0);
+}`;
+
+const COMMON = `#version 300 es
+precision highp float;
+precision highp int;
+precision highp sampler2D;
+uniform vec2 uSize;
+uniform vec4 uToCanvas;
+uniform int uHasMap;
+uniform sampler2D uMap;
+uniform int uSteps;
+uniform vec4 uStep[64];
+uniform float uTheta;
+uniform float uWidth;
+uniform sampler2D uList;
+uniform int uListN;
+uniform vec4 uRect;
+out vec4 outColor;
+const float TAU = 6.283185307179586;
+
+vec2 rot(vec2 q, float t) { float c = cos(t), s = sin(t); return vec2(q.x * c - q.y * s, q.x * s + q.y * c); }
+vec2 devicePoint() { return vec2(gl_FragCoord.x, uSize.y - gl_FragCoord.y); }
+
+// One stroke step backwards, its tines in reverse: about B by +theta g, then A by -theta g.
+vec2 stepBack(vec2 P) {
+  float w2 = uWidth * uWidth, reach = 2.25 * w2;
+  for (int j = uSteps - 1; j >= 0; j--) {
+    vec4 s = uStep[j];
+    vec2 q = P - s.xy;
+    if (dot(q, q) > reach) continue;
+    vec2 b = s.xy - s.zw, a = s.xy + s.zw;
+    vec2 qb = P - b;
+    float g = max(0.0, 1.0 - dot(qb, qb) / w2);
+    vec2 P1 = b + rot(qb, uTheta * g * g);
+    vec2 qa = P1 - a;
+    g = max(0.0, 1.0 - dot(qa, qa) / w2);
+    P = a + rot(qa, -uTheta * g * g);
+  }
+  return P;
+}
+
+vec4 L(int i) { return texelFetch(uList, ivec2(i & 1023, i >> 10), 0); }
+
+// Whole stroke steps walked back one by one (list rows: cx, cy, hx, hy; theta),
+// none for a point outside uRect (their reach, canvas units).
+vec2 stepsBack(vec2 P) {
+  float w2 = uWidth * uWidth, reach = 2.25 * w2;
+  if (any(lessThan(P, uRect.xy)) || any(greaterThan(P, uRect.zw))) return P;
+  for (int k = uListN - 1; k >= 0; k--) {
+    vec4 s = L(2 * k);
+    vec2 q = P - s.xy;
+    if (dot(q, q) > reach) continue;
+    float theta = L(2 * k + 1).x;
+    vec2 b = s.xy - s.zw, a = s.xy + s.zw, qb = P - b;
+    float g = max(0.0, 1.0 - dot(qb, qb) / w2);
+    vec2 P1 = b + rot(qb, theta * g * g), qa = P1 - a;
+    g = max(0.0, 1.0 - dot(qa, qa) / w2);
+    P = a + rot(qa, -theta * g * g);
+  }
+  return P;
+}
+
+// The accumulated displacement at canvas point Q: Catmull-Rom (the map is
+// smooth but steep near a stroke; bilinear loses a pixel there), clamped at the edges.
+vec2 texMap(ivec2 i) { return texelFetch(uMap, clamp(i, ivec2(0), ivec2(uSize) - 1), 0).xy; }
+vec4 catmull(float t) {
+  float t2 = t * t, t3 = t2 * t;
+  return 0.5 * vec4(-t3 + 2.0 * t2 - t, 3.0 * t3 - 5.0 * t2 + 2.0, -3.0 * t3 + 4.0 * t2 + t, t3 - t2);
+}
+vec2 mapped(vec2 Q) {
+  if (uHasMap == 0) return Q;
+  vec2 dev = (Q - uToCanvas.zw) / uToCanvas.xy;
+  vec2 f = vec2(dev.x, uSize.y - dev.y) - 0.5;
+  vec2 f0 = floor(f);
+  vec4 wx = catmull(f.x - f0.x), wy = catmull(f.y - f0.y);
+  ivec2 i0 = ivec2(f0) - 1;
+  vec2 sum = vec2(0.0);
+  for (int j = 0; j < 4; j++) {
+    vec2 row = wx.x * texMap(i0 + ivec2(0, j)) + wx.y * texMap(i0 + ivec2(1, j))
+      + wx.z * texMap(i0 + ivec2(2, j)) + wx.w * texMap(i0 + ivec2(3, j));
+    sum += wy[j] * row;
+  }
+  return Q + sum;
+}
+`;
+
+// A chunk of whole steps folded into the displacement map: out = map_old(chunk^-1(P)) - P.
+export const STEP = `${COMMON}
+void main() {
+  vec2 P = devicePoint() * uToCanvas.xy + uToCanvas.zw;
+  outColor = vec4(mapped(stepsBack(P)) - P, 0.0, 1.0);
+}`;
+
+export const DRAW = `${COMMON}
+uniform vec4 uToBase;
+uniform sampler2D uBase;
+uniform vec2 uBaseSize;
+uniform int uEdges;
+uniform vec3 uBg;
+uniform int uKind;
+uniform float uP[16];
+uniform int uHasAbove;
+uniform sampler2D uAbove;
+
+bool inkHit = false;
+vec3 inkColor = vec3(0.0);
+
+vec2 drops(vec2 P) {
+  for (int k = int(uP[0]) - 1; k >= 0; k--) {
+    vec4 a = L(2 * k);
+    vec2 q = P - a.xy;
+    float R = length(q);
+    if (R < a.z) { inkHit = true; inkColor = L(2 * k + 1).rgb; return P; }
+    if (a.w > 0.5 && R > 0.0) P = a.xy + q * (sqrt(max((R - a.z) * (R + a.z), 0.0)) / R);
+  }
+  return P;
+}
+
+vec2 shears(vec2 P) {
+  vec2 A = vec2(uP[0], uP[1]), M = vec2(uP[2], uP[3]), N = vec2(-M.y, M.x);
+  float across = dot(P - A, N), shift;
+  if (uKind == 2) {
+    float d = abs(across), s = uP[6], lam = uP[5];
+    if (s > 0.0) d = 0.5 * s - abs(d - s * floor(d / s) - 0.5 * s);
+    shift = uP[4] * lam / (d + lam);
+  } else {
+    float sum = 0.0;
+    for (int k = 0; k < int(uP[6]); k++) sum += exp(-abs(across - L(k).x) * uP[5]);
+    shift = uP[4] * sum;
+  }
+  return P - shift * M;
+}
+
+vec2 rotations(vec2 P) {
+  vec2 C = vec2(uP[0], uP[1]), q = P - C;
+  int sub = int(uP[2]);
+  float R = length(q), a = uP[3], b = uP[4], c = uP[5], theta = 0.0;
+  if (sub == 0) {
+    float d = c < 0.0 ? R : abs(R - c);
+    theta = R > 0.0 ? a * b / (d + b) / R : 0.0;
+  } else if (sub == 1) {
+    theta = a;
+  } else if (sub == 2) {
+    theta = a * pow(b + c * R * sqrt(R), -4.0 / 3.0);
+  } else {
+    float sum = 0.0;
+    for (int k = 0; k < int(uP[6]); k++) { vec4 r = L(k); sum += r.y * exp(-abs(R - r.x) * r.z); }
+    theta = sub == 4 ? a * sum : (R > 0.0 ? a * sum / R : 0.0);
+  }
+  return C + rot(q, -theta);
+}
+
+vec2 jiggle(vec2 P) {
+  vec2 M = vec2(uP[0], uP[1]), N = vec2(-M.y, M.x);
+  float inv = uP[2], ph = uP[3], A = uP[4], B = uP[5], ka = TAU * inv * A;
+  float so = dot(P, M), s = so, lo = so - abs(A), hi = so + abs(A);
+  for (int k = 0; k < 12; k++) {
+    float tau = TAU * fract(s * inv + ph);
+    float g = s + A * sin(tau) - so;
+    if (g < 0.0) lo = s; else if (g > 0.0) hi = s;
+    float nxt = s - g / (1.0 + ka * cos(tau));
+    s = (nxt <= lo || nxt >= hi) ? 0.5 * (lo + hi) : nxt;
+  }
+  float tau = TAU * fract(s * inv + ph);
+  return P - A * sin(tau) * M - B * cos(tau) * N;
+}
+
+vec2 wave(vec2 P) {
+  vec2 M = vec2(uP[0], uP[1]);
+  float across = P.x * M.y - P.y * M.x;
+  return P - uP[2] * sin(TAU * fract(across * uP[3] + uP[4])) * M;
+}
+
+vec2 inverseOp(vec2 P) {
+  if (uKind == 1) return drops(P);
+  if (uKind == 2 || uKind == 5) return shears(P);
+  if (uKind == 3) return wave(P);
+  if (uKind == 4) return P - vec2(uP[0], uP[1]);
+  if (uKind == 6) return rotations(P);
+  if (uKind == 7) return jiggle(P);
+  if (uKind == 8) return mapped(stepsBack(stepBack(P)));
+  return P;
+}
+
+vec4 tap(vec2 i) {
+  vec2 n = uBaseSize;
+  if (uEdges == 1) i = i - n * floor(i / n);
+  else if (uEdges == 2) {
+    vec2 m = i - 2.0 * n * floor(i / (2.0 * n));
+    i = vec2(m.x < n.x ? m.x : 2.0 * n.x - 1.0 - m.x, m.y < n.y ? m.y : 2.0 * n.y - 1.0 - m.y);
+  } else if (uEdges == 3 && (any(lessThan(i, vec2(0.0))) || any(greaterThanEqual(i, n)))) return vec4(uBg, 1.0);
+  return texelFetch(uBase, ivec2(clamp(i, vec2(0.0), n - 1.0)), 0);
+}
+
+vec4 sampleBase(vec2 P) {
+  vec2 f = P * uToBase.xy + uToBase.zw - 0.5, f0 = floor(f), w = f - f0;
+  vec4 a = mix(tap(f0), tap(f0 + vec2(1.0, 0.0)), w.x);
+  vec4 b = mix(tap(f0 + vec2(0.0, 1.0)), tap(f0 + vec2(1.0, 1.0)), w.x);
+  return mix(a, b, w.y);
+}
+
+void main() {
+  vec2 P = devicePoint() * uToCanvas.xy + uToCanvas.zw;
+  if (uHasAbove == 1) {
+    vec4 a = texelFetch(uAbove, ivec2(int(gl_FragCoord.x), int(uSize.y - gl_FragCoord.y)), 0);
+    if (a.w < 0.0) { outColor = vec4(a.rgb, 1.0); return; }
+    P = a.xy;
+  }
+  P = inverseOp(P);
+  outColor = inkHit ? vec4(inkColor, 1.0) : sampleBase(P);
+}`;
