@@ -7,7 +7,7 @@
 // pixel's centre is x = i + 0.5) is canvas point (x a + c, y b + d) for
 // toCanvas = [a, b, c, d]; canvas point Q is base pixel point
 // (Q.x a' + c', Q.y b' + d') for toBase = [a', b', c', d'].
-import { DRAW, STEP } from "./warp_shaders.js";
+import { STEP, drawSource } from "./warp_shaders.js";
 import { at, resolve, rgb255 } from "./warp_ops.js";
 import { strokeAt } from "./warp_stroke.js";
 import { StrokeMap, setSteps } from "./warp_map.js";
@@ -46,7 +46,7 @@ class Warp {
   constructor(gl, canvas) {
     this.gl = gl;
     this.canvas = canvas;
-    this.draw_ = program(gl, DRAW);
+    this.programs = new Map();
     this.step_ = program(gl, STEP);
     this.vao = gl.createVertexArray();
     this.base = texture(gl);
@@ -59,6 +59,13 @@ class Warp {
     gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
     gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
     gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+  }
+
+  // The draw program of an op kind and edges mode (compiled once).
+  program(kind, edges) {
+    const key = `${kind} ${edges} ${!!this.above}`;
+    if (!this.programs.has(key)) this.programs.set(key, program(this.gl, drawSource(kind, edges, !!this.above)));
+    return this.programs.get(key);
   }
 
   setBase(image, width, height) {
@@ -104,24 +111,26 @@ class Warp {
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, width, height);
     gl.disable(gl.SCISSOR_TEST);
-    const { prog, u } = this.draw_;
+    const { prog, u } = this.program(kind, EDGES[edges]);
     gl.useProgram(prog);
     setSteps(gl, u, this.list, steps);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, this.base);
     gl.uniform1i(u.uBase, 0);
     gl.uniform2f(u.uBaseSize, ...this.baseSize);
-    gl.uniform1i(u.uEdges, EDGES[edges]);
+    const wrap = [gl.CLAMP_TO_EDGE, gl.REPEAT, gl.MIRRORED_REPEAT, gl.CLAMP_TO_EDGE][EDGES[edges]];
+    const filter = EDGES[edges] === 3 ? gl.NEAREST : gl.LINEAR;
+    for (const [k, v] of [[gl.TEXTURE_WRAP_S, wrap], [gl.TEXTURE_WRAP_T, wrap], [gl.TEXTURE_MIN_FILTER, filter], [gl.TEXTURE_MAG_FILTER, filter]]) {
+      gl.texParameteri(gl.TEXTURE_2D, k, v);
+    }
     gl.uniform3f(u.uBg, ...rgb255(at(background, t, true)).map((v) => v / 255));
     gl.uniform4f(u.uToBase, ...this.toBase);
-    gl.uniform1i(u.uKind, kind);
     const params = new Float32Array(16);
     params.set(p.slice(0, 16));
     gl.uniform1fv(u.uP, params);
     gl.activeTexture(gl.TEXTURE2);
     gl.bindTexture(gl.TEXTURE_2D, this.above || this.list);
     gl.uniform1i(u.uAbove, 2);
-    gl.uniform1i(u.uHasAbove, this.above ? 1 : 0);
     this.map.bind(u, 3, kind === 8);
     setCommon(gl, u, this.toCanvas, [width, height], partial, op.width ?? 24);
     gl.bindVertexArray(this.vao);

@@ -26,6 +26,7 @@ export class StrokeMap {
   reset() {
     this.key = null;
     this.count = 0;
+    this.rect = [1, 1, -1, -1];
     this.points = [];
   }
 
@@ -62,6 +63,7 @@ export class StrokeMap {
     if (key !== null) {
       this.key = key;
       this.count = 0;
+      this.rect = [1, 1, -1, -1];
       gl.bindFramebuffer(gl.FRAMEBUFFER, tg.a.fb);
       gl.disable(gl.SCISSOR_TEST);
       gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
@@ -76,6 +78,7 @@ export class StrokeMap {
     gl.enable(gl.SCISSOR_TEST);
     for (; layout.count - this.count >= chunk; this.count += chunk) {
       const rows = stepRows(layout, this.count, this.count + chunk, width);
+      this.grow(rows.rect);
       const [x0, y0, x1, y1] = deviceRect(rows.rect, toCanvas, w, h);
       if (x1 <= x0 || y1 <= y0) continue;
       gl.scissor(x0, y0, x1 - x0, y1 - y0);
@@ -99,12 +102,19 @@ export class StrokeMap {
     return stepRows(layout, this.count, layout.count, width);
   }
 
+  // The map's reach grown by a chunk's (canvas units): outside it, no displacement.
+  grow(r) {
+    const m = this.rect, empty = m[2] < m[0];
+    this.rect = empty ? [...r] : [Math.min(m[0], r[0]), Math.min(m[1], r[1]), Math.max(m[2], r[2]), Math.max(m[3], r[3])];
+  }
+
   bind(u, unit, on) {
     const gl = this.gl;
     gl.activeTexture(gl.TEXTURE0 + unit);
     gl.bindTexture(gl.TEXTURE_2D, this.targets ? this.targets.a.tex : null);
     gl.uniform1i(u.uMap, unit);
     gl.uniform1i(u.uHasMap, on && this.count > 0 ? 1 : 0);
+    gl.uniform4f(u.uMapRect, ...this.rect);
   }
 }
 

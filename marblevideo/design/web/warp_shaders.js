@@ -14,14 +14,14 @@ void main() {
   gl_Position = vec4(v * 2.0 - 1.0, 0.0, 1.0);
 }`;
 
-const COMMON = `#version 300 es
-precision highp float;
+const COMMON = `precision highp float;
 precision highp int;
 precision highp sampler2D;
 uniform vec2 uSize;
 uniform vec4 uToCanvas;
 uniform int uHasMap;
 uniform sampler2D uMap;
+uniform vec4 uMapRect;
 uniform int uSteps;
 uniform vec4 uStep[64];
 uniform float uTheta;
@@ -82,7 +82,7 @@ vec4 catmull(float t) {
   return 0.5 * vec4(-t3 + 2.0 * t2 - t, 3.0 * t3 - 5.0 * t2 + 2.0, -3.0 * t3 + 4.0 * t2 + t, t3 - t2);
 }
 vec2 mapped(vec2 Q) {
-  if (uHasMap == 0) return Q;
+  if (uHasMap == 0 || any(lessThan(Q, uMapRect.xy)) || any(greaterThan(Q, uMapRect.zw))) return Q;
   vec2 dev = (Q - uToCanvas.zw) / uToCanvas.xy;
   vec2 f = vec2(dev.x, uSize.y - dev.y) - 0.5;
   vec2 f0 = floor(f);
@@ -99,21 +99,31 @@ vec2 mapped(vec2 Q) {
 `;
 
 // A chunk of whole steps folded into the displacement map: out = map_old(chunk^-1(P)) - P.
-export const STEP = `${COMMON}
+export const STEP = `#version 300 es
+${COMMON}
 void main() {
   vec2 P = devicePoint() * uToCanvas.xy + uToCanvas.zw;
   outColor = vec4(mapped(stepsBack(P)) - P, 0.0, 1.0);
 }`;
 
-export const DRAW = `${COMMON}
+// The draw pass specialised to one kind of op (warp_ops.js' kinds; 8 a stroke),
+// edges mode (0 clamp, 1 repeat, 2 mirror, 3 background) and whether a map of
+// the ops above is given: SwiftShader runs the branches of a shader's uniform
+// ifs too, so each program holds only its own op's code.
+export function drawSource(kind, edges, above) {
+  return `#version 300 es
+#define KIND ${kind}
+#define EDGES ${edges}
+#define ABOVE ${above ? 1 : 0}
+${COMMON}${DRAW}`;
+}
+
+const DRAW = `
 uniform vec4 uToBase;
 uniform sampler2D uBase;
 uniform vec2 uBaseSize;
-uniform int uEdges;
 uniform vec3 uBg;
-uniform int uKind;
 uniform float uP[16];
-uniform int uHasAbove;
 uniform sampler2D uAbove;
 
 bool inkHit = false;
@@ -133,15 +143,19 @@ vec2 drops(vec2 P) {
 vec2 shears(vec2 P) {
   vec2 A = vec2(uP[0], uP[1]), M = vec2(uP[2], uP[3]), N = vec2(-M.y, M.x);
   float across = dot(P - A, N), shift;
-  if (uKind == 2) {
+#if KIND == 2
+  {
     float d = abs(across), s = uP[6], lam = uP[5];
     if (s > 0.0) d = 0.5 * s - abs(d - s * floor(d / s) - 0.5 * s);
     shift = uP[4] * lam / (d + lam);
-  } else {
+  }
+#else
+  {
     float sum = 0.0;
     for (int k = 0; k < int(uP[6]); k++) sum += exp(-abs(across - L(k).x) * uP[5]);
     shift = uP[4] * sum;
   }
+#endif
   return P - shift * M;
 }
 
@@ -186,40 +200,55 @@ vec2 wave(vec2 P) {
 }
 
 vec2 inverseOp(vec2 P) {
-  if (uKind == 1) return drops(P);
-  if (uKind == 2 || uKind == 5) return shears(P);
-  if (uKind == 3) return wave(P);
-  if (uKind == 4) return P - vec2(uP[0], uP[1]);
-  if (uKind == 6) return rotations(P);
-  if (uKind == 7) return jiggle(P);
-  if (uKind == 8) return mapped(stepsBack(stepBack(P)));
+#if KIND == 1
+  return drops(P);
+#elif KIND == 2 || KIND == 5
+  return shears(P);
+#elif KIND == 3
+  return wave(P);
+#elif KIND == 4
+  return P - vec2(uP[0], uP[1]);
+#elif KIND == 6
+  return rotations(P);
+#elif KIND == 7
+  return jiggle(P);
+#elif KIND == 8
+  return mapped(stepsBack(stepBack(P)));
+#else
   return P;
+#endif
 }
 
+#if EDGES == 3
 vec4 tap(vec2 i) {
   vec2 n = uBaseSize;
-  if (uEdges == 1) i = i - n * floor(i / n);
-  else if (uEdges == 2) {
-    vec2 m = i - 2.0 * n * floor(i / (2.0 * n));
-    i = vec2(m.x < n.x ? m.x : 2.0 * n.x - 1.0 - m.x, m.y < n.y ? m.y : 2.0 * n.y - 1.0 - m.y);
-  } else if (uEdges == 3 && (any(lessThan(i, vec2(0.0))) || any(greaterThanEqual(i, n)))) return vec4(uBg, 1.0);
-  return texelFetch(uBase, ivec2(clamp(i, vec2(0.0), n - 1.0)), 0);
+  if (any(lessThan(i, vec2(0.0))) || any(greaterThanEqual(i, n))) return vec4(uBg, 1.0);
+  return texelFetch(uBase, ivec2(i), 0);
 }
+#endif
 
+// Bilinear between pixel centres: the texture unit's own (its wrap mode is the
+// edges mode) or, for background edges, four taps.
 vec4 sampleBase(vec2 P) {
-  vec2 f = P * uToBase.xy + uToBase.zw - 0.5, f0 = floor(f), w = f - f0;
+  vec2 f = P * uToBase.xy + uToBase.zw;
+#if EDGES != 3
+  return texture(uBase, f / uBaseSize);
+#else
+  f -= 0.5;
+  vec2 f0 = floor(f), w = f - f0;
   vec4 a = mix(tap(f0), tap(f0 + vec2(1.0, 0.0)), w.x);
   vec4 b = mix(tap(f0 + vec2(0.0, 1.0)), tap(f0 + vec2(1.0, 1.0)), w.x);
   return mix(a, b, w.y);
+#endif
 }
 
 void main() {
   vec2 P = devicePoint() * uToCanvas.xy + uToCanvas.zw;
-  if (uHasAbove == 1) {
-    vec4 a = texelFetch(uAbove, ivec2(int(gl_FragCoord.x), int(uSize.y - gl_FragCoord.y)), 0);
-    if (a.w < 0.0) { outColor = vec4(a.rgb, 1.0); return; }
-    P = a.xy;
-  }
+#if ABOVE
+  vec4 a = texelFetch(uAbove, ivec2(int(gl_FragCoord.x), int(uSize.y - gl_FragCoord.y)), 0);
+  if (a.w < 0.0) { outColor = vec4(a.rgb, 1.0); return; }
+  P = a.xy;
+#endif
   P = inverseOp(P);
   outColor = inkHit ? vec4(inkColor, 1.0) : sampleBase(P);
 }`;
