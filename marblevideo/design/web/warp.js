@@ -97,13 +97,11 @@ class Warp {
     if (!plan || !(edges in EDGES)) return false;
     const gl = this.gl, { width, height } = this.canvas;
     let kind = plan.kind, p = plan.p, list = plan.list;
-    let partial = null;
     let steps = { list, n: 0, rect: [1, 1, -1, -1] };
     if (kind === "stroke") {
       const layout = strokeAt(op, t, plan.drag);
       this.map.exact = !!this.exactSteps;
       this.map.update(op, layout, plan.drag, this.toCanvas, [width, height]);
-      partial = layout.partial;
       kind = 8;
       p = [];
       steps = this.map.pending(layout, op.width ?? 24);
@@ -127,12 +125,12 @@ class Warp {
     gl.uniform4f(u.uToBase, ...this.toBase);
     const params = new Float32Array(16);
     params.set(p.slice(0, 16));
-    gl.uniform1fv(u.uP, params);
+    for (let i = 0; i < 4; i++) gl.uniform4fv(u[`uQ${i}`], params.subarray(4 * i, 4 * i + 4));
     gl.activeTexture(gl.TEXTURE2);
     gl.bindTexture(gl.TEXTURE_2D, this.above || this.list);
     gl.uniform1i(u.uAbove, 2);
     this.map.bind(u, 3, kind === 8);
-    setCommon(gl, u, this.toCanvas, [width, height], partial, op.width ?? 24);
+    setCommon(gl, u, this.toCanvas, [width, height], op.width ?? 24);
     gl.bindVertexArray(this.vao);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     return true;

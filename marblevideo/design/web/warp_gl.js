@@ -33,21 +33,11 @@ export function texture(gl, filter = gl.NEAREST) {
   return tex;
 }
 
-// The uniforms both passes share: geometry, and the steps walked this pass.
-export function setCommon(gl, u, toCanvas, size, step, width) {
+// The uniforms both passes share: the geometry and the stroke's width.
+export function setCommon(gl, u, toCanvas, size, width) {
   gl.uniform2f(u.uSize, ...size);
   gl.uniform4f(u.uToCanvas, ...toCanvas);
   gl.uniform1f(u.uWidth, width);
-  const steps = new Float32Array(256);
-  let n = 0, theta = 0;
-  if (step) {
-    n = step.c.length;
-    step.c.forEach((c, j) => steps.set([c[0], c[1], step.h[0], step.h[1]], 4 * j));
-    theta = step.theta;
-  }
-  gl.uniform1i(u.uSteps, n);
-  gl.uniform4fv(u.uStep, steps);
-  gl.uniform1f(u.uTheta, theta);
 }
 
 // Values (RGBA32F texels, LIST_WIDTH a row) into the list texture on unit 1.

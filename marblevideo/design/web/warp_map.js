@@ -85,7 +85,7 @@ export class StrokeMap {
       gl.bindFramebuffer(gl.FRAMEBUFFER, tg.b.fb);
       this.bind(u, 3, true);
       gl.uniform1i(u.uHasMap, 1);
-      setCommon(gl, u, toCanvas, size, null, width);
+      setCommon(gl, u, toCanvas, size, width);
       setSteps(gl, u, this.list, rows);
       gl.drawArrays(gl.TRIANGLES, 0, 3);
       gl.bindFramebuffer(gl.READ_FRAMEBUFFER, tg.b.fb);
@@ -97,9 +97,11 @@ export class StrokeMap {
     gl.disable(gl.SCISSOR_TEST);
   }
 
-  // The whole steps not folded yet, for the frame's walk.
+  // The whole steps not folded yet and the partial one, for the frame's walk.
   pending(layout, width) {
-    return stepRows(layout, this.count, layout.count, width);
+    const rows = stepRows(layout, this.count, layout.count, width), st = layout.partial;
+    if (st) addRows(rows, st, st.theta, width);
+    return rows;
   }
 
   // The map's reach grown by a chunk's (canvas units): outside it, no displacement.
@@ -121,18 +123,21 @@ export class StrokeMap {
 // Whole steps a..b-1 as list rows (cx, cy, hx, hy; theta, 0, 0, 0 per tine, in
 // forward order), their count and their reach (1.5 w about each centre) in canvas units.
 export function stepRows(layout, a, b, width) {
-  const list = [], r = 1.5 * width + 1, rect = [Infinity, Infinity, -Infinity, -Infinity];
-  for (let k = a; k < b; k++) {
-    const st = layout.wholeStep(k);
-    for (const [cx, cy] of st.c) {
-      list.push(cx, cy, st.h[0], st.h[1], layout.wholeTheta, 0, 0, 0);
-      rect[0] = Math.min(rect[0], cx - r);
-      rect[1] = Math.min(rect[1], cy - r);
-      rect[2] = Math.max(rect[2], cx + r);
-      rect[3] = Math.max(rect[3], cy + r);
-    }
+  const rows = { list: [], n: 0, rect: [Infinity, Infinity, -Infinity, -Infinity] };
+  for (let k = a; k < b; k++) addRows(rows, layout.wholeStep(k), layout.wholeTheta, width);
+  return rows;
+}
+
+function addRows(rows, st, theta, width) {
+  const r = 1.5 * width + 1, rect = rows.rect;
+  for (const [cx, cy] of st.c) {
+    rows.list.push(cx, cy, st.h[0], st.h[1], theta, 0, 0, 0);
+    rows.n += 1;
+    rect[0] = Math.min(rect[0], cx - r);
+    rect[1] = Math.min(rect[1], cy - r);
+    rect[2] = Math.max(rect[2], cx + r);
+    rect[3] = Math.max(rect[3], cy + r);
   }
-  return { list, n: list.length / 8, rect };
 }
 
 // The list texture, its count and reach for stepsBack.

@@ -22,9 +22,6 @@ uniform vec4 uToCanvas;
 uniform int uHasMap;
 uniform sampler2D uMap;
 uniform vec4 uMapRect;
-uniform int uSteps;
-uniform vec4 uStep[64];
-uniform float uTheta;
 uniform float uWidth;
 uniform sampler2D uList;
 uniform int uListN;
@@ -35,22 +32,18 @@ const float TAU = 6.283185307179586;
 vec2 rot(vec2 q, float t) { float c = cos(t), s = sin(t); return vec2(q.x * c - q.y * s, q.x * s + q.y * c); }
 vec2 devicePoint() { return vec2(gl_FragCoord.x, uSize.y - gl_FragCoord.y); }
 
-// One stroke step backwards, its tines in reverse: about B by +theta g, then A by -theta g.
-vec2 stepBack(vec2 P) {
-  float w2 = uWidth * uWidth, reach = 2.25 * w2;
-  for (int j = uSteps - 1; j >= 0; j--) {
-    vec4 s = uStep[j];
-    vec2 q = P - s.xy;
-    if (dot(q, q) > reach) continue;
-    vec2 b = s.xy - s.zw, a = s.xy + s.zw;
-    vec2 qb = P - b;
-    float g = max(0.0, 1.0 - dot(qb, qb) / w2);
-    vec2 P1 = b + rot(qb, uTheta * g * g);
-    vec2 qa = P1 - a;
-    g = max(0.0, 1.0 - dot(qa, qa) / w2);
-    P = a + rot(qa, -uTheta * g * g);
-  }
-  return P;
+// SwiftShader runs both sides of an if, masked, for the lanes of a SIMD group;
+// a loop it leaves as soon as no lane goes on. So the costly blocks below sit
+// in loops run once (or not at all): a group where every point is out of reach
+// skips them.
+
+// One tine's step backwards: about B = c - h by +theta g, then A = c + h by -theta g.
+vec2 turnBack(vec2 P, vec4 s, float theta, float w2) {
+  vec2 b = s.xy - s.zw, a = s.xy + s.zw, qb = P - b;
+  float g = max(0.0, 1.0 - dot(qb, qb) / w2);
+  vec2 P1 = b + rot(qb, theta * g * g), qa = P1 - a;
+  g = max(0.0, 1.0 - dot(qa, qa) / w2);
+  return a + rot(qa, -theta * g * g);
 }
 
 vec4 L(int i) { return texelFetch(uList, ivec2(i & 1023, i >> 10), 0); }
@@ -59,17 +52,11 @@ vec4 L(int i) { return texelFetch(uList, ivec2(i & 1023, i >> 10), 0); }
 // none for a point outside uRect (their reach, canvas units).
 vec2 stepsBack(vec2 P) {
   float w2 = uWidth * uWidth, reach = 2.25 * w2;
-  if (any(lessThan(P, uRect.xy)) || any(greaterThan(P, uRect.zw))) return P;
-  for (int k = uListN - 1; k >= 0; k--) {
+  bool inside = all(greaterThanEqual(P, uRect.xy)) && all(lessThanEqual(P, uRect.zw));
+  for (int k = (inside ? uListN : 0) - 1; k >= 0; k--) {
     vec4 s = L(2 * k);
     vec2 q = P - s.xy;
-    if (dot(q, q) > reach) continue;
-    float theta = L(2 * k + 1).x;
-    vec2 b = s.xy - s.zw, a = s.xy + s.zw, qb = P - b;
-    float g = max(0.0, 1.0 - dot(qb, qb) / w2);
-    vec2 P1 = b + rot(qb, theta * g * g), qa = P1 - a;
-    g = max(0.0, 1.0 - dot(qa, qa) / w2);
-    P = a + rot(qa, -theta * g * g);
+    for (int once = dot(q, q) < reach ? 1 : 0; once > 0; once--) P = turnBack(P, s, L(2 * k + 1).x, w2);
   }
   return P;
 }
@@ -81,8 +68,7 @@ vec4 catmull(float t) {
   float t2 = t * t, t3 = t2 * t;
   return 0.5 * vec4(-t3 + 2.0 * t2 - t, 3.0 * t3 - 5.0 * t2 + 2.0, -3.0 * t3 + 4.0 * t2 + t, t3 - t2);
 }
-vec2 mapped(vec2 Q) {
-  if (uHasMap == 0 || any(lessThan(Q, uMapRect.xy)) || any(greaterThan(Q, uMapRect.zw))) return Q;
+vec2 displacement(vec2 Q) {
   vec2 dev = (Q - uToCanvas.zw) / uToCanvas.xy;
   vec2 f = vec2(dev.x, uSize.y - dev.y) - 0.5;
   vec2 f0 = floor(f);
@@ -94,7 +80,13 @@ vec2 mapped(vec2 Q) {
       + wx.z * texMap(i0 + ivec2(2, j)) + wx.w * texMap(i0 + ivec2(3, j));
     sum += wy[j] * row;
   }
-  return Q + sum;
+  return sum;
+}
+
+vec2 mapped(vec2 Q) {
+  bool inside = uHasMap == 1 && all(greaterThanEqual(Q, uMapRect.xy)) && all(lessThanEqual(Q, uMapRect.zw));
+  for (int once = inside ? 1 : 0; once > 0; once--) return Q + displacement(Q);
+  return Q;
 }
 `;
 
@@ -123,14 +115,14 @@ uniform vec4 uToBase;
 uniform sampler2D uBase;
 uniform vec2 uBaseSize;
 uniform vec3 uBg;
-uniform float uP[16];
+uniform vec4 uQ0, uQ1, uQ2, uQ3; // the op's numbers (warp_ops.js' p), four a vector
 uniform sampler2D uAbove;
 
 bool inkHit = false;
 vec3 inkColor = vec3(0.0);
 
 vec2 drops(vec2 P) {
-  for (int k = int(uP[0]) - 1; k >= 0; k--) {
+  for (int k = int(uQ0.x) - 1; k >= 0; k--) {
     vec4 a = L(2 * k);
     vec2 q = P - a.xy;
     float R = length(q);
@@ -141,28 +133,28 @@ vec2 drops(vec2 P) {
 }
 
 vec2 shears(vec2 P) {
-  vec2 A = vec2(uP[0], uP[1]), M = vec2(uP[2], uP[3]), N = vec2(-M.y, M.x);
+  vec2 A = vec2(uQ0.x, uQ0.y), M = vec2(uQ0.z, uQ0.w), N = vec2(-M.y, M.x);
   float across = dot(P - A, N), shift;
 #if KIND == 2
   {
-    float d = abs(across), s = uP[6], lam = uP[5];
+    float d = abs(across), s = uQ1.z, lam = uQ1.y;
     if (s > 0.0) d = 0.5 * s - abs(d - s * floor(d / s) - 0.5 * s);
-    shift = uP[4] * lam / (d + lam);
+    shift = uQ1.x * lam / (d + lam);
   }
 #else
   {
     float sum = 0.0;
-    for (int k = 0; k < int(uP[6]); k++) sum += exp(-abs(across - L(k).x) * uP[5]);
-    shift = uP[4] * sum;
+    for (int k = 0; k < int(uQ1.z); k++) sum += exp(-abs(across - L(k).x) * uQ1.y);
+    shift = uQ1.x * sum;
   }
 #endif
   return P - shift * M;
 }
 
 vec2 rotations(vec2 P) {
-  vec2 C = vec2(uP[0], uP[1]), q = P - C;
-  int sub = int(uP[2]);
-  float R = length(q), a = uP[3], b = uP[4], c = uP[5], theta = 0.0;
+  vec2 C = vec2(uQ0.x, uQ0.y), q = P - C;
+  int sub = int(uQ0.z);
+  float R = length(q), a = uQ0.w, b = uQ1.x, c = uQ1.y, theta = 0.0;
   if (sub == 0) {
     float d = c < 0.0 ? R : abs(R - c);
     theta = R > 0.0 ? a * b / (d + b) / R : 0.0;
@@ -172,15 +164,15 @@ vec2 rotations(vec2 P) {
     theta = a * pow(b + c * R * sqrt(R), -4.0 / 3.0);
   } else {
     float sum = 0.0;
-    for (int k = 0; k < int(uP[6]); k++) { vec4 r = L(k); sum += r.y * exp(-abs(R - r.x) * r.z); }
+    for (int k = 0; k < int(uQ1.z); k++) { vec4 r = L(k); sum += r.y * exp(-abs(R - r.x) * r.z); }
     theta = sub == 4 ? a * sum : (R > 0.0 ? a * sum / R : 0.0);
   }
   return C + rot(q, -theta);
 }
 
 vec2 jiggle(vec2 P) {
-  vec2 M = vec2(uP[0], uP[1]), N = vec2(-M.y, M.x);
-  float inv = uP[2], ph = uP[3], A = uP[4], B = uP[5], ka = TAU * inv * A;
+  vec2 M = vec2(uQ0.x, uQ0.y), N = vec2(-M.y, M.x);
+  float inv = uQ0.z, ph = uQ0.w, A = uQ1.x, B = uQ1.y, ka = TAU * inv * A;
   float so = dot(P, M), s = so, lo = so - abs(A), hi = so + abs(A);
   for (int k = 0; k < 12; k++) {
     float tau = TAU * fract(s * inv + ph);
@@ -194,9 +186,9 @@ vec2 jiggle(vec2 P) {
 }
 
 vec2 wave(vec2 P) {
-  vec2 M = vec2(uP[0], uP[1]);
+  vec2 M = vec2(uQ0.x, uQ0.y);
   float across = P.x * M.y - P.y * M.x;
-  return P - uP[2] * sin(TAU * fract(across * uP[3] + uP[4])) * M;
+  return P - uQ0.z * sin(TAU * fract(across * uQ0.w + uQ1.x)) * M;
 }
 
 vec2 inverseOp(vec2 P) {
@@ -207,13 +199,13 @@ vec2 inverseOp(vec2 P) {
 #elif KIND == 3
   return wave(P);
 #elif KIND == 4
-  return P - vec2(uP[0], uP[1]);
+  return P - vec2(uQ0.x, uQ0.y);
 #elif KIND == 6
   return rotations(P);
 #elif KIND == 7
   return jiggle(P);
 #elif KIND == 8
-  return mapped(stepsBack(stepBack(P)));
+  return mapped(stepsBack(P));
 #else
   return P;
 #endif
