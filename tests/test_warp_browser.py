@@ -16,11 +16,11 @@ import cv2
 import numpy as np
 import pytest
 from helpers import ROOT
-from warp_page import ARGS, serve_web, setup_warp, warp_frame
+from warp_page import ARGS, serve_web, set_above, setup_warp, warp_frame
 
 from marblevideo.recipe.frame import geometry
 from marblevideo.recipe.load import Recipe
-from marblevideo.reference import render
+from marblevideo.reference import ink_colors, inverse_walk, render
 
 pytestmark = pytest.mark.tier("integration")
 
@@ -205,20 +205,45 @@ def test_a_growing_stroke_is_the_finished_stroke_at_each_time(warp_page):
 
 def test_a_signal_is_refused(warp_page):
     page, base = warp_page
-    op = {"type": "shift", "offset": [3, 4], "start": {"signal": "audio.level", "range": [0, 1]}}
-    assert (
-        warp_frame(
-            page,
-            {
-                "type": "tine",
-                "point": [0, 0],
-                "angle": 0,
-                "alpha": {"signal": "audio.level", "range": [0, 9]},
-                "lambda": 3,
-            },
-            0,
-            base.shape,
-        )
-        is None
+    alpha = {"signal": "audio.level", "range": [0, 9]}
+    op = {"type": "tine", "point": [0, 0], "angle": 0, "alpha": alpha, "lambda": 3}
+    assert warp_frame(page, op, 0, base.shape) is None
+
+
+def test_a_scaled_canvas_and_the_ops_above(warp_page):
+    """The canvas 160x120 shown at 240x180 (s = 1.5, the contract's geometry), and
+    ops above the changing one given as the server's map."""
+    page, base = warp_page
+    canvas = (160, 120)
+    geom = geometry(canvas, (W, H), (W, H))
+    changing = {"type": "vortex", "center": [80, 60], "alpha": 40, "lambda": 15, **WINDOW}
+    above = [
+        {"type": "drop", "center": [40, 30], "radius": 12, "color": "#2040c0"},
+        {"type": "wave", "amplitude": 4, "wavelength": 30, "phase": 0, "angle": 0},
+    ]
+    doc = {"marblevideo": 1, "canvas": list(canvas), "antialias": "none", "ops": above}
+    spec = Recipe.from_dict(doc).at(0.5)
+    ox, oy = np.meshgrid(np.arange(W) + 0.5, np.arange(H) + 0.5)
+    kx, ky, tx, ty = geom.to_canvas
+    qx, qy, ink = inverse_walk(spec, ox * kx + tx, oy * ky + ty)
+    colors = ink_colors(spec) / 255.0
+    amap = np.stack([qx, qy, np.zeros_like(qx), np.ones_like(qx)], axis=-1)
+    amap[ink >= 0] = np.concatenate(
+        [colors[ink[ink >= 0], :3], -np.ones((int((ink >= 0).sum()), 1))], 1
     )
-    assert op
+    set_above(page, amap)
+    try:
+        got = warp_frame(
+            page,
+            changing,
+            0.5,
+            base.shape,
+            to_canvas=list(geom.to_canvas),
+            to_base=list(geom.to_input),
+        )
+    finally:
+        set_above(page, None)
+    whole = {**doc, "ops": [changing, *above]}
+    want = render(Recipe.from_dict(whole).at(0.5), geom, base)
+    assert agreement(got, want) >= 0.98
+    assert agreement(got, base) < 0.9  # the vortex and the ops above show

@@ -79,6 +79,19 @@ DRAW = """([op, t, bg, edges, toCanvas, toBase]) => {
 }"""
 
 
+ABOVE = """(b64) => {
+  if (b64 === null) { W.setAbove(null); return; }
+  const bytes = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+  W.setAbove(new Float32Array(bytes.buffer));
+}"""
+
+
+def set_above(page, above: np.ndarray | None) -> None:
+    """The map of the ops above, (H, W, 4) float32 (see warp.js' setAbove), or None."""
+    data = None if above is None else base64.b64encode(above.astype(np.float32).tobytes()).decode()
+    page.evaluate(ABOVE, data)
+
+
 def setup_warp(page, base: np.ndarray) -> bool:
     """Make a warp on a canvas of the base's size with ``base`` (H, W, 4) uint8."""
     h, w = base.shape[:2]
