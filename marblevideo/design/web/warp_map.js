@@ -6,11 +6,13 @@
 // centre: scissored), so a growing stroke costs one small pass per chunk and the
 // frame walks at most CHUNK - 1 whole steps (inside their reach) and the
 // partial one. Folding by chunks, not by steps, keeps the map's resampling (a
-// Catmull-Rom of a steep map near the path) to about one per point. The cache is kept while the stroke only grows (its points a
+// Catmull-Rom of a steep map near the path) to about one per point; the frame
+// interpolates the map only in the 16x16 tiles the folded steps reach. The
+// cache is kept while the stroke only grows (its points a
 // prefix of the new ones, or the same path for a stroke without `times`).
 import { setCommon, texture, uploadList } from "./warp_gl.js";
 
-//: Whole steps folded into the map at once (the frame walks fewer than this).
+// Whole steps folded into the map at once (the frame walks fewer than this).
 export const CHUNK = 32;
 
 export class StrokeMap {
@@ -26,7 +28,7 @@ export class StrokeMap {
   reset() {
     this.key = null;
     this.count = 0;
-    this.rect = [1, 1, -1, -1];
+    this.marked = null;
     this.points = [];
   }
 
@@ -63,7 +65,7 @@ export class StrokeMap {
     if (key !== null) {
       this.key = key;
       this.count = 0;
-      this.rect = [1, 1, -1, -1];
+      this.marked = new Uint8Array(Math.ceil(w / 16) * Math.ceil(h / 16));
       gl.bindFramebuffer(gl.FRAMEBUFFER, tg.a.fb);
       gl.disable(gl.SCISSOR_TEST);
       gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
@@ -78,7 +80,7 @@ export class StrokeMap {
     gl.enable(gl.SCISSOR_TEST);
     for (; layout.count - this.count >= chunk; this.count += chunk) {
       const rows = stepRows(layout, this.count, this.count + chunk, width);
-      this.grow(rows.rect);
+      this.mark(rows, toCanvas, w, h);
       const [x0, y0, x1, y1] = deviceRect(rows.rect, toCanvas, w, h);
       if (x1 <= x0 || y1 <= y0) continue;
       gl.scissor(x0, y0, x1 - x0, y1 - y0);
@@ -104,10 +106,22 @@ export class StrokeMap {
     return rows;
   }
 
-  // The map's reach grown by a chunk's (canvas units): outside it, no displacement.
-  grow(r) {
-    const m = this.rect, empty = m[2] < m[0];
-    this.rect = empty ? [...r] : [Math.min(m[0], r[0]), Math.min(m[1], r[1]), Math.max(m[2], r[2]), Math.max(m[3], r[3])];
+  // Mark the 16x16 device tiles a chunk's steps reach (the map is 0 elsewhere;
+  // the frame interpolates it only in marked tiles), and upload them.
+  mark(rows, [a, b, c, d], w, h) {
+    const gl = this.gl, tw = Math.ceil(w / 16), th = Math.ceil(h / 16), r = 1.5 * rows.width + 3;
+    for (let i = 0; i < rows.n; i++) {
+      const cx = rows.list[8 * i], cy = rows.list[8 * i + 1];
+      const xs = [(cx - r - c) / a, (cx + r - c) / a], ys = [(cy - r - d) / b, (cy + r - d) / b];
+      const x0 = Math.max(0, Math.floor(Math.min(...xs) / 16) - 1), x1 = Math.min(tw - 1, Math.floor(Math.max(...xs) / 16) + 1);
+      const y0 = Math.max(0, Math.floor(Math.min(...ys) / 16) - 1), y1 = Math.min(th - 1, Math.floor(Math.max(...ys) / 16) + 1);
+      for (let y = y0; y <= y1; y++) this.marked.fill(255, y * tw + x0, y * tw + x1 + 1);
+    }
+    this.tiles = this.tiles || texture(gl);
+    gl.activeTexture(gl.TEXTURE4);
+    gl.bindTexture(gl.TEXTURE_2D, this.tiles);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R8, tw, th, 0, gl.RED, gl.UNSIGNED_BYTE, this.marked);
   }
 
   bind(u, unit, on) {
@@ -116,14 +130,16 @@ export class StrokeMap {
     gl.bindTexture(gl.TEXTURE_2D, this.targets ? this.targets.a.tex : null);
     gl.uniform1i(u.uMap, unit);
     gl.uniform1i(u.uHasMap, on && this.count > 0 ? 1 : 0);
-    gl.uniform4f(u.uMapRect, ...this.rect);
+    gl.activeTexture(gl.TEXTURE4);
+    gl.bindTexture(gl.TEXTURE_2D, this.tiles || null);
+    gl.uniform1i(u.uTiles, 4);
   }
 }
 
 // Whole steps a..b-1 as list rows (cx, cy, hx, hy; theta, 0, 0, 0 per tine, in
 // forward order), their count and their reach (1.5 w about each centre) in canvas units.
 export function stepRows(layout, a, b, width) {
-  const rows = { list: [], n: 0, rect: [Infinity, Infinity, -Infinity, -Infinity] };
+  const rows = { list: [], n: 0, width, rect: [Infinity, Infinity, -Infinity, -Infinity] };
   for (let k = a; k < b; k++) addRows(rows, layout.wholeStep(k), layout.wholeTheta, width);
   return rows;
 }

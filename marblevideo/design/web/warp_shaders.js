@@ -21,7 +21,7 @@ uniform vec2 uSize;
 uniform vec4 uToCanvas;
 uniform int uHasMap;
 uniform sampler2D uMap;
-uniform vec4 uMapRect;
+uniform sampler2D uTiles;
 uniform float uWidth;
 uniform sampler2D uList;
 uniform int uListN;
@@ -84,7 +84,9 @@ vec2 displacement(vec2 Q) {
 }
 
 vec2 mapped(vec2 Q) {
-  bool inside = uHasMap == 1 && all(greaterThanEqual(Q, uMapRect.xy)) && all(lessThanEqual(Q, uMapRect.zw));
+  vec2 dev = (Q - uToCanvas.zw) / uToCanvas.xy;
+  ivec2 tile = clamp(ivec2(floor(dev / 16.0)), ivec2(0), textureSize(uTiles, 0) - 1);
+  bool inside = uHasMap == 1 && texelFetch(uTiles, tile, 0).r > 0.5;
   for (int once = inside ? 1 : 0; once > 0; once--) return Q + displacement(Q);
   return Q;
 }
