@@ -8,17 +8,16 @@
 // here yet) the caller asks the server for a frame instead.
 import * as api from "./api.js";
 import { toCanvasMap, viewOf } from "./view.js";
+import * as lib from "./warp.js";
 
-// warp.js, loaded as the page starts (a page without it draws with the server)
 // (``?warp=0`` in the page's address: the server's frames only, for tests and benchmarks)
-let lib = null, warp = null, canvas = null, broken = new URLSearchParams(location.search).get("warp") === "0";
-import("./warp.js").then((m) => { lib = m; }, () => { broken = true; });
+let warp = null, canvas = null, broken = new URLSearchParams(location.search).get("warp") === "0";
 let ready = null, loading = null, wanted = null, again = () => {};
 // ``fn`` runs when layers come (the sheet draws the gesture again).
 export function whenLayers(fn) { again = fn; }
 
 function available(w, h) {
-  if (broken || !lib) return false;
+  if (broken) return false;
   if (!warp) {
     broken = !lib.supported();
     if (broken) return false;
@@ -115,4 +114,4 @@ async function ask(doc, k, t, view, w, h, key) {
   }
 }
 // For tests and benchmarks: whether the page warps, and the layers it holds.
-export const warpState = () => ({loaded: !!lib, broken, ready: ready !== null});
+export const warpState = () => ({broken, ready: ready !== null});
