@@ -24,7 +24,7 @@ import { get, isLive, subscribe, update } from "./store.js";
 import { clockOf, initTimeline, liveStats, playOf, resume, setTime, showClock, showPlay } from "./timeline.js";
 import { buildToolbar } from "./toolbar.js";
 import { buildTools } from "./tools.js";
-import { initSize, initView, panBy, resetView, zoomAt } from "./view.js";
+import { initSize, initView, panBy, resetView, toCanvas, toPixel, zoomAt } from "./view.js";
 import { warpState } from "./warping.js";
 
 // The views that need the recipe and /api/info, in the order they first run
@@ -81,5 +81,6 @@ window.designer = {
   setTool: (name) => update(() => ({tool: name})),
   warp: warpState,  // whether the page warps during gestures (warp.js loaded, WebGL2), layers held
   zoomAt, panBy, resetView,  // the view (zoom about a device pixel, pan by device pixels)
+  toCanvas, toPixel,  // the sheet's device pixels <-> canvas points, through the view
 };
 start();

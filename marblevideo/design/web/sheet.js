@@ -60,7 +60,7 @@ export function showSheet(s) {
   if (s.preview && s.preview.draft && !isLive(s) && s.solo === null) {
     const k = changedOp(s.doc, s.preview.doc);
     if (k === "same" && frames) return;
-    if (k !== "same" && k !== null && warpFrame(s, k, answer, drawWarp, lastExact)) return;
+    if (k !== "same" && k !== null && warpFrame(s, k, answer, drawWarp, lastExact, shownWarp)) return;
   }
   show(s.preview ? {draft: s.preview.draft, doc: s.preview.doc} : {draft: s.playing}, answer);
 }
@@ -118,7 +118,11 @@ async function renderOnce(o) {
 }
 
 // ---------------------------------------------------------------- drawing
-let lastKind = null, lastExact = null, waiting = null, warpJob = null, raf = 0;
+let lastKind = null, lastExact = null, lastWarp = null, waiting = null, warpJob = null, raf = 0;
+// The sheet's picture when its last frame was warped ({doc, t, w, h, view, image}), else null:
+// the next gesture's base while the exact frame of a heavy design is on its way.
+const shownWarp = () => (lastKind === "warp" && lastWarp
+  ? {...lastWarp, image: ctx.getImageData(0, 0, sheet.width, sheet.height)} : null);
 function schedule() { if (!raf) raf = requestAnimationFrame(paint); }
 // A server frame, drawn at the next animation frame (resolves once drawn).
 function drawn(frame) {
@@ -135,19 +139,19 @@ function paint() {
   if (warpJob) {
     const job = warpJob; warpJob = null;
     const done = job.answer.stamp >= drawnStamp ? job() : undefined;  // undefined: stale
-    if (done) { ctx.drawImage(done.canvas, 0, 0); note("warp", job.answer, done.shown); }
+    if (done) { ctx.drawImage(done.canvas, 0, 0); note("warp", job.answer, done.shown); lastWarp = done.shown; }
     else if (done === null) show({draft: true, doc: get().preview ? get().preview.doc : null}, job.answer);
   }
   if (waiting) {
     const {frame, resolve} = waiting; waiting = null;
     const {image} = frame;
+    if (frame.kind === "exact" && frame.only === null && frame.version !== "unsaved") lastExact = frame;
     if (frame.answer.stamp < drawnStamp) { resolve(); return; }  // a warp frame asked later is shown
     if (image.width === sheet.width && image.height === sheet.height) ctx.putImageData(image, 0, 0);
     else createImageBitmap(image).then((b) => ctx.drawImage(b, 0, 0, sheet.width, sheet.height));
     sheet.dataset.draft = frame.kind === "exact" ? "0" : "1";
     sheet.dataset.version = frame.version;  // what the sheet shows
     sheet.dataset.shown = frame.only === null ? "all" : frame.only.join(",");
-    if (frame.kind === "exact" && frame.only === null && frame.version !== "unsaved") lastExact = frame;
     note(frame.kind, frame.answer, {doc: frame.doc, t: frame.t, w: image.width, h: image.height,
       view: frame.view, ops: frame.only});
     resolve();

@@ -61,13 +61,16 @@ function keyOf(doc, k, t, view, w, h) {
 // returns {canvas, shown}, or null: it could not; ``answer``: the inputs it
 // answers, given back with it); false when the page
 // cannot warp it now (the caller asks the server). ``exact``: the page's last
-// exact frame of the saved recipe, or null.
-export function warpFrame(s, k, answer, draw, exact) {
+// exact frame of the saved recipe, or null; ``shown()``: the sheet's picture
+// when its last frame was warped, or null (a base until the exact one comes).
+export function warpFrame(s, k, answer, draw, exact, shown) {
   const [w, h] = s.screen, view = viewOf(s), doc = s.preview.doc, t = s.t;
   if (!available(w, h)) return false;
   const key = keyOf(doc, k, t, view, w, h);
   if (ready !== key) {
-    if (k === s.doc.ops.length && sameFrame(exact, s, view, w, h)) setLayers(key, exact.image.data, null, view, w, h);
+    const top = k === s.doc.ops.length;
+    const base = top ? baseOf(s, exact, view, w, h) || baseOf(s, shown(), view, w, h) : null;
+    if (base) setLayers(key, base, null, view, w, h);
     else { ask(doc, k, t, view, w, h, key); return false; }
   }
   const op = doc.ops[k], edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
@@ -78,9 +81,13 @@ export function warpFrame(s, k, answer, draw, exact) {
   }, answer);
   return true;
 }
-function sameFrame(exact, s, view, w, h) {
-  return !!exact && exact.doc === s.doc && exact.t === +s.t.toFixed(3) && exact.image.width === w
-    && exact.image.height === h && viewText(exact.view) === viewText(view);
+// The pixels of ``f`` ({doc, t, view, image}: the page's exact frame, the
+// sheet's last warped one) when it shows the recipe of ``s`` at its time, view
+// and size; else null.
+function baseOf(s, f, view, w, h) {
+  const same = f && (f.doc === s.doc || JSON.stringify(f.doc) === JSON.stringify(s.doc));
+  return same && f.t === +s.t.toFixed(3) && f.image.width === w && f.image.height === h
+    && viewText(f.view) === viewText(view) ? f.image.data : null;
 }
 function setLayers(key, base, above, view, w, h) {
   const toCanvas = toCanvasMap(view, w, h);
