@@ -64,11 +64,11 @@ def query(**more) -> str:
     )
 
 
-def test_a_frame_of_any_size_and_view_is_the_renderers(app):
+def test_a_frame_of_any_size_and_view_is_the_renderers(app, renderer):
     raw = post(app, f"/api/frame.rgba?{query()}", RECIPE)
     assert struct.unpack("<II", raw[:8]) == (W, H)
     got = np.frombuffer(raw[8:], np.uint8).reshape(H, W, 4)
-    want = Marbler(RECIPE).render(None, T, (W, H), VIEW)
+    want = Marbler(RECIPE, renderer).render(None, T, (W, H), VIEW)
     assert np.abs(got.astype(int) - want).max() <= 1
 
 

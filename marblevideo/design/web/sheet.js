@@ -46,7 +46,9 @@ function ground(s) {
 
 // ---------------------------------------------------------------- what is shown
 let rendering = false, pending = null, frames = 0, liveSeq = 0, idle = () => {};
-let exactMs = null, stamp = 0, drawnStamp = 0;  // stamps: what was asked later is drawn later  // the last exact render's time: a slow one makes the next progressive
+// exactMs: the last exact render's time (a slow one makes the next progressive);
+// stamps: what was asked later is drawn later
+let exactMs = null, stamp = 0, drawnStamp = 0;
 export const isRendering = () => rendering;
 // ``fn`` runs each time the renders asked for are done (main.js: the clock's next tick).
 export function whenIdle(fn) { idle = fn; }
@@ -146,9 +148,13 @@ function paint() {
     const {frame, resolve} = waiting; waiting = null;
     const {image} = frame;
     if (frame.kind === "exact" && frame.only === null && frame.version !== "unsaved") lastExact = frame;
-    if (frame.answer.stamp < drawnStamp) { resolve(); return; }  // a warp frame asked later is shown
-    if (image.width === sheet.width && image.height === sheet.height) ctx.putImageData(image, 0, 0);
-    else createImageBitmap(image).then((b) => ctx.drawImage(b, 0, 0, sheet.width, sheet.height));
+    // a warp frame asked later is shown, or the sheet has another size since (its
+    // last frame is kept, scaled, and a frame of the new size is on its way)
+    if (frame.answer.stamp < drawnStamp || image.width !== sheet.width || image.height !== sheet.height) {
+      resolve();
+      return;
+    }
+    ctx.putImageData(image, 0, 0);
     sheet.dataset.draft = frame.kind === "exact" ? "0" : "1";
     sheet.dataset.version = frame.version;  // what the sheet shows
     sheet.dataset.shown = frame.only === null ? "all" : frame.only.join(",");
