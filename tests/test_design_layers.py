@@ -95,7 +95,7 @@ def test_layers_are_the_ops_below_and_the_map_of_the_ops_above(app):
     assert np.abs(above[both, 0] - px[both]).max() < 0.01
     assert np.abs(above[both, 1] - py[both]).max() < 0.01
     red = on_ink & (ink >= 0)
-    assert np.all(above[red, :3] == [230, 57, 70])
+    assert np.allclose(above[red, :3], np.array([230, 57, 70]) / 255)
     # the top op has nothing above it: the base only
     raw = post(app, f"/api/layers?{query(k=3)}", RECIPE)
     assert struct.unpack("<IIII", raw[:16])[3] == 0 and len(raw) == 16 + n

@@ -243,6 +243,34 @@ def test_a_frame_mid_gesture_agrees_with_the_exact_render(chromium, tmp_path, qu
         assert errors == []
 
 
+def test_a_handle_dragged_mid_gesture_agrees_with_the_exact_render(chromium, tmp_path):
+    """The first drop's centre dragged (Alt): the page warps the server's layers of
+    op 0 (nothing below it, the second drop and the wave above it as a map), and
+    the frame agrees with the exact render of the recipe it shows."""
+    recipe = tmp_path / "drops.json"
+    recipe.write_text(json.dumps(DROPS))
+    with sheet_page(chromium, tmp_path, "--ops", recipe) as (page, app, errors):
+        page.click("#op-0 .name")
+        box = page.locator("#overlay").bounding_box()
+        px, py = page.evaluate("designer.toPixel(designer.handles(0)[0][1])")
+        scale = box["width"] / page.evaluate("document.getElementById('overlay').width")
+        x0, y0 = box["x"] + px * scale, box["y"] + py * scale
+        page.keyboard.down("Alt")
+        page.mouse.move(x0, y0)
+        page.mouse.down()
+        for i in range(1, 7):
+            page.mouse.move(x0 + 6 * i, y0 + 3 * i)
+        image, what, frame = shown_when(
+            page, "f.kind === 'warp' && f.input !== null && designer.state.gesture !== null"
+        )
+        page.mouse.up()
+        page.keyboard.up("Alt")
+        assert what["doc"]["ops"][0]["center"] != DROPS["ops"][0]["center"]
+        share = agreement(image, server_render(app, what))
+        assert share >= SHARE, share
+        assert errors == []
+
+
 def test_a_first_frame_soon_and_never_a_black_sheet(chromium, tmp_path):
     recipe = tmp_path / "np.json"
     shutil.copy(ROOT / "samples" / "nonpareil.json", recipe)

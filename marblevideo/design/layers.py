@@ -5,7 +5,8 @@ the page can warp the picture by op k alone while a hand moves it (warp.js).
 The *above map* of a render of ``w`` x ``h`` device pixels is float32 (h, w, 4):
 per pixel (qx, qy, 0, 1), the canvas point that the inverse walk of the ops
 above k leaves its centre at (where op k's inverse continues), or (r, g, b, -1)
-where that walk ends on ink (an op above paints the pixel: 0..255 colour). It
+where that walk ends on ink (an op above paints the pixel: its colour, 0..1 as
+a shader's). It
 is walked on the device by the renderer's own kernel ``marble_centres``
 (kernels/adaptive.cl: one walk per pixel centre, the end point in canvas units
 through an identity canvas -> input map), so it agrees with the exact render's
@@ -60,7 +61,7 @@ def above_map(renderer, spec, geom) -> np.ndarray:
     hit = ink >= 0
     if hit.any():
         colors = ink_colors(spec).astype(np.float32)
-        out[hit, :3] = colors[ink[hit], :3]
+        out[hit, :3] = colors[ink[hit], :3] / 255.0
         out[hit, 3] = -1.0
     return out
 
