@@ -88,7 +88,6 @@ class Warp {
   setGeometry(toCanvas, toBase) {
     this.toCanvas = [...toCanvas];
     this.toBase = [...toBase];
-    this.map.reset();
   }
 
   // Draw base(inv_op(q)) at time t; false when the page cannot (the caller asks the server).
@@ -136,8 +135,22 @@ class Warp {
     return true;
   }
 
-  strokeBegin(op) { this.map.reset(); return op; }
-  strokeExtend(op, t) { return this.draw(op, t ?? Math.max(...(op.times ?? [0]))); }
+  // A stroke about to be drawn point by point: its map starts afresh.
+  strokeBegin(op) {
+    this.map.reset();
+    return op;
+  }
+
+  // The stroke grown (its points a prefix of the new ones) drawn at t (default:
+  // its newest point's time): only new whole steps are folded into the map.
+  strokeExtend(op, t, background = "#ffffff", edges = "clamp") {
+    return this.draw(op, t ?? op.times?.[op.times.length - 1] ?? 0, background, edges);
+  }
+
+  // How many times the stroke map was laid from scratch (tests: a growing stroke lays it once).
+  get strokeBuilds() {
+    return this.map.builds ?? 0;
+  }
 
   // The canvas' pixels, RGBA, top row first.
   readPixels() {

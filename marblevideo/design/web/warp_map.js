@@ -63,6 +63,7 @@ export class StrokeMap {
     const gl = this.gl, [w, h] = size, tg = this.target(w, h);
     const key = this.stale(op, layout, drag, toCanvas, size);
     if (key !== null) {
+      this.builds = (this.builds ?? 0) + 1;
       this.key = key;
       this.count = 0;
       this.marked = new Uint8Array(Math.ceil(w / 16) * Math.ceil(h / 16));
