@@ -18,6 +18,7 @@ import pytest
 from helpers import ROOT
 from warp_page import ARGS, serve_web, set_above, setup_warp, warp_frame
 
+from marblevideo.ops import recipe_types
 from marblevideo.recipe.frame import geometry
 from marblevideo.recipe.load import Recipe
 from marblevideo.reference import ink_colors, inverse_walk, render
@@ -105,6 +106,10 @@ OPS = [
         "colors": ["#804000"],
     },
 ]
+
+
+def test_every_op_type_is_tested():
+    assert {op["type"] for op in OPS} == set(recipe_types())
 
 
 @pytest.fixture(scope="module")
