@@ -1,4 +1,4 @@
-// A stroke's whole steps accumulated into a float displacement map (RGBA32F,
+// A stroke's whole steps accumulated into a float displacement map (RG32F,
 // device size, rows bottom-up as the framebuffer): texel q holds
 // W^-1(Q) - Q for its canvas point Q, W the whole steps folded so far. A chunk
 // of CHUNK new whole steps is folded as map'(Q) = map(chunk^-1(Q)) (the newest
@@ -37,7 +37,7 @@ export class StrokeMap {
     if (this.targets && this.targets.w === w && this.targets.h === h) return this.targets;
     const make = () => {
       const tex = texture(gl);
-      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, null);
+      gl.texImage2D(gl.TEXTURE_2D, 0, gl.RG32F, w, h, 0, gl.RG, gl.FLOAT, null);
       const fb = gl.createFramebuffer();
       gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
       gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0);
