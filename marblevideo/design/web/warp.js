@@ -2,8 +2,9 @@
 // exact picture of the ops below that op (the base, device pixels, from the
 // server) and draws base(inverse op(q)) for every device pixel q each frame,
 // with ink inside drops, the ops above as an optional map from the server, and
-// a stroke's whole steps accumulated once into a float displacement map (only
-// the partial step is walked per frame). Geometry: device point (x, y) (a
+// a stroke's whole steps folded by chunks into a float displacement map (the
+// frame walks only the partial step and the whole steps of the chunk being
+// laid; warp.exactSteps = true walks them all instead). Geometry: device point (x, y) (a
 // pixel's centre is x = i + 0.5) is canvas point (x a + c, y b + d) for
 // toCanvas = [a, b, c, d]; canvas point Q is base pixel point
 // (Q.x a' + c', Q.y b' + d') for toBase = [a', b', c', d'].
@@ -90,10 +91,22 @@ class Warp {
     this.toBase = [...toBase];
   }
 
-  // Draw base(inv_op(q)) at time t; false when the page cannot (the caller asks the server).
+  // Draw base(inv_op(q)) at time t over the recipe's background and edges (the
+  // background shows where edges is "background"); false when the page cannot
+  // (a signal, an unknown op, a WebGL failure): the caller asks the server.
   draw(op, t, background = "#ffffff", edges = "clamp") {
-    const plan = resolve(op, t);
-    if (!plan || !(edges in EDGES)) return false;
+    try {
+      const plan = resolve(op, t), bg = rgb255(at(background, t, true));
+      if (!plan || !(edges in EDGES)) return false;
+      this.drawPlan(op, t, plan, bg, EDGES[edges]);
+      return true;
+    } catch (e) {
+      console.warn("warp:", e);
+      return false;
+    }
+  }
+
+  drawPlan(op, t, plan, bg, edges) {
     const gl = this.gl, { width, height } = this.canvas;
     let kind = plan.kind, p = plan.p, list = plan.list;
     let steps = { list, n: 0, rect: [1, 1, -1, -1] };
@@ -108,19 +121,19 @@ class Warp {
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, width, height);
     gl.disable(gl.SCISSOR_TEST);
-    const { prog, u } = this.program(kind, EDGES[edges]);
+    const { prog, u } = this.program(kind, edges);
     gl.useProgram(prog);
     setSteps(gl, u, this.list, steps);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, this.base);
     gl.uniform1i(u.uBase, 0);
     gl.uniform2f(u.uBaseSize, ...this.baseSize);
-    const wrap = [gl.CLAMP_TO_EDGE, gl.REPEAT, gl.MIRRORED_REPEAT, gl.CLAMP_TO_EDGE][EDGES[edges]];
-    const filter = EDGES[edges] === 3 ? gl.NEAREST : gl.LINEAR;
+    const wrap = [gl.CLAMP_TO_EDGE, gl.REPEAT, gl.MIRRORED_REPEAT, gl.CLAMP_TO_EDGE][edges];
+    const filter = edges === 3 ? gl.NEAREST : gl.LINEAR;
     for (const [k, v] of [[gl.TEXTURE_WRAP_S, wrap], [gl.TEXTURE_WRAP_T, wrap], [gl.TEXTURE_MIN_FILTER, filter], [gl.TEXTURE_MAG_FILTER, filter]]) {
       gl.texParameteri(gl.TEXTURE_2D, k, v);
     }
-    gl.uniform3f(u.uBg, ...rgb255(at(background, t, true)).map((v) => v / 255));
+    gl.uniform3f(u.uBg, ...bg.map((v) => v / 255));
     gl.uniform4f(u.uToBase, ...this.toBase);
     const params = new Float32Array(16);
     params.set(p.slice(0, 16));
@@ -132,7 +145,6 @@ class Warp {
     setCommon(gl, u, this.toCanvas, [width, height], op.width ?? 24);
     gl.bindVertexArray(this.vao);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
-    return true;
   }
 
   // A stroke about to be drawn point by point: its map starts afresh.
