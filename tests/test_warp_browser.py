@@ -229,13 +229,20 @@ def test_a_signal_is_refused(warp_page):
     assert warp_frame(page, op, 0, base.shape) is None
 
 
-def test_a_scaled_canvas_and_the_ops_above(warp_page):
-    """The canvas 160x120 shown at 240x180 (s = 1.5, the contract's geometry), and
+SCALED = [
+    {"type": "vortex", "center": [100, 50], "alpha": 40, "lambda": 15, **WINDOW},
+    {"type": "stroke", "points": [[30, 20], [150, 40], [110, 90]], "width": 20, "tines": [0, 15]},
+]
+
+
+@pytest.mark.parametrize("changing", SCALED, ids=[op["type"] for op in SCALED])
+def test_a_scaled_canvas_and_the_ops_above(warp_page, changing):
+    """The canvas 200x100 shown at 240x180 (s = 1.2, centred 30 px down: the
+    contract's geometry as toCanvas and toBase), and
     ops above the changing one given as the server's map."""
     page, base = warp_page
-    canvas = (160, 120)
+    canvas = (200, 100)
     geom = geometry(canvas, (W, H), (W, H))
-    changing = {"type": "vortex", "center": [80, 60], "alpha": 40, "lambda": 15, **WINDOW}
     above = [
         {"type": "drop", "center": [40, 30], "radius": 12, "color": "#2040c0"},
         {"type": "wave", "amplitude": 4, "wavelength": 30, "phase": 0, "angle": 0},
@@ -265,4 +272,4 @@ def test_a_scaled_canvas_and_the_ops_above(warp_page):
     whole = {**doc, "ops": [changing, *above]}
     want = render(Recipe.from_dict(whole).at(0.5), geom, base)
     assert agreement(got, want) >= 0.98
-    assert agreement(got, base) < 0.9  # the vortex and the ops above show
+    assert agreement(got, base) < 0.9  # the op and the ops above show
