@@ -34,6 +34,22 @@ OPS = [
     {"type": "drop", "center": C, "radius": 40, "color": "#c03020"},
     {"type": "spray", "center": [90, 70], "radius": 25, "color": [20, 200, 60]},
     {"type": "tine", "point": [30, 40], "angle": 20, "alpha": 25, "lambda": 12},
+    {
+        "type": "drop",
+        "center": {
+            "keys": [{"t": 0, "v": [60, 50], "ease": "ease-in-out"}, {"t": 2, "v": [180, 130]}]
+        },
+        "radius": {"keys": [{"t": 0, "v": 20, "ease": [0.3, 0, 0.2, 1]}, {"t": 1.2, "v": 45}]},
+        "color": {"keys": [{"t": 0, "v": "#ff0000"}, {"t": 2, "v": "navy"}]},
+    },
+    {
+        "type": "comb",
+        "point": [10, 10],
+        "angle": {"keys": [{"t": 0, "v": 0, "ease": "hold"}, {"t": 0.8, "v": 60}]},
+        "spacing": 30,
+        "alpha": {"keys": [{"t": 0, "v": 5, "ease": "ease-in"}, {"t": 1.5, "v": 20}]},
+        "lambda": 8,
+    },
     {"type": "comb", "point": [0, 0], "angle": 90, "spacing": 24, "alpha": 14, "lambda": 6},
     {"type": "wave", "amplitude": 6, "wavelength": 40, "phase": 30, "angle": 10},
     {"type": "shift", "offset": [9, -6]},
