@@ -61,8 +61,10 @@ vec2 stepsBack(vec2 P) {
   return P;
 }
 
-// The accumulated displacement at canvas point Q: Catmull-Rom (the map is
-// smooth but steep near a stroke; bilinear loses a pixel there), clamped at the edges.
+// The accumulated displacement at canvas point Q, clamped at the edges: folding
+// a chunk into the map reads it by Catmull-Rom (the map is smooth but steep near
+// a stroke, and bilinear reads, one per fold, lose a pixel there); the frame's
+// one read is bilinear (it agrees as well: the folds' reads are what count).
 vec2 texMap(ivec2 i) { return texelFetch(uMap, clamp(i, ivec2(0), ivec2(uSize) - 1), 0).xy; }
 vec4 catmull(float t) {
   float t2 = t * t, t3 = t2 * t;
@@ -71,6 +73,12 @@ vec4 catmull(float t) {
 vec2 displacement(vec2 Q) {
   vec2 dev = (Q - uToCanvas.zw) / uToCanvas.xy;
   vec2 f = vec2(dev.x, uSize.y - dev.y) - 0.5;
+#if defined(KIND)
+  vec2 g0 = floor(f), wt = f - g0;
+  ivec2 i = ivec2(g0);
+  vec2 lo = mix(texMap(i), texMap(i + ivec2(1, 0)), wt.x);
+  return mix(lo, mix(texMap(i + ivec2(0, 1)), texMap(i + ivec2(1, 1)), wt.x), wt.y);
+#else
   vec2 f0 = floor(f);
   vec4 wx = catmull(f.x - f0.x), wy = catmull(f.y - f0.y);
   ivec2 i0 = ivec2(f0) - 1;
@@ -81,6 +89,7 @@ vec2 displacement(vec2 Q) {
     sum += wy[j] * row;
   }
   return sum;
+#endif
 }
 
 vec2 mapped(vec2 Q) {
