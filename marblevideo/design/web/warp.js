@@ -16,13 +16,20 @@ import { program, setCommon, texture } from "./warp_gl.js";
 
 const EDGES = { clamp: 0, repeat: 1, mirror: 2, background: 3 };
 
+let canWarp = null;
+
+// Whether this browser has WebGL2 with float render targets (asked once: a
+// context made and given back, as browsers keep only a few alive).
 export function supported() {
+  if (canWarp !== null) return canWarp;
   try {
     const gl = new OffscreenCanvas(1, 1).getContext("webgl2");
-    return !!(gl && gl.getExtension("EXT_color_buffer_float"));
+    canWarp = !!(gl && gl.getExtension("EXT_color_buffer_float"));
+    gl?.getExtension("WEBGL_lose_context")?.loseContext();
   } catch {
-    return false;
+    canWarp = false;
   }
+  return canWarp;
 }
 
 // A WebGL2 canvas of the sheet's device size -> a Warp, or null without WebGL2
