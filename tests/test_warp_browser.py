@@ -18,6 +18,7 @@ import pytest
 from helpers import ROOT
 from warp_page import ARGS, serve_web, set_above, setup_warp, warp_frame
 
+from marblevideo.ops import recipe_types
 from marblevideo.recipe.frame import geometry
 from marblevideo.recipe.load import Recipe
 from marblevideo.reference import ink_colors, inverse_walk, render
@@ -33,6 +34,22 @@ OPS = [
     {"type": "drop", "center": C, "radius": 40, "color": "#c03020"},
     {"type": "spray", "center": [90, 70], "radius": 25, "color": [20, 200, 60]},
     {"type": "tine", "point": [30, 40], "angle": 20, "alpha": 25, "lambda": 12},
+    {
+        "type": "drop",
+        "center": {
+            "keys": [{"t": 0, "v": [60, 50], "ease": "ease-in-out"}, {"t": 2, "v": [180, 130]}]
+        },
+        "radius": {"keys": [{"t": 0, "v": 20, "ease": [0.3, 0, 0.2, 1]}, {"t": 1.2, "v": 45}]},
+        "color": {"keys": [{"t": 0, "v": "#ff0000"}, {"t": 2, "v": "navy"}]},
+    },
+    {
+        "type": "comb",
+        "point": [10, 10],
+        "angle": {"keys": [{"t": 0, "v": 0, "ease": "hold"}, {"t": 0.8, "v": 60}]},
+        "spacing": 30,
+        "alpha": {"keys": [{"t": 0, "v": 5, "ease": "ease-in"}, {"t": 1.5, "v": 20}]},
+        "lambda": 8,
+    },
     {"type": "comb", "point": [0, 0], "angle": 90, "spacing": 24, "alpha": 14, "lambda": 6},
     {"type": "wave", "amplitude": 6, "wavelength": 40, "phase": 30, "angle": 10},
     {"type": "shift", "offset": [9, -6]},
@@ -105,6 +122,10 @@ OPS = [
         "colors": ["#804000"],
     },
 ]
+
+
+def test_every_op_type_is_tested():
+    assert {op["type"] for op in OPS} == set(recipe_types())
 
 
 @pytest.fixture(scope="module")
@@ -189,15 +210,29 @@ def timed_stroke(n: int = 60) -> dict:
     }
 
 
+EXTEND = """(op) => {
+  if (op.points.length === 2) W.strokeBegin(op);
+  W.strokeExtend(op);
+  return W.strokeBuilds;
+}"""
+
+
 def test_a_growing_stroke_is_the_finished_stroke_at_each_time(warp_page):
+    """Grown point by point with strokeBegin/strokeExtend, the map laid once."""
     page, base = warp_page
     full = timed_stroke()
-    for i in (5, 12, 21, 33, 47, 59):
+    checked = (5, 12, 21, 33, 47, 59)
+    builds = None
+    for i in range(1, len(full["points"])):
         grown = {**full, "points": full["points"][: i + 1], "times": full["times"][: i + 1]}
-        t = full["times"][i]
-        got = warp_frame(page, grown, t, base.shape)
-        share = agreement(got, reference(base, full, t))
-        assert share >= 0.98, f"grown to point {i}, t={t}: {share:.4f} of pixels agree"
+        n = page.evaluate(EXTEND, grown)
+        builds = n if builds is None else builds
+        if i in checked:
+            t = full["times"][i]
+            got = warp_frame(page, grown, t, base.shape)
+            share = agreement(got, reference(base, full, t))
+            assert share >= 0.98, f"grown to point {i}, t={t}: {share:.4f} of pixels agree"
+    assert n == builds, "the growing stroke's map was laid again"
     healing = {**full, "heal": [1.5, 2.5]}
     for t in (1.7, 2.2):
         check(page, base, healing, t)
@@ -210,13 +245,20 @@ def test_a_signal_is_refused(warp_page):
     assert warp_frame(page, op, 0, base.shape) is None
 
 
-def test_a_scaled_canvas_and_the_ops_above(warp_page):
-    """The canvas 160x120 shown at 240x180 (s = 1.5, the contract's geometry), and
+SCALED = [
+    {"type": "vortex", "center": [100, 50], "alpha": 40, "lambda": 15, **WINDOW},
+    {"type": "stroke", "points": [[30, 20], [150, 40], [110, 90]], "width": 20, "tines": [0, 15]},
+]
+
+
+@pytest.mark.parametrize("changing", SCALED, ids=[op["type"] for op in SCALED])
+def test_a_scaled_canvas_and_the_ops_above(warp_page, changing):
+    """The canvas 200x100 shown at 240x180 (s = 1.2, centred 30 px down: the
+    contract's geometry as toCanvas and toBase), and
     ops above the changing one given as the server's map."""
     page, base = warp_page
-    canvas = (160, 120)
+    canvas = (200, 100)
     geom = geometry(canvas, (W, H), (W, H))
-    changing = {"type": "vortex", "center": [80, 60], "alpha": 40, "lambda": 15, **WINDOW}
     above = [
         {"type": "drop", "center": [40, 30], "radius": 12, "color": "#2040c0"},
         {"type": "wave", "amplitude": 4, "wavelength": 30, "phase": 0, "angle": 0},
@@ -246,4 +288,4 @@ def test_a_scaled_canvas_and_the_ops_above(warp_page):
     whole = {**doc, "ops": [changing, *above]}
     want = render(Recipe.from_dict(whole).at(0.5), geom, base)
     assert agreement(got, want) >= 0.98
-    assert agreement(got, base) < 0.9  # the vortex and the ops above show
+    assert agreement(got, base) < 0.9  # the op and the ops above show

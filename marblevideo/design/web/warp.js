@@ -2,8 +2,9 @@
 // exact picture of the ops below that op (the base, device pixels, from the
 // server) and draws base(inverse op(q)) for every device pixel q each frame,
 // with ink inside drops, the ops above as an optional map from the server, and
-// a stroke's whole steps accumulated once into a float displacement map (only
-// the partial step is walked per frame). Geometry: device point (x, y) (a
+// a stroke's whole steps folded by chunks into a float displacement map (the
+// frame walks only the partial step and the whole steps of the chunk being
+// laid; warp.exactSteps = true walks them all instead). Geometry: device point (x, y) (a
 // pixel's centre is x = i + 0.5) is canvas point (x a + c, y b + d) for
 // toCanvas = [a, b, c, d]; canvas point Q is base pixel point
 // (Q.x a' + c', Q.y b' + d') for toBase = [a', b', c', d'].
@@ -15,13 +16,20 @@ import { program, setCommon, texture } from "./warp_gl.js";
 
 const EDGES = { clamp: 0, repeat: 1, mirror: 2, background: 3 };
 
+let canWarp = null;
+
+// Whether this browser has WebGL2 with float render targets (asked once: a
+// context made and given back, as browsers keep only a few alive).
 export function supported() {
+  if (canWarp !== null) return canWarp;
   try {
     const gl = new OffscreenCanvas(1, 1).getContext("webgl2");
-    return !!(gl && gl.getExtension("EXT_color_buffer_float"));
+    canWarp = !!(gl && gl.getExtension("EXT_color_buffer_float"));
+    gl?.getExtension("WEBGL_lose_context")?.loseContext();
   } catch {
-    return false;
+    canWarp = false;
   }
+  return canWarp;
 }
 
 // A WebGL2 canvas of the sheet's device size -> a Warp, or null without WebGL2
@@ -88,13 +96,24 @@ class Warp {
   setGeometry(toCanvas, toBase) {
     this.toCanvas = [...toCanvas];
     this.toBase = [...toBase];
-    this.map.reset();
   }
 
-  // Draw base(inv_op(q)) at time t; false when the page cannot (the caller asks the server).
+  // Draw base(inv_op(q)) at time t over the recipe's background and edges (the
+  // background shows where edges is "background"); false when the page cannot
+  // (a signal, an unknown op, a WebGL failure): the caller asks the server.
   draw(op, t, background = "#ffffff", edges = "clamp") {
-    const plan = resolve(op, t);
-    if (!plan || !(edges in EDGES)) return false;
+    try {
+      const plan = resolve(op, t), bg = rgb255(at(background, t, true));
+      if (!plan || !(edges in EDGES)) return false;
+      this.drawPlan(op, t, plan, bg, EDGES[edges]);
+      return true;
+    } catch (e) {
+      console.warn("warp:", e);
+      return false;
+    }
+  }
+
+  drawPlan(op, t, plan, bg, edges) {
     const gl = this.gl, { width, height } = this.canvas;
     let kind = plan.kind, p = plan.p, list = plan.list;
     let steps = { list, n: 0, rect: [1, 1, -1, -1] };
@@ -109,19 +128,19 @@ class Warp {
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, width, height);
     gl.disable(gl.SCISSOR_TEST);
-    const { prog, u } = this.program(kind, EDGES[edges]);
+    const { prog, u } = this.program(kind, edges);
     gl.useProgram(prog);
     setSteps(gl, u, this.list, steps);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, this.base);
     gl.uniform1i(u.uBase, 0);
     gl.uniform2f(u.uBaseSize, ...this.baseSize);
-    const wrap = [gl.CLAMP_TO_EDGE, gl.REPEAT, gl.MIRRORED_REPEAT, gl.CLAMP_TO_EDGE][EDGES[edges]];
-    const filter = EDGES[edges] === 3 ? gl.NEAREST : gl.LINEAR;
+    const wrap = [gl.CLAMP_TO_EDGE, gl.REPEAT, gl.MIRRORED_REPEAT, gl.CLAMP_TO_EDGE][edges];
+    const filter = edges === 3 ? gl.NEAREST : gl.LINEAR;
     for (const [k, v] of [[gl.TEXTURE_WRAP_S, wrap], [gl.TEXTURE_WRAP_T, wrap], [gl.TEXTURE_MIN_FILTER, filter], [gl.TEXTURE_MAG_FILTER, filter]]) {
       gl.texParameteri(gl.TEXTURE_2D, k, v);
     }
-    gl.uniform3f(u.uBg, ...rgb255(at(background, t, true)).map((v) => v / 255));
+    gl.uniform3f(u.uBg, ...bg.map((v) => v / 255));
     gl.uniform4f(u.uToBase, ...this.toBase);
     const params = new Float32Array(16);
     params.set(p.slice(0, 16));
@@ -133,11 +152,24 @@ class Warp {
     setCommon(gl, u, this.toCanvas, [width, height], op.width ?? 24);
     gl.bindVertexArray(this.vao);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
-    return true;
   }
 
-  strokeBegin(op) { this.map.reset(); return op; }
-  strokeExtend(op, t) { return this.draw(op, t ?? Math.max(...(op.times ?? [0]))); }
+  // A stroke about to be drawn point by point: its map starts afresh.
+  strokeBegin(op) {
+    this.map.reset();
+    return op;
+  }
+
+  // The stroke grown (its points a prefix of the new ones) drawn at t (default:
+  // its newest point's time): only new whole steps are folded into the map.
+  strokeExtend(op, t, background = "#ffffff", edges = "clamp") {
+    return this.draw(op, t ?? op.times?.[op.times.length - 1] ?? 0, background, edges);
+  }
+
+  // How many times the stroke map was laid from scratch (tests: a growing stroke lays it once).
+  get strokeBuilds() {
+    return this.map.builds ?? 0;
+  }
 
   // The canvas' pixels, RGBA, top row first.
   readPixels() {

@@ -32,10 +32,11 @@ const float TAU = 6.283185307179586;
 vec2 rot(vec2 q, float t) { float c = cos(t), s = sin(t); return vec2(q.x * c - q.y * s, q.x * s + q.y * c); }
 vec2 devicePoint() { return vec2(gl_FragCoord.x, uSize.y - gl_FragCoord.y); }
 
-// SwiftShader runs both sides of an if, masked, for the lanes of a SIMD group;
-// a loop it leaves as soon as no lane goes on. So the costly blocks below sit
-// in loops run once (or not at all): a group where every point is out of reach
-// skips them.
+// SwiftShader (the CPU WebGL2 of a machine without a GPU) runs a SIMD group's
+// lanes together; an if may cost both its sides, while a loop ends as soon as
+// no lane goes on. So the costly blocks below sit in loops run once (or not at
+// all): a group where every point is out of reach skips them. (Measured only
+// together with the two changes above drawSource's: not apart.)
 
 // One tine's step backwards: about B = c - h by +theta g, then A = c + h by -theta g.
 vec2 turnBack(vec2 P, vec4 s, float theta, float w2) {
@@ -61,8 +62,10 @@ vec2 stepsBack(vec2 P) {
   return P;
 }
 
-// The accumulated displacement at canvas point Q: Catmull-Rom (the map is
-// smooth but steep near a stroke; bilinear loses a pixel there), clamped at the edges.
+// The accumulated displacement at canvas point Q, clamped at the edges: folding
+// a chunk into the map reads it by Catmull-Rom (the map is smooth but steep near
+// a stroke, and bilinear reads, one per fold, lose a pixel there); the frame's
+// one read is bilinear (it agrees as well: the folds' reads are what count).
 vec2 texMap(ivec2 i) { return texelFetch(uMap, clamp(i, ivec2(0), ivec2(uSize) - 1), 0).xy; }
 vec4 catmull(float t) {
   float t2 = t * t, t3 = t2 * t;
@@ -71,6 +74,12 @@ vec4 catmull(float t) {
 vec2 displacement(vec2 Q) {
   vec2 dev = (Q - uToCanvas.zw) / uToCanvas.xy;
   vec2 f = vec2(dev.x, uSize.y - dev.y) - 0.5;
+#if defined(KIND)
+  vec2 g0 = floor(f), wt = f - g0;
+  ivec2 i = ivec2(g0);
+  vec2 lo = mix(texMap(i), texMap(i + ivec2(1, 0)), wt.x);
+  return mix(lo, mix(texMap(i + ivec2(0, 1)), texMap(i + ivec2(1, 1)), wt.x), wt.y);
+#else
   vec2 f0 = floor(f);
   vec4 wx = catmull(f.x - f0.x), wy = catmull(f.y - f0.y);
   ivec2 i0 = ivec2(f0) - 1;
@@ -81,6 +90,7 @@ vec2 displacement(vec2 Q) {
     sum += wy[j] * row;
   }
   return sum;
+#endif
 }
 
 vec2 mapped(vec2 Q) {
@@ -102,8 +112,10 @@ void main() {
 
 // The draw pass specialised to one kind of op (warp_ops.js' kinds; 8 a stroke),
 // edges mode (0 clamp, 1 repeat, 2 mirror, 3 background) and whether a map of
-// the ops above is given: SwiftShader runs the branches of a shader's uniform
-// ifs too, so each program holds only its own op's code.
+// the ops above is given, so each program holds only its own op's code: one
+// shader for every kind, switched by uniform ifs, took 695 ms a 1024x768 drop
+// frame on SwiftShader under load 17, this 90 ms under load 15 (and a uniform
+// array, even unindexed, cost a stroke frame 240 ms more: the shaders have none).
 export function drawSource(kind, edges, above) {
   return `#version 300 es
 #define KIND ${kind}

@@ -55,6 +55,7 @@ export function wholeCount(s, d) {
 export function strokeAt(op, t, drag) {
   const w = op.width ?? 24, tines = (op.tines ?? [0]).map(Number), pa = path(op.points);
   const l = pa.arc[pa.arc.length - 1], p = progress(op, t), law = (len) => (drag * len * 16) / (9 * w);
+  if (!(l > 0)) return { timed: !!op.times, d: w / 4, count: 0, partial: null, wholeTheta: 0, wholeStep: null };
   if (op.times) {
     const d = w / 4, s = travel(op.times, pa, t) * p, count = wholeCount(s, d);
     const q0 = pa.flat.slice(0, 2), n0 = normal(q0, pointAt(pa, Math.min(s, d))).n;
