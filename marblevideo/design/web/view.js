@@ -74,7 +74,7 @@ function observed(entry) {
 }
 export function initSize() {
   new ResizeObserver((entries) => entries.forEach(observed)).observe(sheet);
-  window.addEventListener("resize", fitSheet);
+  new ResizeObserver(fitSheet).observe($("stage"));  // the window, or what shares the stage (an error shown)
 }
 
 // ---------------------------------------------------------------- zoom and pan
