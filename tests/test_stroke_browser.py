@@ -21,13 +21,16 @@ S = [(220 + 160 * u, 200 - 70 * math.sin(2 * math.pi * u)) for u in np.linspace(
 
 
 def ink_near(page, points) -> int:
-    """How many frame pixels within 5 px of ``points`` show the ink colour."""
+    """How many sheet pixels within 5 frame pixels of ``points`` (frame pixels)
+    show the ink colour."""
     return page.evaluate(
         """([pts, ink]) => {
-            const c = document.getElementById('sheet').getContext('2d');
+            const sheet = document.getElementById('sheet'), c = sheet.getContext('2d');
+            const sc = sheet.width / designer.state.info.size[0], r = Math.round(5 * sc);
             let n = 0;
-            for (const [x, y] of pts) {
-                const d = c.getImageData(Math.round(x) - 5, Math.round(y) - 5, 11, 11).data;
+            for (const [x, y] of pts) {  // the sheet has device pixels: the frame scaled by sc
+                const x0 = Math.round(x * sc) - r, y0 = Math.round(y * sc) - r;
+                const d = c.getImageData(x0, y0, 2 * r + 1, 2 * r + 1).data;
                 for (let k = 0; k < d.length; k += 4) {
                     const hex = '#' + [d[k], d[k + 1], d[k + 2]]
                         .map((v) => v.toString(16).padStart(2, '0')).join('');

@@ -22,8 +22,10 @@ from urllib.parse import parse_qs
 from marblevideo.controllers.api import learn, signals_state
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
 from marblevideo.design.describe import describe_motion, describe_ops
+from marblevideo.design.layers import above_map, layers_answer, parse_view
 from marblevideo.errors import MarbleError, RecipeError, UsageError
-from marblevideo.marbler import Marbler, blank_size
+from marblevideo.limits import MAX_SIDE
+from marblevideo.marbler import Marbler, blank_size, image_size
 from marblevideo.recipe import Recipe, parse_recipe
 from marblevideo.recipe.frame import fit
 from marblevideo.serve.server import json_answer, request_json
@@ -97,6 +99,30 @@ def _only(query: dict, count: int) -> tuple[int, ...] | None:
     return only
 
 
+def _view(query: dict) -> tuple[float, float, float, float] | None:
+    """``view=x,y,w,h``: the window of the canvas shown (canvas units), or None."""
+    if "view" not in query:
+        return None
+    try:
+        return parse_view(query["view"][-1])
+    except ValueError as exc:
+        raise Answer(400, str(exc)) from None
+
+
+def _size(query: dict, frame: tuple[int, int]) -> tuple[int, int]:
+    """The render's size: ``w`` and ``h`` both given (1..MAX_SIDE), else the
+    frame's, ``w`` wide at most when only ``w`` is given (the aspect kept)."""
+    w, h = frame
+    width, height = _number(query, "w", None), _number(query, "h", None)
+    if width is not None and height is not None:
+        if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
+            raise Answer(400, f"w, h: expected 1..{MAX_SIDE} pixels each")
+        return round(width), round(height)
+    if width is not None and 8 <= width < w:
+        return round(width), max(1, round(h * width / w))
+    return w, h
+
+
 class DesignSession:
     """The recipe file (:class:`~marblevideo.serve.recipefile.RecipeFile`) drawn over
     a backdrop (:mod:`marblevideo.design.backdrop`) by one OpenCL renderer."""
@@ -154,33 +180,66 @@ class DesignSession:
                 raise Answer(503, "the designer is closing")
             yield
 
-    def render(self, query: dict, body: bytes | None = None):
-        """The frame at ``t`` (RGBA), ``w`` pixels wide at most, a draft (no
-        antialiasing) when ``draft`` is 1; of the recipe ``body`` (JSON, not
-        saved) when given, else of the saved one."""
+    def _doc(self, body: bytes | None) -> tuple[dict, int | bytes]:
+        """(recipe document, version): the POSTed one, else the saved one."""
         if body is None:
             doc, _, version = self.document.snapshot()
         else:
             doc, version = _json(body), body
         if not isinstance(doc, dict) or not isinstance(doc.get("ops"), list):
             raise Answer(400, f"{self.document.path}: expected a recipe object with ops")
+        return doc, version
+
+    def render(self, query: dict, body: bytes | None = None):
+        """The frame at ``t`` (RGBA) of ``w`` x ``h`` pixels (only ``w``: that
+        wide at most), of the canvas window ``view`` (x,y,w,h in canvas units;
+        default: the frame's), a draft (no antialiasing) when ``draft`` is 1; of
+        the recipe ``body`` (JSON, not saved) when given, else of the saved one."""
+        doc, version = self._doc(body)
         recipe = self._recipe(doc, version, _only(query, len(doc["ops"])))
         t = _number(query, "t", None)
         if t is None:
             t = recipe.end_time()
         if query.get("draft", ["0"])[-1] == "1":
             recipe = dataclasses.replace(recipe, antialias="none")
-        w, h = self.out_size(recipe)
-        width = _number(query, "w", None)
-        if width is not None and 8 <= width < w:
-            w, h = round(width), max(1, round(h * width / w))
+        size, view = _size(query, self.out_size(recipe)), _view(query)
         with self._rendering():
             start = time.perf_counter()
             image = self.backdrop.frame(t)
             recipe = recipe.bind(SessionSignals(self.controllers))
-            out = Marbler(recipe, renderer=self.renderer).render(image, t, (w, h))
+            out = Marbler(recipe, renderer=self.renderer).render(image, t, size, view)
             self.last_render_ms = (time.perf_counter() - start) * 1000
         return out
+
+    def layers(self, query: dict, body: bytes | None) -> bytes:
+        """``POST /api/layers?k=K``: for a gesture on op K of the recipe ``body``,
+        the exact picture of its ops below K and the map of the ops above K
+        (:mod:`marblevideo.design.layers`), at ``t``, ``w`` x ``h``, ``view``."""
+        doc, _ = self._doc(body)
+        ops = doc["ops"]
+        k = _number(query, "k", None)
+        if k is None or k != int(k) or not 0 <= k <= len(ops):
+            raise Answer(400, f"k: expected an op index 0..{len(ops)}")
+        k = int(k)
+        below, above = (self._part(doc, part) for part in (ops[:k], ops[k + 1 :]))
+        t = _number(query, "t", None)
+        size, view = _size(query, self.out_size(below)), _view(query)
+        signals = SessionSignals(self.controllers)
+        with self._rendering():
+            image = self.backdrop.frame(below.end_time() if t is None else t)
+            marbler = Marbler(below.bind(signals), renderer=self.renderer)
+            base = marbler.render(image, t, size, view)
+            amap = None
+            if above.ops:
+                top = Marbler(above.bind(signals), renderer=self.renderer)
+                amap = above_map(self.renderer, *top.frame_at(image_size(image), t, size, view))
+        return layers_answer(base, k, amap)
+
+    def _part(self, doc: dict, ops: list) -> Recipe:
+        try:
+            return parse_recipe({**doc, "ops": ops}, str(self.document.path))
+        except RecipeError as exc:
+            raise Answer(400, str(exc)) from None
 
     def frame_png(self, query: dict, body: bytes | None = None) -> bytes:
         import cv2
@@ -241,6 +300,7 @@ class DesignSession:
             ("POST", "/api/frame.png"): lambda: (self.frame_png(q, body or b"null"), "image/png"),
             ("GET", "/api/frame.rgba"): lambda: (self.frame_rgba(q), RAW),
             ("POST", "/api/frame.rgba"): lambda: (self.frame_rgba(q, body or b"null"), RAW),
+            ("POST", "/api/layers"): lambda: (self.layers(q, body or b"null"), RAW),
             ("GET", "/api/design.svg"): lambda: (self.svg(q), "image/svg+xml"),
             ("GET", "/api/signals"): lambda: (self.signals(), None),
             ("POST", "/api/learn"): lambda: (learn(self.controllers), None),
@@ -273,8 +333,25 @@ class DesignSession:
     def start(self) -> None:
         """Watch FILE for changes made by other programs (controllers' time starts)."""
         self.controllers.start()
+        threading.Thread(target=self._prebuild, name="marblevideo-build").start()
         self._watcher = threading.Thread(target=self._watch, name="marblevideo-watch", daemon=True)
         self._watcher.start()
+
+    def _prebuild(self) -> None:
+        """Build the programs the page asks for first, in the order it does: the
+        quick frame's (no antialiasing), the exact one's, the layers' map's. Not a
+        daemon: the OpenCL compiler must not be killed mid-build."""
+        from marblevideo.opencl.program import Structure
+
+        _, recipe, _ = self.document.snapshot()
+        has_input = self.backdrop.kind != "blank"
+        exact = Structure.of(recipe, has_input)
+        for structure in (dataclasses.replace(exact, antialias="none"), exact,
+                          dataclasses.replace(exact, has_input=True)):  # fmt: skip
+            if self.stop_event.is_set():
+                return
+            with contextlib.suppress(Exception):  # reported by the render that needs it
+                self.renderer.programs.get(structure)
 
     def _watch(self) -> None:
         while not self.stop_event.wait(RELOAD_POLL):

@@ -149,11 +149,13 @@ def wait_for(pred, what: str, timeout: float = 20.0):
 
 
 def pixel(page, x: float, y: float) -> str:
-    """The sheet's colour at frame pixel (x, y), as #rrggbb."""
+    """The sheet's colour at frame pixel (x, y) of the unzoomed sheet (whose canvas
+    has the sheet's device pixels, the frame scaled), as #rrggbb."""
     return page.evaluate(
         """([x, y]) => {
-            const d = document.getElementById('sheet').getContext('2d')
-                .getImageData(Math.floor(x), Math.floor(y), 1, 1).data;
+            const sheet = document.getElementById('sheet'), [fw, fh] = designer.state.info.size;
+            const px = Math.floor(x * sheet.width / fw), py = Math.floor(y * sheet.height / fh);
+            const d = sheet.getContext('2d').getImageData(px, py, 1, 1).data;
             return '#' + [d[0], d[1], d[2]].map((c) => c.toString(16).padStart(2, '0')).join('');
         }""",
         [x, y],

@@ -19,16 +19,19 @@ import { paramsOf, showParams } from "./params.js";
 import { initPointer, replayEarly } from "./pointer.js";
 import { initMotion, motionFieldsOf, motionLevelOf, showMotionFields, showMotionLevel } from "./motion.js";
 import { loadInfo, loadRecipe, poll } from "./recipe.js";
-import { fitSheet, resize, sheetOf, showSheet, sizeOf, whenIdle } from "./sheet.js";
+import { initRecord } from "./record.js";
+import { resize, screenOf, sheetOf, showSheet, whenIdle } from "./sheet.js";
 import { get, isLive, subscribe, update } from "./store.js";
 import { clockOf, initTimeline, liveStats, playOf, resume, setTime, showClock, showPlay } from "./timeline.js";
 import { buildToolbar } from "./toolbar.js";
 import { buildTools } from "./tools.js";
+import { initSize, initView, panBy, resetView, toCanvas, toPixel, zoomAt } from "./view.js";
+import { warpState } from "./warping.js";
 
 // The views that need the recipe and /api/info, in the order they first run
 // (the canvas sized before the sheet renders).
 const VIEWS = [
-  [sizeOf, resize],
+  [screenOf, resize],
   [fileOf, showFile],
   [exportsOf, showExports],
   [clockOf, showClock],
@@ -69,8 +72,10 @@ initPalette();
 initGround();
 initPointer();
 initTimeline();
+initSize();
+initView();
+initRecord();
 whenIdle(resume);
-window.addEventListener("resize", () => { if (get().info) fitSheet(); });
 // For scripts and tests: the page's state, its store and its evaluations.
 window.designer = {
   get state() { return get(); },
@@ -78,5 +83,8 @@ window.designer = {
   gesture, valueNow, valueAt, rangeOf, toolOp,
   handles: (i) => pointsOf(i),  // op i's handles: [name, point]
   setTool: (name) => update(() => ({tool: name})),
+  warp: warpState,  // whether the page warps during gestures (warp.js loaded, WebGL2), layers held
+  zoomAt, panBy, resetView,  // the view (zoom about a device pixel, pan by device pixels)
+  toCanvas, toPixel,  // the sheet's device pixels <-> canvas points, through the view
 };
 start();

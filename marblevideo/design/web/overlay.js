@@ -34,7 +34,9 @@ export function handleAt(px, s = get()) {
   return null;
 }
 
-export const overlayOf = (s) => [s.doc, s.selected, s.gesture, s.info.size, s.showMotion && s.motion];
+export const overlayOf = (s) => [
+  s.doc, s.selected, s.gesture, s.info.size, s.view, s.screen, s.showMotion && s.motion,
+];
 export function showOverlay(s) {
   octx.clearRect(0, 0, overlay.width, overlay.height);
   const w = lineWidth(), g = s.gesture;

@@ -1,65 +1,90 @@
-// The sheet: the frame drawn on a canvas, and the geometry between the frame
-// and the recipe's canvas. The page's canvas has the frame's pixels; the
-// recipe's canvas sits in it scaled by info.scale and offset by info.offset
-// (the recipe format's geometry). Renders follow the store (``showSheet``, a
-// view): the saved recipe, or the preview of one not saved (a gesture, a slider).
+// The sheet: frames drawn on a canvas of the sheet's displayed size in device
+// pixels, of the window of the recipe's canvas that the view shows (view.js).
+// Renders follow the store (``showSheet``, a view): the saved recipe, or the
+// preview of one not saved (a gesture, a slider). During a gesture the page
+// warps an exact picture of the ops below the changing op (warping.js, WebGL2);
+// otherwise, and where it cannot, the server renders: its exact render (for a
+// heavy design a quick frame without antialiasing first), or while a hand moves
+// frames without antialiasing, the newest request next. A frame is drawn in
+// requestAnimationFrame, over the last one: the sheet is never blank.
 import * as api from "./api.js";
-import { $ } from "./dom.js";
+import { hexColor } from "./dom.js";
+import { claimInput, recordFrame } from "./record.js";
 import { get, update, isLive } from "./store.js";
-import { round1 } from "./values.js";
+import { eventPixel, fitSheet, overlay, sheet, sizeOf, toCanvas, toCanvasMap, toPixel, viewOf } from "./view.js";
+import { changedOp, warpFrame, whenLayers } from "./warping.js";
 
-export const sheet = $("sheet"), overlay = $("overlay");
+export { eventPixel, fitSheet, overlay, sheet, sizeOf, toCanvas, toPixel };
 const ctx = sheet.getContext("2d");
 
-export function eventPixel(ev) {
-  const r = overlay.getBoundingClientRect();
-  return [(ev.clientX - r.left) * overlay.width / r.width, (ev.clientY - r.top) * overlay.height / r.height];
-}
-export function toCanvas([px, py]) {
-  const {offset, scale} = get().info;
-  return [round1((px - offset[0]) / scale), round1((py - offset[1]) / scale)];
-}
-export function toPixel([x, y]) {
-  const {offset, scale} = get().info;
-  return [x * scale + offset[0], y * scale + offset[1]];
-}
-// The sheet fills the space beside the panel (scaled up or down; its pixels stay the frame's).
-export function fitSheet() {
-  const k = Math.min((window.innerWidth - 370) / sheet.width, (window.innerHeight - 130) / sheet.height);
-  sheet.style.width = `${Math.max(64, Math.floor(sheet.width * k))}px`;
-}
-export const sizeOf = (s) => s.info.size;
+// The canvases take the sheet's device size; the last frame is kept, scaled, until the next comes.
+export const screenOf = (s) => [s.info.size, s.screen];
 export function resize(s) {
-  const [w, h] = s.info.size;
-  if (sheet.width !== w || sheet.height !== h) {
-    sheet.width = overlay.width = w;
-    sheet.height = overlay.height = h;
-  }
   fitSheet();
+  if (!s.screen) return;
+  const [w, h] = s.screen;
+  if (sheet.width === w && sheet.height === h) return;
+  const keep = frames ? copyOf(sheet) : null;
+  sheet.width = overlay.width = w;
+  sheet.height = overlay.height = h;
+  if (keep) ctx.drawImage(keep, 0, 0, w, h);
+  else ground(s);
+}
+function copyOf(canvas) {
+  const c = document.createElement("canvas");
+  c.width = canvas.width; c.height = canvas.height;
+  c.getContext("2d").drawImage(canvas, 0, 0);
+  return c;
+}
+// Before the first frame: the recipe's ground colour, never black.
+function ground(s) {
+  const bg = s.doc && s.doc.background;
+  try { ctx.fillStyle = bg && (typeof bg === "string" || Array.isArray(bg)) ? hexColor(bg) : "#ffffff"; }
+  catch (e) { ctx.fillStyle = "#ffffff"; }
+  ctx.fillRect(0, 0, sheet.width, sheet.height);
 }
 
-// ---------------------------------------------------------------- rendering
+// ---------------------------------------------------------------- what is shown
 let rendering = false, pending = null, frames = 0, liveSeq = 0, idle = () => {};
+// exactMs: the last exact render's time (a slow one makes the next progressive);
+// stamps: what was asked later is drawn later
+let exactMs = null, stamp = 0, drawnStamp = 0;
 export const isRendering = () => rendering;
 // ``fn`` runs each time the renders asked for are done (main.js: the clock's next tick).
 export function whenIdle(fn) { idle = fn; }
-// What the sheet shows: the recipe, its time and solo, the preview; live mode: the recipe only.
-export const sheetOf = (s) => (isLive(s) ? [s.doc, s.version, s.saving]
-  : [s.doc, s.version, s.saving, s.preview, s.solo, s.t, s.playing]);
+// What the sheet shows: the recipe, its time and solo, the preview, the view and
+// size; live mode: the recipe only.
+export const sheetOf = (s) => (isLive(s) ? [s.doc, s.version, s.saving, s.screen]
+  : [s.doc, s.version, s.saving, s.preview, s.solo, s.t, s.playing, s.view, s.screen]);
 export function showSheet(s) {
-  show(s.preview ? {draft: s.preview.draft, doc: s.preview.doc} : {draft: s.playing});
+  if (!s.screen) return;
+  const answer = {...claimInput(), stamp: ++stamp};
+  if (s.preview && s.preview.draft && !isLive(s) && s.solo === null) {
+    const k = changedOp(s.doc, s.preview.doc);
+    if (k === "same" && frames) return;
+    if (k !== "same" && k !== null && warpFrame(s, k, answer, drawWarp, lastExact, shownWarp)) return;
+  }
+  show(s.preview ? {draft: s.preview.draft, doc: s.preview.doc} : {draft: s.playing}, answer);
 }
+whenLayers(() => { if (get().preview) showSheet(get()); });
 // Renders run one at a time, the newest request next, and wait while a save
 // is on its way (its answer decides which recipe is shown).
-export function show(opts = {}) {
-  pending = opts;
-  if (!rendering && !get().saving) drain();
+export function show(opts = {}, answer = {...claimInput(), stamp: ++stamp}) {
+  const s = get();
+  pending = {...opts, ...answer, view: viewOf(s), size: s.screen || s.info.size};
+  if (!rendering && !s.saving) drain();
 }
 async function drain() {
   rendering = true;
   while (pending && !get().saving) {
     const o = pending; pending = null;
-    try { await renderOnce(o); } catch (e) { update(() => ({status: `render: ${e}`})); }
+    try {
+      if (!o.draft && !o.doc && !isLive() && (frames === 0 || (exactMs > 150 && lastKind !== "warp"))) {
+        await renderOnce({...o, draft: true, quick: true});  // progressive: a quick frame first
+        if (pending) continue;
+      }
+      await renderOnce(o);
+    } catch (e) { update(() => ({status: `render: ${e}`})); }
   }
   rendering = false;
   idle();
@@ -67,10 +92,12 @@ async function drain() {
 function visible(s, count) {
   return s.solo !== null && s.solo < count ? [s.solo] : null;
 }
+export const viewParam = (view) => view.map((v) => +v.toFixed(6)).join(",");
 async function renderOnce(o) {
-  if (isLive()) return liveFrame();
-  const s = get(), q = new URLSearchParams({t: s.t.toFixed(3)});
-  if (o.draft) { q.set("draft", "1"); q.set("w", Math.max(64, Math.round(s.info.size[0] / 2))); }
+  if (isLive()) return liveFrame(o);
+  const s = get(), [w, h] = o.size;
+  const q = new URLSearchParams({t: s.t.toFixed(3), w, h, view: viewParam(o.view)});
+  if (o.draft) q.set("draft", "1");
   const body = o.doc || s.doc;
   const only = visible(s, body.ops.length);
   if (only !== null) q.set("ops", only.join(","));
@@ -83,26 +110,81 @@ async function renderOnce(o) {
     return;
   }
   const raw = await r.arrayBuffer(), head = new DataView(raw);
-  const bitmap = new ImageData(new Uint8ClampedArray(raw, 8), head.getUint32(0, true), head.getUint32(4, true));
-  if (bitmap.width === sheet.width && bitmap.height === sheet.height) ctx.putImageData(bitmap, 0, 0);
-  else ctx.drawImage(await createImageBitmap(bitmap), 0, 0, sheet.width, sheet.height);
+  const image = new ImageData(new Uint8ClampedArray(raw, 8), head.getUint32(0, true), head.getUint32(4, true));
+  const took = performance.now() - started;
+  if (!o.draft) exactMs = took;
+  const frame = {image, kind: o.draft ? "server-draft" : "exact", answer: o, doc: body, t: Number(q.get("t")),
+    view: o.view, only, version: o.doc ? "unsaved" : shownVersion};
+  await drawn(frame);
+  update(() => ({status: `${o.draft ? "draft" : "exact"} ${image.width}x${image.height} in ${took.toFixed(0)} ms`}));
+}
+
+// ---------------------------------------------------------------- drawing
+let lastKind = null, lastExact = null, lastWarp = null, waiting = null, warpJob = null, raf = 0;
+// The sheet's picture when its last frame was warped ({doc, t, w, h, view, image}), else null:
+// the next gesture's base while the exact frame of a heavy design is on its way.
+const shownWarp = () => (lastKind === "warp" && lastWarp
+  ? {...lastWarp, image: ctx.getImageData(0, 0, sheet.width, sheet.height)} : null);
+function schedule() { if (!raf) raf = requestAnimationFrame(paint); }
+// A server frame, drawn at the next animation frame (resolves once drawn).
+function drawn(frame) {
+  return new Promise((resolve) => {
+    if (waiting) waiting.resolve();
+    waiting = {frame, resolve};
+    schedule();
+  });
+}
+// A warp frame: ``job()`` draws it into a canvas of the sheet's size, or says it cannot.
+function drawWarp(job, answer) { warpJob = Object.assign(job, {answer}); schedule(); }
+function paint() {
+  raf = 0;
+  if (warpJob) {
+    const job = warpJob; warpJob = null;
+    const done = job.answer.stamp >= drawnStamp ? job() : undefined;  // undefined: stale
+    if (done) { ctx.drawImage(done.canvas, 0, 0); note("warp", job.answer, done.shown); lastWarp = done.shown; }
+    else if (done === null) show({draft: true, doc: get().preview ? get().preview.doc : null}, job.answer);
+  }
+  if (waiting) {
+    const {frame, resolve} = waiting; waiting = null;
+    const {image} = frame;
+    if (frame.kind === "exact" && frame.only === null && frame.version !== "unsaved") lastExact = frame;
+    // a warp frame asked later is shown, or the sheet has another size since (its
+    // last frame is kept, scaled, and a frame of the new size is on its way)
+    if (frame.answer.stamp < drawnStamp || image.width !== sheet.width || image.height !== sheet.height) {
+      resolve();
+      return;
+    }
+    ctx.putImageData(image, 0, 0);
+    sheet.dataset.draft = frame.kind === "exact" ? "0" : "1";
+    sheet.dataset.version = frame.version;  // what the sheet shows
+    sheet.dataset.shown = frame.only === null ? "all" : frame.only.join(",");
+    note(frame.kind, frame.answer, {doc: frame.doc, t: frame.t, w: image.width, h: image.height,
+      view: frame.view, ops: frame.only});
+    resolve();
+  }
+}
+function note(kind, answer, shown) {
   frames += 1;
+  drawnStamp = Math.max(drawnStamp, answer.stamp || 0);
+  lastKind = kind;
   sheet.dataset.frames = frames;
-  sheet.dataset.draft = o.draft ? "1" : "0";
-  sheet.dataset.version = o.doc ? "unsaved" : shownVersion;  // what the sheet shows
-  sheet.dataset.shown = only === null ? "all" : only.join(",");
-  const took = (performance.now() - started).toFixed(0);
-  update(() => ({status: `${o.draft ? "draft" : "exact"} ${bitmap.width}x${bitmap.height} in ${took} ms`}));
+  sheet.dataset.kind = kind;
+  if (kind === "warp") sheet.dataset.draft = "1";
+  recordFrame(kind, answer, sheet.width, sheet.height, shown);
 }
 // Live mode: the newest marbled frame, once one newer than the last shown has come.
-async function liveFrame() {
+async function liveFrame(o) {
   const r = await api.liveFrame(liveSeq);
   if (!r.ok) return;  // none yet (503 after 2 s): ask again
   liveSeq = Number(r.headers.get("X-Frame-Seq"));
   const bitmap = await createImageBitmap(await r.blob());
-  ctx.drawImage(bitmap, 0, 0, sheet.width, sheet.height);
-  bitmap.close();
-  frames += 1;
-  sheet.dataset.frames = frames;
+  await new Promise((resolve) => requestAnimationFrame(() => {
+    ctx.drawImage(bitmap, 0, 0, sheet.width, sheet.height);
+    bitmap.close();
+    resolve();
+  }));
   sheet.dataset.seq = liveSeq;
+  note("live", o, null);
 }
+// The geometry of the frame shown now: device pixel -> canvas ([sx, sy, ox, oy]).
+export const shownMap = () => toCanvasMap(viewOf(), sheet.width, sheet.height);

@@ -33,6 +33,8 @@ let state = {
   live: null,  // live mode: the session's counters and switches (GET /stats)
   motion: null,  // live mode: the motion of the last frame (GET /api/motion)
   showMotion: false,  // live mode: the motion's regions and strokes drawn over the sheet
+  view: null,  // the window of the canvas the sheet shows, [x, y, w, h] canvas units (null: the frame's)
+  screen: null,  // the sheet's size in device pixels [w, h] (its CSS size x devicePixelRatio)
 };
 const views = [];
 

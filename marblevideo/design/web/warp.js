@@ -1,0 +1,183 @@
+// The sheet warped on the GPU (WebGL2) while one op changes: the page keeps an
+// exact picture of the ops below that op (the base, device pixels, from the
+// server) and draws base(inverse op(q)) for every device pixel q each frame,
+// with ink inside drops, the ops above as an optional map from the server, and
+// a stroke's whole steps folded by chunks into a float displacement map (the
+// frame walks only the partial step and the whole steps of the chunk being
+// laid; warp.exactSteps = true walks them all instead). Geometry: device point (x, y) (a
+// pixel's centre is x = i + 0.5) is canvas point (x a + c, y b + d) for
+// toCanvas = [a, b, c, d]; canvas point Q is base pixel point
+// (Q.x a' + c', Q.y b' + d') for toBase = [a', b', c', d'].
+import { STEP, drawSource } from "./warp_shaders.js";
+import { at, resolve, rgb255 } from "./warp_ops.js";
+import { strokeAt } from "./warp_stroke.js";
+import { StrokeMap, setSteps } from "./warp_map.js";
+import { program, setCommon, texture } from "./warp_gl.js";
+
+const EDGES = { clamp: 0, repeat: 1, mirror: 2, background: 3 };
+
+let canWarp = null;
+
+// Whether this browser has WebGL2 with float render targets (asked once: a
+// context made and given back, as browsers keep only a few alive).
+export function supported() {
+  if (canWarp !== null) return canWarp;
+  try {
+    const gl = new OffscreenCanvas(1, 1).getContext("webgl2");
+    canWarp = !!(gl && gl.getExtension("EXT_color_buffer_float"));
+    gl?.getExtension("WEBGL_lose_context")?.loseContext();
+  } catch {
+    canWarp = false;
+  }
+  return canWarp;
+}
+
+// A WebGL2 canvas of the sheet's device size -> a Warp, or null without WebGL2
+// and float render targets.
+export function createWarp(canvas) {
+  let gl;
+  try {
+    gl = canvas.getContext("webgl2", { premultipliedAlpha: false, preserveDrawingBuffer: true, antialias: false, alpha: true });
+  } catch {
+    return null;
+  }
+  if (!gl || !gl.getExtension("EXT_color_buffer_float")) return null;
+  try {
+    return new Warp(gl, canvas);
+  } catch (e) {
+    console.warn("warp:", e);
+    return null;
+  }
+}
+
+class Warp {
+  constructor(gl, canvas) {
+    this.gl = gl;
+    this.canvas = canvas;
+    this.programs = new Map();
+    this.step_ = program(gl, STEP);
+    this.vao = gl.createVertexArray();
+    this.base = texture(gl);
+    this.above = null;
+    this.list = texture(gl);
+    this.toCanvas = [1, 1, 0, 0];
+    this.toBase = [1, 1, 0, 0];
+    this.baseSize = [1, 1];
+    this.map = new StrokeMap(gl, this.step_, this.vao, this.list);
+    gl.pixelStorei(gl.UNPACK_PREMULTIPLY_ALPHA_WEBGL, false);
+    gl.pixelStorei(gl.UNPACK_COLORSPACE_CONVERSION_WEBGL, gl.NONE);
+    gl.pixelStorei(gl.UNPACK_FLIP_Y_WEBGL, false);
+  }
+
+  // The draw program of an op kind and edges mode (compiled once).
+  program(kind, edges) {
+    const key = `${kind} ${edges} ${!!this.above}`;
+    if (!this.programs.has(key)) this.programs.set(key, program(this.gl, drawSource(kind, edges, !!this.above)));
+    return this.programs.get(key);
+  }
+
+  setBase(image, width, height) {
+    const gl = this.gl;
+    gl.bindTexture(gl.TEXTURE_2D, this.base);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, width, height, 0, gl.RGBA, gl.UNSIGNED_BYTE, image.data ?? image);
+    this.baseSize = [width, height];
+  }
+
+  // Float32Array width*height*4 (top row first) for the ops above, or null.
+  setAbove(map) {
+    const gl = this.gl, { width, height } = this.canvas;
+    if (!map) { this.above = null; return; }
+    this.above = this.above || texture(gl);
+    gl.bindTexture(gl.TEXTURE_2D, this.above);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, width, height, 0, gl.RGBA, gl.FLOAT, map);
+  }
+
+  setGeometry(toCanvas, toBase) {
+    this.toCanvas = [...toCanvas];
+    this.toBase = [...toBase];
+  }
+
+  // Draw base(inv_op(q)) at time t over the recipe's background and edges (the
+  // background shows where edges is "background"); false when the page cannot
+  // (a signal, an unknown op, a WebGL failure): the caller asks the server.
+  draw(op, t, background = "#ffffff", edges = "clamp") {
+    try {
+      const plan = resolve(op, t), bg = rgb255(at(background, t, true));
+      if (!plan || !(edges in EDGES)) return false;
+      this.drawPlan(op, t, plan, bg, EDGES[edges]);
+      return true;
+    } catch (e) {
+      console.warn("warp:", e);
+      return false;
+    }
+  }
+
+  drawPlan(op, t, plan, bg, edges) {
+    const gl = this.gl, { width, height } = this.canvas;
+    let kind = plan.kind, p = plan.p, list = plan.list;
+    let steps = { list, n: 0, rect: [1, 1, -1, -1] };
+    if (kind === "stroke") {
+      const layout = strokeAt(op, t, plan.drag);
+      this.map.exact = !!this.exactSteps;
+      this.map.update(op, layout, plan.drag, this.toCanvas, [width, height]);
+      kind = 8;
+      p = [];
+      steps = this.map.pending(layout, op.width ?? 24);
+    }
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.viewport(0, 0, width, height);
+    gl.disable(gl.SCISSOR_TEST);
+    const { prog, u } = this.program(kind, edges);
+    gl.useProgram(prog);
+    setSteps(gl, u, this.list, steps);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, this.base);
+    gl.uniform1i(u.uBase, 0);
+    gl.uniform2f(u.uBaseSize, ...this.baseSize);
+    const wrap = [gl.CLAMP_TO_EDGE, gl.REPEAT, gl.MIRRORED_REPEAT, gl.CLAMP_TO_EDGE][edges];
+    const filter = edges === 3 ? gl.NEAREST : gl.LINEAR;
+    for (const [k, v] of [[gl.TEXTURE_WRAP_S, wrap], [gl.TEXTURE_WRAP_T, wrap], [gl.TEXTURE_MIN_FILTER, filter], [gl.TEXTURE_MAG_FILTER, filter]]) {
+      gl.texParameteri(gl.TEXTURE_2D, k, v);
+    }
+    gl.uniform3f(u.uBg, ...bg.map((v) => v / 255));
+    gl.uniform4f(u.uToBase, ...this.toBase);
+    const params = new Float32Array(16);
+    params.set(p.slice(0, 16));
+    for (let i = 0; i < 4; i++) gl.uniform4fv(u[`uQ${i}`], params.subarray(4 * i, 4 * i + 4));
+    gl.activeTexture(gl.TEXTURE2);
+    gl.bindTexture(gl.TEXTURE_2D, this.above || this.list);
+    gl.uniform1i(u.uAbove, 2);
+    this.map.bind(u, 3, kind === 8);
+    setCommon(gl, u, this.toCanvas, [width, height], op.width ?? 24);
+    gl.bindVertexArray(this.vao);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+  }
+
+  // A stroke about to be drawn point by point: its map starts afresh.
+  strokeBegin(op) {
+    this.map.reset();
+    return op;
+  }
+
+  // The stroke grown (its points a prefix of the new ones) drawn at t (default:
+  // its newest point's time): only new whole steps are folded into the map.
+  strokeExtend(op, t, background = "#ffffff", edges = "clamp") {
+    return this.draw(op, t ?? op.times?.[op.times.length - 1] ?? 0, background, edges);
+  }
+
+  // How many times the stroke map was laid from scratch (tests: a growing stroke lays it once).
+  get strokeBuilds() {
+    return this.map.builds ?? 0;
+  }
+
+  // The canvas' pixels, RGBA, top row first.
+  readPixels() {
+    const gl = this.gl, { width, height } = this.canvas, out = new Uint8Array(width * height * 4);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE, out);
+    const row = width * 4, flipped = new Uint8Array(out.length);
+    for (let y = 0; y < height; y++) flipped.set(out.subarray(y * row, (y + 1) * row), (height - 1 - y) * row);
+    return flipped;
+  }
+}

@@ -1,0 +1,124 @@
+// The sheet during a gesture that changes one op k (a new op on top, a handle
+// dragged, a slider): the page warps an exact picture of the ops below k by op k
+// alone (warp.js, WebGL2), and paints what the ops above k do from their map.
+// The picture and the map are the server's layers of k (POST /api/layers),
+// asked once per gesture; for a new op on top the page's own exact frame of the
+// recipe is the picture, when it shows the same recipe, time, view and size.
+// Where the page cannot (no WebGL2, an op warp.js does not draw, layers not
+// here yet) the caller asks the server for a frame instead.
+import * as api from "./api.js";
+import { toCanvasMap, viewOf } from "./view.js";
+import * as lib from "./warp.js";
+
+// (``?warp=0`` in the page's address: the server's frames only, for tests and benchmarks)
+let warp = null, canvas = null, broken = new URLSearchParams(location.search).get("warp") === "0";
+let ready = null, loading = null, wanted = null, again = () => {};
+// ``fn`` runs when layers come (the sheet draws the gesture again).
+export function whenLayers(fn) { again = fn; }
+
+function available(w, h) {
+  if (broken) return false;
+  if (!warp) {
+    broken = !lib.supported();
+    if (broken) return false;
+    canvas = document.createElement("canvas");
+    canvas.width = w; canvas.height = h;
+    warp = lib.createWarp(canvas);
+    broken = !warp;
+    if (broken) return false;
+  }
+  if (canvas.width !== w || canvas.height !== h) {
+    canvas.width = w; canvas.height = h;
+    ready = null;
+  }
+  return true;
+}
+
+// The op that ``next`` changes of ``doc``: its index (the length of doc's ops:
+// a new op on top), "same" (nothing changed), or null (more than one op, or
+// anything else, changed).
+export function changedOp(doc, next) {
+  const a = doc.ops, b = next.ops;
+  if (b.length !== a.length && b.length !== a.length + 1) return null;
+  if (rest(doc) !== rest(next)) return null;
+  let k = b.length > a.length ? a.length : null;
+  for (let i = 0; i < a.length; i++) {
+    if (a[i] === b[i] || JSON.stringify(a[i]) === JSON.stringify(b[i])) continue;
+    if (k !== null) return null;
+    k = i;
+  }
+  return k === null ? "same" : k;
+}
+const rest = (doc) => JSON.stringify({...doc, ops: null});
+const viewText = (view) => view.map((v) => +v.toFixed(6)).join(",");
+function keyOf(doc, k, t, view, w, h) {
+  const ops = doc.ops.filter((_, i) => i !== k);
+  return `${k}|${t.toFixed(3)}|${viewText(view)}|${w}x${h}|${JSON.stringify({...doc, ops})}`;
+}
+
+// Draw the preview of ``s`` (op k changed) by warping, through ``draw(job)``
+// (job() draws into a canvas of the sheet's size at the next animation frame and
+// returns {canvas, shown}, or null: it could not; ``answer``: the inputs it
+// answers, given back with it); false when the page
+// cannot warp it now (the caller asks the server). ``exact``: the page's last
+// exact frame of the saved recipe, or null; ``shown()``: the sheet's picture
+// when its last frame was warped, or null (a base until the exact one comes).
+export function warpFrame(s, k, answer, draw, exact, shown) {
+  const [w, h] = s.screen, view = viewOf(s), doc = s.preview.doc, t = s.t;
+  if (!available(w, h)) return false;
+  const key = keyOf(doc, k, t, view, w, h);
+  if (ready !== key) {
+    const top = k === s.doc.ops.length;
+    const base = top ? baseOf(s, exact, view, w, h) || baseOf(s, shown(), view, w, h) : null;
+    if (base) setLayers(key, base, null, view, w, h);
+    else { ask(doc, k, t, view, w, h, key); return false; }
+  }
+  const op = doc.ops[k], edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
+  draw(() => {
+    if (ready !== key) return null;
+    const ok = warp.draw(op, t, doc.background === undefined ? "#ffffff" : doc.background, edges);
+    return ok ? {canvas, shown: {doc, t: +t.toFixed(3), w, h, view, ops: null}} : null;
+  }, answer);
+  return true;
+}
+// The pixels of ``f`` ({doc, t, view, image}: the page's exact frame, the
+// sheet's last warped one) when it shows the recipe of ``s`` at its time, view
+// and size; else null.
+function baseOf(s, f, view, w, h) {
+  const same = f && (f.doc === s.doc || JSON.stringify(f.doc) === JSON.stringify(s.doc));
+  return same && f.t === +s.t.toFixed(3) && f.image.width === w && f.image.height === h
+    && viewText(f.view) === viewText(view) ? f.image.data : null;
+}
+function setLayers(key, base, above, view, w, h) {
+  const toCanvas = toCanvasMap(view, w, h);
+  warp.setBase(base, w, h);
+  warp.setAbove(above);
+  // the base has the sheet's geometry: canvas -> base pixel inverts device pixel -> canvas
+  warp.setGeometry(toCanvas, [1 / toCanvas[0], 1 / toCanvas[1], -toCanvas[2] / toCanvas[0], -toCanvas[3] / toCanvas[1]]);
+  ready = key;
+}
+// The layers of k, asked of the server one request at a time (the newest next).
+async function ask(doc, k, t, view, w, h, key) {
+  if (loading === key) return;
+  wanted = {doc, k, t, view, w, h, key};
+  if (loading) return;
+  while (wanted) {
+    const o = wanted; wanted = null;
+    loading = o.key;
+    try {
+      const q = new URLSearchParams({k: o.k, t: o.t.toFixed(3), w: o.w, h: o.h, view: viewText(o.view)});
+      const r = await api.post(`/api/layers?${q}`, o.doc);
+      if (!r.ok) continue;
+      const raw = await r.arrayBuffer(), head = new DataView(raw);
+      const bw = head.getUint32(0, true), bh = head.getUint32(4, true), n = bw * bh * 4;
+      const above = head.getUint32(12, true) ? new Float32Array(raw, 16 + n, n) : null;
+      if (bw === o.w && bh === o.h && canvas.width === bw && canvas.height === bh) {
+        setLayers(o.key, new Uint8Array(raw, 16, n), above, o.view, bw, bh);
+        again();
+      }
+    } catch (e) { /* the server is away: the caller's frames go on */ }
+    finally { loading = null; }
+  }
+}
+// For tests and benchmarks: whether the page warps, and the layers it holds.
+export const warpState = () => ({broken, ready: ready !== null});

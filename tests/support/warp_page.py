@@ -1,0 +1,112 @@
+"""The page's WebGL2 warp (marblevideo/design/web/warp.js) driven in a real
+headless Chromium: a tiny static server for the web folder, Chromium launched
+with SwiftShader allowed, and :func:`warp_frames`, which uploads a base picture,
+draws ops at times and reads the canvas back (RGBA uint8, top row first)."""
+
+from __future__ import annotations
+
+import base64
+import contextlib
+import functools
+import http.server
+import threading
+from pathlib import Path
+
+import numpy as np
+
+WEB = Path(__file__).resolve().parents[2] / "marblevideo" / "design" / "web"
+ARGS = [
+    "--no-sandbox",
+    "--enable-unsafe-swiftshader",
+    "--use-angle=swiftshader",
+    "--ignore-gpu-blocklist",
+]
+BLANK = b"<!doctype html><meta charset=utf-8><title>warp</title><body></body>"
+
+
+class _Handler(http.server.SimpleHTTPRequestHandler):
+    def do_GET(self):  # noqa: N802 (the base class' name)
+        if self.path in ("/", "/index.html"):
+            self.send_response(200)
+            self.send_header("Content-Type", "text/html")
+            self.end_headers()
+            self.wfile.write(BLANK)
+            return
+        super().do_GET()
+
+    def guess_type(self, path):
+        return "text/javascript" if str(path).endswith(".js") else super().guess_type(path)
+
+    def log_message(self, *args):
+        pass
+
+
+@contextlib.contextmanager
+def serve_web():
+    """The web folder at http://127.0.0.1:PORT/web/ (yields the base URL)."""
+    handler = functools.partial(_Handler, directory=str(WEB.parent))
+    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
+    thread = threading.Thread(target=server.serve_forever, daemon=True)
+    thread.start()
+    try:
+        yield f"http://127.0.0.1:{server.server_address[1]}"
+    finally:
+        server.shutdown()
+        server.server_close()
+
+
+SETUP = """async ([w, h, b64]) => {
+  const warp = await import("/web/warp.js");
+  const canvas = document.createElement("canvas");
+  canvas.width = w; canvas.height = h;
+  document.body.appendChild(canvas);
+  const W = warp.createWarp(canvas);
+  if (!W) return false;
+  const bytes = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+  W.setBase(new ImageData(new Uint8ClampedArray(bytes.buffer), w, h), w, h);
+  window.W = W;
+  return true;
+}"""
+
+DRAW = """([op, t, bg, edges, toCanvas, toBase]) => {
+  W.setGeometry(toCanvas, toBase);
+  if (!W.draw(op, t, bg, edges)) return null;
+  const px = W.readPixels();
+  let s = "";
+  const n = 0x8000;
+  for (let i = 0; i < px.length; i += n) s += String.fromCharCode(...px.subarray(i, i + n));
+  return btoa(s);
+}"""
+
+
+ABOVE = """(b64) => {
+  if (b64 === null) { W.setAbove(null); return; }
+  const bytes = Uint8Array.from(atob(b64), (c) => c.charCodeAt(0));
+  W.setAbove(new Float32Array(bytes.buffer));
+}"""
+
+
+def set_above(page, above: np.ndarray | None) -> None:
+    """The map of the ops above, (H, W, 4) float32 (see warp.js' setAbove), or None."""
+    data = None if above is None else base64.b64encode(above.astype(np.float32).tobytes()).decode()
+    page.evaluate(ABOVE, data)
+
+
+def setup_warp(page, base: np.ndarray) -> bool:
+    """Make a warp on a canvas of the base's size with ``base`` (H, W, 4) uint8."""
+    h, w = base.shape[:2]
+    b64 = base64.b64encode(np.ascontiguousarray(base).tobytes()).decode()
+    return bool(page.evaluate(SETUP, [w, h, b64]))
+
+
+def warp_frame(
+    page, op, t, shape, background="#ffffff", edges="clamp", to_canvas=None, to_base=None
+):
+    """The warp's picture of ``op`` at ``t`` (H, W, 4) uint8, or None when it cannot."""
+    h, w = shape[:2]
+    to_canvas = to_canvas or [1, 1, 0, 0]
+    to_base = to_base or [1, 1, 0, 0]
+    out = page.evaluate(DRAW, [op, t, background, edges, to_canvas, to_base])
+    if out is None:
+        return None
+    return np.frombuffer(base64.b64decode(out), np.uint8).reshape(h, w, 4)
