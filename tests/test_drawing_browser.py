@@ -14,7 +14,6 @@ import json
 import math
 import time
 
-import cv2
 import numpy as np
 import pytest
 from live_helpers import designer_page, wait_for
@@ -98,11 +97,8 @@ def test_three_tulips_and_a_scribble_lose_no_gesture(browser, tmp_path, renderer
     assert final_t == strokes[-1]["times"][-1]  # the time shown: the last stroke's end
 
     # the exact frame shown is the kernel's render of the saved recipe at that time
-    want = Marbler(load_recipe(recipe), renderer=renderer).render(None, final_t, SIZE)[..., :3]
-    if shown.shape[:2] != want.shape[:2]:  # a sheet at the screen's resolution
-        want = cv2.resize(want, shown.shape[1::-1], interpolation=cv2.INTER_AREA)
-        close = np.abs(shown.astype(int) - want).max(axis=2) <= 8
-        assert close.mean() >= 0.98
-    else:
-        assert np.abs(shown.astype(int) - want).max() <= 1
+    size = shown.shape[1::-1]  # the sheet renders at its displayed size in device pixels
+    want = Marbler(load_recipe(recipe), renderer=renderer).render(None, final_t, size)[..., :3]
+    # (the blank sheet's adaptive walk may differ on a few ink edges between renders)
+    assert (np.abs(shown.astype(int) - want).max(axis=2) <= 8).mean() >= 0.995
     assert len(np.unique(want.reshape(-1, 3), axis=0)) > 4  # the tulips are there

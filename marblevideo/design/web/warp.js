@@ -11,7 +11,7 @@
 import { STEP, drawSource } from "./warp_shaders.js";
 import { at, resolve, rgb255 } from "./warp_ops.js";
 import { strokeAt } from "./warp_stroke.js";
-import { StrokeMap, setSteps } from "./warp_map.js";
+import { StrokeMap, deviceRect, setSteps } from "./warp_map.js";
 import { program, setCommon, texture } from "./warp_gl.js";
 
 const EDGES = { clamp: 0, repeat: 1, mirror: 2, background: 3 };
@@ -77,6 +77,7 @@ class Warp {
   }
 
   setBase(image, width, height) {
+    this.lastStroke = null;
     const gl = this.gl;
     gl.bindTexture(gl.TEXTURE_2D, this.base);
     gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1);
@@ -86,6 +87,7 @@ class Warp {
 
   // Float32Array width*height*4 (top row first) for the ops above, or null.
   setAbove(map) {
+    this.lastStroke = null;
     const gl = this.gl, { width, height } = this.canvas;
     if (!map) { this.above = null; return; }
     this.above = this.above || texture(gl);
@@ -94,6 +96,7 @@ class Warp {
   }
 
   setGeometry(toCanvas, toBase) {
+    this.lastStroke = null;
     this.toCanvas = [...toCanvas];
     this.toBase = [...toBase];
   }
@@ -116,18 +119,28 @@ class Warp {
   drawPlan(op, t, plan, bg, edges) {
     const gl = this.gl, { width, height } = this.canvas;
     let kind = plan.kind, p = plan.p, list = plan.list;
-    let steps = { list, n: 0, rect: [1, 1, -1, -1] };
+    let steps = { list, n: 0, rect: [1, 1, -1, -1] }, clip = null;
     if (kind === "stroke") {
-      const layout = strokeAt(op, t, plan.drag);
+      const layout = strokeAt(op, t, plan.drag), builds = this.map.builds ?? 0;
       this.map.exact = !!this.exactSteps;
-      this.map.update(op, layout, plan.drag, this.toCanvas, [width, height]);
+      const folded = this.map.update(op, layout, plan.drag, this.toCanvas, [width, height]);
       kind = 8;
       p = [];
       steps = this.map.pending(layout, op.width ?? 24);
-    }
+      // a stroke growing over the same layers changes the frame only where its
+      // steps folded or walked now or in the last frame reach: the rest is kept
+      const now = union(steps.n ? steps.rect : null, folded);
+      if (this.lastStroke && (this.map.builds ?? 0) === builds) clip = union(this.lastStroke, now) || [1, 1, -1, -1];
+      this.lastStroke = now || [1, 1, -1, -1];
+    } else this.lastStroke = null;
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, width, height);
-    gl.disable(gl.SCISSOR_TEST);
+    if (clip) {
+      const [x0, y0, x1, y1] = deviceRect(clip, this.toCanvas, width, height);
+      if (x1 <= x0 || y1 <= y0) return;
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(x0, y0, x1 - x0, y1 - y0);
+    } else gl.disable(gl.SCISSOR_TEST);
     const { prog, u } = this.program(kind, edges);
     gl.useProgram(prog);
     setSteps(gl, u, this.list, steps);
@@ -152,11 +165,13 @@ class Warp {
     setCommon(gl, u, this.toCanvas, [width, height], op.width ?? 24);
     gl.bindVertexArray(this.vao);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
+    gl.disable(gl.SCISSOR_TEST);
   }
 
   // A stroke about to be drawn point by point: its map starts afresh.
   strokeBegin(op) {
     this.map.reset();
+    this.lastStroke = null;
     return op;
   }
 
@@ -180,4 +195,10 @@ class Warp {
     for (let y = 0; y < height; y++) flipped.set(out.subarray(y * row, (y + 1) * row), (height - 1 - y) * row);
     return flipped;
   }
+}
+
+// The smallest canvas rect [x0, y0, x1, y1] holding both (each may be null).
+function union(a, b) {
+  if (!a || !b) return a || b || null;
+  return [Math.min(a[0], b[0]), Math.min(a[1], b[1]), Math.max(a[2], b[2]), Math.max(a[3], b[3])];
 }

@@ -62,7 +62,8 @@ export class StrokeMap {
   }
 
   // Bring the map to the whole steps of layout (strokeAt's) but the last < CHUNK,
-  // folded a chunk at a time; the rest are walked each frame (pending).
+  // folded a chunk at a time; the rest are walked each frame (pending). Returns
+  // the canvas rect the steps folded now reach, or null.
   update(op, layout, drag, toCanvas, size) {
     const gl = this.gl, [w, h] = size, tg = this.target(w, h);
     const key = this.stale(op, layout, drag, toCanvas, size);
@@ -77,7 +78,8 @@ export class StrokeMap {
     }
     this.points = op.points.map((p) => [p[0], p[1]]);
     const width = op.width ?? 24, chunk = this.exact ? Infinity : this.chunk;
-    if (layout.count - this.count < chunk) return;
+    if (layout.count - this.count < chunk) return null;
+    let folded = null;
     const { prog, u } = this.step;
     gl.useProgram(prog);
     gl.bindVertexArray(this.vao);
@@ -85,6 +87,8 @@ export class StrokeMap {
     gl.enable(gl.SCISSOR_TEST);
     for (; layout.count - this.count >= chunk; this.count += chunk) {
       const rows = stepRows(layout, this.count, this.count + chunk, width);
+      const r = rows.rect;
+      folded = folded ? [Math.min(folded[0], r[0]), Math.min(folded[1], r[1]), Math.max(folded[2], r[2]), Math.max(folded[3], r[3])] : [...r];
       this.mark(rows, toCanvas, w, h);
       const [x0, y0, x1, y1] = deviceRect(rows.rect, toCanvas, w, h);
       if (x1 <= x0 || y1 <= y0) continue;
@@ -102,6 +106,7 @@ export class StrokeMap {
     gl.bindFramebuffer(gl.READ_FRAMEBUFFER, null);
     gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, null);
     gl.disable(gl.SCISSOR_TEST);
+    return folded;
   }
 
   // The whole steps not folded yet and the partial one, for the frame's walk.
@@ -170,7 +175,7 @@ export function setSteps(gl, u, tex, rows) {
 }
 
 // A canvas rect as a framebuffer rect [x0, y0, x1, y1] (rows bottom-up).
-function deviceRect([lx, ly, hx, hy], [a, b, c, d], w, h) {
+export function deviceRect([lx, ly, hx, hy], [a, b, c, d], w, h) {
   const xs = [(lx - c) / a, (hx - c) / a], ys = [(ly - d) / b, (hy - d) / b];
   const x0 = Math.max(0, Math.floor(Math.min(...xs)) - 1), x1 = Math.min(w, Math.ceil(Math.max(...xs)) + 1);
   const dy0 = Math.floor(Math.min(...ys)) - 1, dy1 = Math.ceil(Math.max(...ys)) + 1;

@@ -51,9 +51,16 @@ export function changedOp(doc, next) {
 }
 const rest = (doc) => JSON.stringify({...doc, ops: null});
 const viewText = (view) => view.map((v) => +v.toFixed(6)).join(",");
+// Whether the picture below op k and the ops above it are the same at every
+// time: no track, signal, start, end, heal or times in them or the background
+// (then a stroke drawn in time, which moves the time shown, keeps its layers).
+const moving = (v) => v !== null && typeof v === "object" && !Array.isArray(v);
+const timed = (op) => ["start", "end", "heal", "times"].some((f) => f in op)
+  || Object.values(op).some((v) => moving(v) || (Array.isArray(v) && v.some(moving)));
+export const timeless = (doc, k) => !moving(doc.background) && doc.ops.every((op, i) => i === k || !timed(op));
 function keyOf(doc, k, t, view, w, h) {
-  const ops = doc.ops.filter((_, i) => i !== k);
-  return `${k}|${t.toFixed(3)}|${viewText(view)}|${w}x${h}|${JSON.stringify({...doc, ops})}`;
+  const ops = doc.ops.filter((_, i) => i !== k), when = timeless(doc, k) ? "any" : t.toFixed(3);
+  return `${k}|${when}|${viewText(view)}|${w}x${h}|${JSON.stringify({...doc, ops})}`;
 }
 
 // Draw the preview of ``s`` (op k changed) by warping, through ``draw(job)``
@@ -69,7 +76,8 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
   const key = keyOf(doc, k, t, view, w, h);
   if (ready !== key) {
     const top = k === s.doc.ops.length;
-    const base = top ? baseOf(s, exact, view, w, h) || baseOf(s, shown(), view, w, h) : null;
+    const any = timeless(doc, k);
+    const base = top ? baseOf(s, exact, view, w, h, any) || baseOf(s, shown(), view, w, h, any) : null;
     if (base) setLayers(key, base, null, view, w, h);
     else { ask(doc, k, t, view, w, h, key); return false; }
   }
@@ -83,10 +91,10 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
 }
 // The pixels of ``f`` ({doc, t, view, image}: the page's exact frame, the
 // sheet's last warped one) when it shows the recipe of ``s`` at its time, view
-// and size; else null.
-function baseOf(s, f, view, w, h) {
+// and size (at any time when ``anyTime``: the recipe does not move); else null.
+function baseOf(s, f, view, w, h, anyTime) {
   const same = f && (f.doc === s.doc || JSON.stringify(f.doc) === JSON.stringify(s.doc));
-  return same && f.t === +s.t.toFixed(3) && f.image.width === w && f.image.height === h
+  return same && (anyTime || f.t === +s.t.toFixed(3)) && f.image.width === w && f.image.height === h
     && viewText(f.view) === viewText(view) ? f.image.data : null;
 }
 function setLayers(key, base, above, view, w, h) {
