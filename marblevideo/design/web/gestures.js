@@ -51,7 +51,8 @@ const moved = (pts) => pts.some((p) => p[0] !== pts[0][0] || p[1] !== pts[0][1])
 
 // A timed gesture's times, once its clock is known (null: untimed, a click or a paused live clock).
 const timesOf = (g) => (g.stylus && g.t0 !== null && drawn(g.stylus) ? timesFrom(g.stylus, g.t0) : null);
-const pathOf = (g) => (g.stylus ? g.stylus.points : g.path);  // null: not a path tool
+// (a copy: the path grows after a draft is made, and a draft's points and times must stay in step)
+const pathOf = (g) => (g.stylus ? g.stylus.points.slice() : g.path && g.path.slice());  // null: not a path tool
 
 // The gesture kinds: how each starts, what recipe it leaves, what the overlay
 // shows of it, whether letting go saves it, and whether the op it made is then selected.

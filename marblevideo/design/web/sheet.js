@@ -71,7 +71,7 @@ whenLayers(() => { if (get().preview) showSheet(get()); });
 // is on its way (its answer decides which recipe is shown).
 export function show(opts = {}, answer = {...claimInput(), stamp: ++stamp}) {
   const s = get();
-  pending = {...opts, ...answer, view: viewOf(s), size: s.screen || s.info.size};
+  pending = {...opts, ...carried(pending && {answer: pending}, answer), view: viewOf(s), size: s.screen || s.info.size};
   if (!rendering && !s.saving) drain();
 }
 async function drain() {
@@ -135,7 +135,13 @@ function drawn(frame) {
   });
 }
 // A warp frame: ``job()`` draws it into a canvas of the sheet's size, or says it cannot.
-function drawWarp(job, answer) { warpJob = Object.assign(job, {answer}); schedule(); }
+function drawWarp(job, answer) { warpJob = Object.assign(job, {answer: carried(warpJob, answer)}); schedule(); }
+// The answer of a frame that replaces one not drawn: the inputs the older one claimed are its too.
+function carried(older, answer) {
+  const a = older && older.answer;
+  return a && a.input !== null && (answer.input === null || answer.input < a.input)
+    ? {...answer, input: a.input, inputAt: a.inputAt} : answer;
+}
 function paint() {
   raf = 0;
   if (warpJob) {
