@@ -5,7 +5,8 @@ frames with the exact render, during every gesture, in a real headless Chromium.
 Runs the real ``marblevideo design`` (a subprocess on 127.0.0.1) on each design
 (``nonpareil`` and ``bouquet``: working copies of the presets; ``64ops``: a
 1024x768 design of 64 mixed ops, realtime_probe.design64) and drives the page
-with Playwright's mouse at a human pace (--rate moves per second for --seconds):
+with the mouse at a human pace (--rate moves per second for --seconds; sent
+through Playwright's CDP session without waiting for each move, see Pointer):
 a drop dragged open, a comb dragged across, a stroke drawn, a handle of the top
 op dragged in a circle (Alt held) and a slider of the top op swept. Each gesture
 is undone after it. What is measured (benchmarks/realtime_probe.py says how):
@@ -15,13 +16,16 @@ is undone after it. What is measured (benchmarks/realtime_probe.py says how):
   p95; ``never``: inputs no frame answered before the hand stopped);
 - agree: after the last move (the button still held), the share of the sheet's
   pixels within 8 levels of the server's exact render of what that frame shows
-  (``POST /api/frame.rgba`` at its size and time);
+  (``POST /api/frame.rgba`` at its size, view and time; --verify: also the
+  settled sheet's, which should be ~100%);
 - up->exact: from letting go to the first exact frame after it.
 
 The page records the frames and the inputs they answer (``window.marbleFrames``)
 since issue 39; before it, the sheet's frame counter stands in (the frame
 answering the newest input at its render's start). ``--live`` measures
-``marblevideo live test --preview`` at 1280x720 while a comb is dragged.
+``marblevideo live test --preview`` at 1280x720 while a comb is dragged and a
+stroke drawn (--live-tools); up->live: from letting go to the second live frame
+asked for after the save (the first may have been marbled before it).
 
     python -m benchmarks.designer_realtime [--design nonpareil bouquet 64ops]
         [--repeat 1] [--dpr 1] [--viewport 1280x860] [--live] [--json out.json]
@@ -200,8 +204,9 @@ READ = """() => { const B = benchProbe, s = B.snap;
           puts: B.puts, snap: s && {frame: s.frame, shown: s.shown}}; }"""
 
 
-def timed_gesture(page, url: str, gesture: str, seconds: float, rate: float) -> dict:
-    """One gesture, timed: its figures, agreement and up->exact."""
+def timed_gesture(page, url: str, gesture: str, seconds: float, rate: float, verify=False):
+    """One gesture, timed: its figures, agreement and up->exact (``verify``: and the
+    agreement of the sheet settled after it with the exact render of what it shows)."""
     if gesture in ("drop", "comb", "stroke"):
         page.evaluate(f"designer.setTool({json.dumps(gesture)})")
     points = path_of(page, gesture, max(2, int(seconds * rate)))
@@ -225,6 +230,10 @@ def timed_gesture(page, url: str, gesture: str, seconds: float, rate: float) -> 
         "up_to_exact_ms": round(exact[0]) if exact else None,
     }
     result.update(agree(url, probe["snap"], pixels))
+    if verify:  # the comparison itself: the settled sheet against the exact render
+        pixels = page.evaluate("benchProbe.snapPixels(true)")
+        snap = page.evaluate("({frame: benchProbe.snap.frame, shown: benchProbe.snap.shown})")
+        result["settled_agree"] = agree(url, snap, pixels)["agree"]
     page.evaluate("document.activeElement && document.activeElement.blur()")
     page.keyboard.press("Control+z")  # the design as it was for the next gesture
     settle(page)
@@ -298,7 +307,7 @@ def bench_design(design: str, args) -> list[dict]:
             for run in range(args.repeat):
                 for g in args.gestures:
                     row = {"design": design, "run": run + 1, "load": os.getloadavg()[0]}
-                    row.update(timed_gesture(page, url, g, args.seconds, args.rate))
+                    row.update(timed_gesture(page, url, g, args.seconds, args.rate, args.verify))
                     print(json.dumps(row), file=sys.stderr, flush=True)
                     rows.append(row)
             browser.close()
@@ -308,8 +317,31 @@ def bench_design(design: str, args) -> list[dict]:
     return rows
 
 
+def live_gesture(page, tool: str, args) -> dict:
+    """One drag of ``tool`` over the live frames, timed; then undone."""
+    page.evaluate(f"designer.setTool({json.dumps(tool)})")
+    points = path_of(page, tool, max(2, int(args.seconds * args.rate)))
+    page.evaluate(RESET, "pointer")
+    pointer = Pointer(page)
+    pointer.drag(points, args.rate, hold=0.5)
+    up = page.evaluate("performance.now()")
+    pointer.up()
+    time.sleep(3)
+    probe = page.evaluate(READ)
+    row = {"design": "live 1280x720", "gesture": f"{tool} (live)", **figures(probe)}
+    # what the live frame shows once saved: from letting go to the second live frame
+    # asked for after the save's answer (the first may have been marbled before it)
+    puts = [q["end"] for q in probe["puts"] if q["start"] >= up - 1]
+    fetched = [f for f in probe["frames"] if f.get("fetchedAt") is not None]
+    later = [f["drawnAt"] for f in fetched if puts and f["fetchedAt"] >= puts[0]]
+    row["up_to_live_ms"] = round(later[1] - up) if len(later) > 1 else None
+    page.keyboard.press("Control+z")
+    time.sleep(1)
+    return row
+
+
 def bench_live(args) -> list[dict]:
-    """``live test --preview`` at 1280x720: a comb dragged over the live frames."""
+    """``live test --preview`` at 1280x720: each of --live-tools dragged over the live frames."""
     from playwright.sync_api import sync_playwright
 
     rows = []
@@ -318,27 +350,11 @@ def bench_live(args) -> list[dict]:
         try:
             browser, page = open_page(p, url, args.viewport, args.dpr, live=True)
             for run in range(args.repeat):
-                page.evaluate("designer.setTool('comb')")
-                points = path_of(page, "comb", max(2, int(args.seconds * args.rate)))
-                page.evaluate(RESET, "pointer")
-                pointer = Pointer(page)
-                pointer.drag(points, args.rate, hold=0.5)
-                up = page.evaluate("performance.now()")
-                pointer.up()
-                time.sleep(3)
-                probe = page.evaluate(READ)
-                row = {"design": "live 1280x720", "run": run + 1, "load": os.getloadavg()[0],
-                       "gesture": "comb (live)", **figures(probe)}  # fmt: skip
-                # before issue 39 the live frame shows only what is saved: from letting go to
-                # the second live frame asked for after the save's answer (the first may be older)
-                puts = [q["end"] for q in probe["puts"] if q["start"] >= up - 1]
-                fetched = [f for f in probe["frames"] if f.get("fetchedAt") is not None]
-                later = [f["drawnAt"] for f in fetched if puts and f["fetchedAt"] >= puts[0]]
-                row["up_to_live_ms"] = round(later[1] - up) if len(later) > 1 else None
-                print(json.dumps(row), file=sys.stderr, flush=True)
-                rows.append(row)
-                page.keyboard.press("Control+z")
-                time.sleep(1)
+                for tool in args.live_tools:
+                    row = {"run": run + 1, "load": os.getloadavg()[0]}
+                    row.update(live_gesture(page, tool, args))
+                    print(json.dumps(row), file=sys.stderr, flush=True)
+                    rows.append(row)
             browser.close()
         finally:
             proc.terminate()
@@ -356,7 +372,9 @@ def main() -> None:
     p.add_argument("--viewport", default="1280x860", help="the window's CSS size (1280x860)")
     p.add_argument("--dpr", type=float, default=1.0, help="devicePixelRatio (1; 2: a HiDPI screen)")
     p.add_argument("--live", action="store_true", help="also live test --preview at 1280x720")
+    p.add_argument("--live-tools", nargs="+", default=["comb", "stroke"], choices=GESTURES[:3])
     p.add_argument("--no-design", action="store_true", help="only --live")
+    p.add_argument("--verify", action="store_true", help="also compare the settled sheet")
     p.add_argument("--json", metavar="FILE", help="write the rows as JSON")
     args = p.parse_args()
     args.viewport = tuple(int(v) for v in args.viewport.lower().split("x"))

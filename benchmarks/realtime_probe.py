@@ -114,7 +114,9 @@ PROBE = r"""(() => {
   if (document.readyState === 'loading') addEventListener('DOMContentLoaded', observe);
   else observe();
   // what the benchmark reads: the snapshot's pixels as base64
-  B.snapPixels = () => {
+  // (``now``: the sheet as it is, e.g. settled on the exact frame, and what it shows)
+  B.snapPixels = (now = false) => {
+    if (now) B.snap = {frame: {kind: 'now'}, pixels: readSheet(), shown: shown()};
     const p = B.snap && B.snap.pixels;
     if (!p) return null;
     let s = '';
