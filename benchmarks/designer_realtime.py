@@ -36,7 +36,6 @@ Not a test: numbers depend on the machine (see BENCHMARKS.md).
 from __future__ import annotations
 
 import argparse
-import base64
 import contextlib
 import json
 import math
@@ -46,14 +45,10 @@ import subprocess
 import sys
 import tempfile
 import time
-import urllib.parse
-import urllib.request
 from pathlib import Path
 
-import numpy as np
-
 from .common import ENV, cpu_summary, header
-from .realtime_probe import PROBE, agreement, design64, figures, table
+from .realtime_probe import PROBE, agree, compare, design64, figures, table
 
 GESTURES = ("drop", "comb", "stroke", "handle", "slider")
 LIVE_RECIPE = {"marblevideo": 1, "canvas": [1280, 720], "antialias": "rgss", "ops": [
@@ -240,39 +235,6 @@ def timed_gesture(page, url: str, gesture: str, seconds: float, rate: float, ver
     return result
 
 
-def exact_frame(url: str, shown: dict) -> np.ndarray:
-    """The server's exact render of what a frame shows (``marblevideo.design``'s frame.rgba)."""
-    q = {"t": f"{shown['t']:.3f}", "w": str(shown["w"]), "h": str(shown["h"])}
-    if shown.get("view"):  # the window of the canvas shown: x,y,w,h in canvas units
-        q["view"] = ",".join(str(round(v, 6)) for v in shown["view"])
-    if shown.get("ops") is not None:  # a solo
-        q["ops"] = ",".join(str(i) for i in shown["ops"])
-    req = urllib.request.Request(
-        url + "api/frame.rgba?" + urllib.parse.urlencode(q), data=json.dumps(shown["doc"]).encode(),
-        headers={"Content-Type": "application/json"}, method="POST",
-    )  # fmt: skip
-    raw = urllib.request.urlopen(req, timeout=300).read()
-    w, h = np.frombuffer(raw[:8], "<u4")
-    return np.frombuffer(raw[8:], np.uint8).reshape(int(h), int(w), 4)
-
-
-def agree(url: str, snap: dict | None, pixels: dict | None) -> dict:
-    """The snapshot's agreement with the exact render of what it shows."""
-    if not snap or not pixels:
-        return {"agree": None, "agree_note": "no frame answered the last input"}
-    sheet = np.frombuffer(base64.b64decode(pixels["b64"]), np.uint8)
-    sheet = sheet.reshape(pixels["h"], pixels["w"], 4)
-    exact, note = exact_frame(url, snap["shown"]), ""
-    if exact.shape[:2] != sheet.shape[:2]:
-        import cv2
-
-        note = f"exact {exact.shape[1]}x{exact.shape[0]} resized to the sheet's"
-        exact = cv2.resize(exact, (sheet.shape[1], sheet.shape[0]), interpolation=cv2.INTER_AREA)
-    kind = snap["frame"]["kind"]
-    return {"agree": round(agreement(sheet, exact), 4), "agree_frame": kind,
-            "agree_size": f"{sheet.shape[1]}x{sheet.shape[0]}", "agree_note": note}  # fmt: skip
-
-
 def open_page(p, url: str, viewport: tuple[int, int], dpr: float, live: bool = False):
     chromium = shutil.which("chromium") or "/usr/bin/chromium"
     browser = p.chromium.launch(
@@ -376,7 +338,11 @@ def main() -> None:
     p.add_argument("--no-design", action="store_true", help="only --live")
     p.add_argument("--verify", action="store_true", help="also compare the settled sheet")
     p.add_argument("--json", metavar="FILE", help="write the rows as JSON")
+    p.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"), help="two --json files")
     args = p.parse_args()
+    if args.compare:
+        before, after = (json.loads(Path(f).read_text())["rows"] for f in args.compare)
+        return print(compare(before, after))
     args.viewport = tuple(int(v) for v in args.viewport.lower().split("x"))
     header()
     print(f"# load average: {' '.join(f'{v:.2f}' for v in os.getloadavg())}; viewport "

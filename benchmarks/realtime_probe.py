@@ -1,6 +1,6 @@
 """What designer_realtime.py installs in the page and computes from what it reads
-there: the probe (JavaScript), the 64-op design, and the figures (frames per
-second, latency per input, agreement with the exact render).
+there: the probe (JavaScript), the 64-op design, the figures (frames per second,
+latency per input, agreement with the server's exact render) and the tables.
 
 The probe records, in page time (performance.now()):
 
@@ -21,8 +21,12 @@ A frame answers input i when the input it answers came no earlier than i.
 
 from __future__ import annotations
 
+import base64
+import json
 import random
 import statistics
+import urllib.parse
+import urllib.request
 
 import numpy as np
 
@@ -239,3 +243,82 @@ def table(rows: list[dict]) -> str:
     lines = ["| " + " | ".join(t for _, t in COLUMNS) + " |", "|" + "---|" * len(COLUMNS)]
     lines += ["| " + " | ".join(cell(r, k) for k, _ in COLUMNS) + " |" for r in rows]
     return "\n".join(lines)
+
+
+def _runs(rows: list[dict]) -> dict:
+    """(design, gesture) -> its runs, in order."""
+    out: dict = {}
+    for r in rows:
+        out.setdefault((r["design"], r["gesture"]), []).append(r)
+    return out
+
+
+def _span(runs: list[dict], key: str, fmt: str = "{:.0f}") -> str:
+    """The median of the runs' values (their range beside it when they differ)."""
+    vals = [r[key] for r in runs if r.get(key) is not None]
+    if not vals:
+        return "-"
+    mid = fmt.format(statistics.median(vals))
+    lo, hi = fmt.format(min(vals)), fmt.format(max(vals))
+    return mid if lo == hi else f"{mid} ({lo}-{hi})"
+
+
+def _agree(runs: list[dict]) -> str:
+    """The runs' agreement of mid-gesture frames (a run whose frame answering the
+    last move was the exact render is left out, marked *)."""
+    mid = [r for r in runs if r.get("agree_frame") != "exact"]
+    return _span(mid, "agree", "{:.1%}") + ("*" if len(mid) < len(runs) else "")
+
+
+def _never(runs: list[dict]) -> str:
+    return f"{sum(r.get('never_answered') or 0 for r in runs)}/{sum(r['inputs'] for r in runs)}"
+
+
+def compare(before: list[dict], after: list[dict]) -> str:
+    """Before and after side by side, per design and gesture: medians over the runs
+    (their range in brackets), inputs never answered over all runs."""
+    b, a = _runs(before), _runs(after)
+    head = "| design | gesture | fps before | after | latency median / p95 ms before | after |"
+    head += " never answered before | after | agree before | after |"
+    lines = [head, "|" + "---|" * 10]
+    for key in list(b) + [k for k in a if k not in b]:
+        rb, ra = b.get(key, []), a.get(key, [])
+        cells = [*key, _span(rb, "fps", "{:.1f}"), _span(ra, "fps", "{:.1f}")]
+        for runs in (rb, ra):
+            cells.append(f"{_span(runs, 'latency_median_ms')} / {_span(runs, 'latency_p95_ms')}")
+        cells += [_never(rb), _never(ra), _agree(rb), _agree(ra)]
+        lines.append("| " + " | ".join(c if c != "0/0" else "-" for c in cells) + " |")
+    return "\n".join(lines)
+
+
+def exact_frame(url: str, shown: dict) -> np.ndarray:
+    """The server's exact render of what a frame shows (``marblevideo.design``'s frame.rgba)."""
+    q = {"t": f"{shown['t']:.3f}", "w": str(shown["w"]), "h": str(shown["h"])}
+    if shown.get("view"):  # the window of the canvas shown: x,y,w,h in canvas units
+        q["view"] = ",".join(str(round(v, 6)) for v in shown["view"])
+    if shown.get("ops") is not None:  # a solo
+        q["ops"] = ",".join(str(i) for i in shown["ops"])
+    req = urllib.request.Request(
+        url + "api/frame.rgba?" + urllib.parse.urlencode(q), data=json.dumps(shown["doc"]).encode(),
+        headers={"Content-Type": "application/json"}, method="POST",
+    )  # fmt: skip
+    raw = urllib.request.urlopen(req, timeout=300).read()
+    w, h = np.frombuffer(raw[:8], "<u4")
+    return np.frombuffer(raw[8:], np.uint8).reshape(int(h), int(w), 4)
+
+
+def agree(url: str, snap: dict | None, pixels: dict | None) -> dict:
+    """The snapshot's agreement with the exact render of what it shows."""
+    if not snap or not pixels:
+        return {"agree": None, "agree_note": "no frame answered the last input"}
+    sheet = np.frombuffer(base64.b64decode(pixels["b64"]), np.uint8)
+    sheet = sheet.reshape(pixels["h"], pixels["w"], 4)
+    exact, note = exact_frame(url, snap["shown"]), ""
+    if exact.shape[:2] != sheet.shape[:2]:
+        import cv2
+
+        note = f"exact {exact.shape[1]}x{exact.shape[0]} resized to the sheet's"
+        exact = cv2.resize(exact, (sheet.shape[1], sheet.shape[0]), interpolation=cv2.INTER_AREA)
+    kind = snap["frame"]["kind"]
+    return {"agree": round(agreement(sheet, exact), 4), "agree_frame": kind,
+            "agree_size": f"{sheet.shape[1]}x{sheet.shape[0]}", "agree_note": note}  # fmt: skip
