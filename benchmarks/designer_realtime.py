@@ -76,7 +76,7 @@ def serve(tmp: Path, design: str, live: bool = False):
     raise RuntimeError(f"{' '.join(cmd)}: no URL printed (exit {proc.wait()})")
 
 
-def settle(page, quiet_ms: int = 700, limit: float = 60) -> None:
+def settle(page, quiet_ms: int = 700, limit: float = 30) -> None:
     """Wait until the newest frame is exact, none was drawn for ``quiet_ms`` and no
     save is on its way (at most ``limit`` seconds)."""
     end = time.time() + limit
@@ -209,7 +209,7 @@ def timed_gesture(page, url: str, gesture: str, seconds: float, rate: float, ver
     pointer, alt = Pointer(page), gesture == "handle"
     pointer.drag(points, rate, alt)
     with contextlib.suppress(Exception):
-        page.wait_for_function("benchProbe.snap !== null", timeout=20000)
+        page.wait_for_function("benchProbe.snap !== null", timeout=10000)
     probe = page.evaluate(READ)
     pixels = page.evaluate("benchProbe.snapPixels()")
     up = page.evaluate("performance.now()")
