@@ -25,6 +25,7 @@ import base64
 import json
 import random
 import statistics
+import urllib.error
 import urllib.parse
 import urllib.request
 
@@ -313,7 +314,10 @@ def agree(url: str, snap: dict | None, pixels: dict | None) -> dict:
         return {"agree": None, "agree_note": "no frame answered the last input"}
     sheet = np.frombuffer(base64.b64decode(pixels["b64"]), np.uint8)
     sheet = sheet.reshape(pixels["h"], pixels["w"], 4)
-    exact, note = exact_frame(url, snap["shown"]), ""
+    try:
+        exact, note = exact_frame(url, snap["shown"]), ""
+    except urllib.error.HTTPError as exc:  # the server refused what the page says it shows
+        return {"agree": None, "agree_note": f"exact render refused: {exc.read()[:300]!r}"}
     if exact.shape[:2] != sheet.shape[:2]:
         import cv2
 
