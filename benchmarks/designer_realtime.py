@@ -1,4 +1,4 @@
-"""Benchmark of the designer in real time (issue 39): frames per second, latency
+"""Benchmark of the designer in real time: frames per second, latency
 from a pointer move to the frame that shows it, and agreement of mid-gesture
 frames with the exact render, during every gesture, in a real headless Chromium.
 
@@ -20,8 +20,8 @@ is undone after it. What is measured (benchmarks/realtime_probe.py says how):
   settled sheet's, which should be ~100%);
 - up->exact: from letting go to the first exact frame after it.
 
-The page records the frames and the inputs they answer (``window.marbleFrames``)
-since issue 39; before it, the sheet's frame counter stands in (the frame
+Where the page records the frames and the inputs they answer
+(``window.marbleFrames``), those are read; else the sheet's frame counter stands in (the frame
 answering the newest input at its render's start). ``--live`` measures
 ``marblevideo live test --preview`` at 1280x720 while a comb is dragged and a
 stroke drawn (--live-tools); up->live: from letting go to the second live frame
