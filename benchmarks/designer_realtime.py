@@ -8,8 +8,8 @@ Runs the real ``marblevideo design`` (a subprocess on 127.0.0.1) on each design
 with the mouse at a human pace (--rate moves per second for --seconds; sent
 through Playwright's CDP session without waiting for each move, see Pointer):
 a drop dragged open, a comb dragged across, a stroke drawn, a handle of the top
-op dragged in a circle (Alt held) and a slider of the top op swept. Each gesture
-is undone after it. What is measured (benchmarks/realtime_probe.py says how):
+op dragged round three quarters of a circle (Alt held) and a slider of the top
+op swept. Each gesture is undone after it. What is measured (benchmarks/realtime_probe.py says how):
 
 - fps: frames drawn on the sheet per second between the first and last move;
 - latency: per input, from the move to the first frame answering it (median,
@@ -129,12 +129,9 @@ def path_of(page, gesture: str, n: int):
             if inside:
                 page.evaluate(f"designer.store.update(() => ({{selected: {i}}}))")
                 (x0, y0), rad = inside[0], 0.06 * r["width"]
+                turn = 1.5 * math.pi  # three quarters of a circle: it ends away from the start
                 return [
-                    (
-                        x0 + rad * math.sin(2 * math.pi * s),
-                        y0 + rad * (1 - math.cos(2 * math.pi * s)),
-                    )
-                    for s in ks
+                    (x0 + rad * math.sin(turn * s), y0 + rad * (1 - math.cos(turn * s))) for s in ks
                 ]
         raise RuntimeError("no op has a handle inside the sheet")
     page.evaluate(f"designer.store.update(() => ({{selected: {count - 1}}}))")
