@@ -67,8 +67,10 @@
 Benchmarks with options of their own run as modules of the package:
 ``python -m benchmarks.live_bench`` (live at 720p, --record, --twelve),
 ``benchmarks.osc_bench`` (OSC to preview latency), ``benchmarks.design_bench``
-(the designer's gesture to frame), ``benchmarks.soak_bench`` (a long live
-session), ``benchmarks.signals_bench`` (the audio analysis);
+(the designer's gesture to frame), ``benchmarks.designer_realtime`` (every
+gesture's frames per second, latency and agreement with the exact render),
+``benchmarks.soak_bench`` (a long live session), ``benchmarks.signals_bench``
+(the audio analysis);
 ``python benchmarks/plain_transcode.py SRC DST`` is a script of its own.
 
 Timings are medians; the machine is shared, so treat differences under 1.3x as noise.
