@@ -98,9 +98,14 @@ def shown_when(page, condition: str) -> tuple[np.ndarray, dict, dict]:
     """:func:`shown`, read in the same task as ``condition`` (JS, of the last
     frame record ``f``) is first seen true, so no later frame comes between."""
     got = page.evaluate(
-        f"""() => new Promise((resolve) => {{
+        f"""() => new Promise((resolve, reject) => {{
+            const until = performance.now() + 60000;
             const look = () => {{
                 const f = window.marbleFrames.at(-1);
+                if (performance.now() > until) {{
+                    reject(new Error(`no frame where {condition} in 60 s: ${{JSON.stringify(f)}}`));
+                    return;
+                }}
                 if (!({condition})) {{ requestAnimationFrame(look); return; }}
                 resolve({{png: document.getElementById('sheet').toDataURL('image/png'),
                           shown: window.marbleShown, frame: f}});

@@ -9,7 +9,7 @@
 // requestAnimationFrame, over the last one: the sheet is never blank.
 import * as api from "./api.js";
 import { hexColor } from "./dom.js";
-import { claimInput, recordFrame } from "./record.js";
+import { claimInput, newestInput, recordFrame } from "./record.js";
 import { get, update, isLive } from "./store.js";
 import { eventPixel, fitSheet, overlay, sheet, sizeOf, toCanvas, toCanvasMap, toPixel, viewOf } from "./view.js";
 import { changedOp, warpFrame, whenLayers } from "./warping.js";
@@ -56,9 +56,9 @@ export function whenIdle(fn) { idle = fn; }
 // size; live mode: the recipe only.
 export const sheetOf = (s) => (isLive(s) ? [s.doc, s.version, s.saving, s.screen]
   : [s.doc, s.version, s.saving, s.preview, s.solo, s.t, s.playing, s.view, s.screen]);
-export function showSheet(s) {
+export function showSheet(s, inputs = claimInput()) {
   if (!s.screen) return;
-  const answer = {...claimInput(), stamp: ++stamp};
+  const answer = {...inputs, stamp: ++stamp};
   if (s.preview && s.preview.draft && !isLive(s) && s.solo === null) {
     const k = changedOp(s.doc, s.preview.doc);
     if (k === "same" && frames) return;
@@ -66,7 +66,8 @@ export function showSheet(s) {
   }
   show(s.preview ? {draft: s.preview.draft, doc: s.preview.doc} : {draft: s.playing}, answer);
 }
-whenLayers(() => { if (get().preview) showSheet(get()); });
+// (the gesture's frame once its layers come shows the newest input, answered before or not)
+whenLayers(() => { if (get().preview) showSheet(get(), newestInput()); });
 // Renders run one at a time, the newest request next, and wait while a save
 // is on its way (its answer decides which recipe is shown).
 export function show(opts = {}, answer = {...claimInput(), stamp: ++stamp}) {
