@@ -51,15 +51,24 @@ export function changedOp(doc, next) {
 }
 const rest = (doc) => JSON.stringify({...doc, ops: null});
 const viewText = (view) => view.map((v) => +v.toFixed(6)).join(",");
-// Whether the picture below op k and the ops above it are the same at every
-// time: no track, signal, start, end, heal or times in them or the background
-// (then a stroke drawn in time, which moves the time shown, keeps its layers).
-const moving = (v) => v !== null && typeof v === "object" && !Array.isArray(v);
-const timed = (op) => ["start", "end", "heal", "times"].some((f) => f in op)
-  || Object.values(op).some((v) => moving(v) || (Array.isArray(v) && v.some(moving)));
-export const timeless = (doc, k) => !moving(doc.background) && doc.ops.every((op, i) => i === k || !timed(op));
+// From which time on the picture below op k and the ops above it stay the same
+// (Infinity: never; -Infinity: always): the last of their keys, `start`, `end`
+// and `times` and the background's keys; a `heal` or a signal moves them at any
+// time. A stroke drawn in time moves the time shown: past this, it keeps its layers.
+const track = (v) => v !== null && typeof v === "object" && !Array.isArray(v);
+function lastTime(v) {
+  if (!track(v)) return Array.isArray(v) ? Math.max(-Infinity, ...v.map(lastTime)) : -Infinity;
+  return Array.isArray(v.keys) ? Math.max(...v.keys.map((key) => key.t)) : Infinity;  // a signal: always
+}
+function settles(op) {
+  if ("heal" in op) return Infinity;
+  const own = [op.start, op.end, ...(op.times || [])].filter((x) => typeof x === "number");
+  return Math.max(-Infinity, ...own, ...Object.entries(op).filter(([f]) => f !== "times").map(([, v]) => lastTime(v)));
+}
+export const settledFrom = (doc, k) => Math.max(lastTime(doc.background), ...doc.ops.map((op, i) => (i === k ? -Infinity : settles(op))));
+const settledAt = (doc, k, t) => t >= settledFrom(doc, k);
 function keyOf(doc, k, t, view, w, h) {
-  const ops = doc.ops.filter((_, i) => i !== k), when = timeless(doc, k) ? "any" : t.toFixed(3);
+  const ops = doc.ops.filter((_, i) => i !== k), when = settledAt(doc, k, t) ? "settled" : t.toFixed(3);
   return `${k}|${when}|${viewText(view)}|${w}x${h}|${JSON.stringify({...doc, ops})}`;
 }
 
@@ -76,8 +85,8 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
   const key = keyOf(doc, k, t, view, w, h);
   if (ready !== key) {
     const top = k === s.doc.ops.length;
-    const any = timeless(doc, k);
-    const base = top ? baseOf(s, exact, view, w, h, any) || baseOf(s, shown(), view, w, h, any) : null;
+    const from = settledAt(doc, k, t) ? settledFrom(doc, k) : null;
+    const base = top ? baseOf(s, exact, view, w, h, from) || baseOf(s, shown(), view, w, h, from) : null;
     if (base) setLayers(key, base, null, view, w, h);
     else { ask(doc, k, t, view, w, h, key); return false; }
   }
@@ -91,10 +100,12 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
 }
 // The pixels of ``f`` ({doc, t, view, image}: the page's exact frame, the
 // sheet's last warped one) when it shows the recipe of ``s`` at its time, view
-// and size (at any time when ``anyTime``: the recipe does not move); else null.
-function baseOf(s, f, view, w, h, anyTime) {
+// and size (at any time from ``settled`` on, when not null: the recipe no longer
+// moves there); else null.
+function baseOf(s, f, view, w, h, settled) {
   const same = f && (f.doc === s.doc || JSON.stringify(f.doc) === JSON.stringify(s.doc));
-  return same && (anyTime || f.t === +s.t.toFixed(3)) && f.image.width === w && f.image.height === h
+  const when = settled !== null ? f && f.t >= settled : f && f.t === +s.t.toFixed(3);
+  return same && when && f.image.width === w && f.image.height === h
     && viewText(f.view) === viewText(view) ? f.image.data : null;
 }
 function setLayers(key, base, above, view, w, h) {
