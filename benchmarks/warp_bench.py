@@ -24,12 +24,8 @@ from __future__ import annotations
 import argparse
 import os
 import shutil
-import sys
-from pathlib import Path
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests" / "support"))
-
-from warp_page import ARGS, serve_web  # noqa: E402
+from .webfolder import ARGS, serve_web
 
 BENCH = """async ([w, h, frames]) => {
   const warp = await import("/web/warp.js");

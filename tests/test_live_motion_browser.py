@@ -24,7 +24,8 @@ PERIOD = 2.0  # the clip's length: a looped pass starts one frame after the last
 
 
 def _circles(page) -> tuple[list, float | None]:
-    """The circles the overlay drew ([x, y, r] frame pixels) and their frame's time."""
+    """The circles the overlay drew ([x, y, r] in the sheet's device pixels) and their
+    frame's time."""
     data = page.evaluate("({...document.getElementById('overlay').dataset})")
     t = data.get("motionT")
     return json.loads(data.get("circles") or "[]"), (float(t) if t else None)
@@ -66,13 +67,17 @@ def test_the_motion_panel_shows_edits_and_meters_the_motion(browser, tmp_path):
             if not circles or t is None:
                 return None
             (x, y, r), centre = circles[0], disc.center(t % PERIOD)
-            assert math.dist((x, y), centre) <= max(8, D / 4) + 1, (x, y, t, centre)
-            return x, y, r
+            # the overlay has the sheet's device pixels; the canvas is the frame's pixels
+            k = page.evaluate("document.getElementById('overlay').width") / 480
+            at = page.evaluate("(c) => designer.toPixel(c)", list(centre))
+            assert math.dist((x, y), at) <= k * (max(8, D / 4) + 1), (x, y, t, centre, at)
+            return x, y, r / k
 
         x, y, r = wait_for(on_the_disc, "no circle over the moving disc")
         assert D / 4 <= r <= D
         page.uncheck("#motion-show")
-        assert _circles(page)[0] == [] and _alpha(page, x + r, y) == 0
+        k = page.evaluate("document.getElementById('overlay').width") / 480
+        assert _circles(page)[0] == [] and _alpha(page, x + r * k, y) == 0
 
         # the fields edit the recipe's motion block; a refusal is shown and undone
         page.fill("#motion-gain", "2.5")

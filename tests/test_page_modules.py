@@ -251,6 +251,7 @@ def test_a_gesture_goes_idle_pointing_dragging_idle_and_keys_undo_it(page):
     handles = page.evaluate("designer.handles(0)")
     assert handles, made
     name, point = handles[0]
+    page.wait_for_function("designer.state.saving === 0")  # an undo's save may be on its way
     version = state("designer.state.version")
 
     page.mouse.move(*at(*point))
@@ -262,6 +263,7 @@ def test_a_gesture_goes_idle_pointing_dragging_idle_and_keys_undo_it(page):
     page.wait_for_function("designer.state.doc.ops.length === 1")
     page.click("#op-0 .name")
     page.wait_for_function("designer.state.selected === 0")
+    page.wait_for_function("designer.state.saving === 0")  # an undo's save may be on its way
     version = state("designer.state.version")
 
     page.keyboard.press("m")  # the move mode: a press on a handle takes it
@@ -362,11 +364,12 @@ def test_the_ground_colour_and_clear(page):
     op in one edit, which Ctrl-Z takes back; neither is enabled for nothing."""
     box = page.locator("#overlay").bounding_box()
     x0, y0 = box["x"] + box["width"] * 0.6, box["y"] + box["height"] * 0.5
+    before = page.evaluate("designer.state.doc.ops.length")  # (earlier tests' ops may stay)
     page.mouse.move(x0, y0)
     page.mouse.down()
     page.mouse.move(x0 + 10, y0 + 5)
     page.mouse.up()
-    page.wait_for_function("designer.state.doc.ops.length > 0")
+    page.wait_for_function(f"designer.state.doc.ops.length === {before + 1}")
     ops = _ops(page)
     assert page.input_value("#ground") == page.evaluate("designer.state.doc.background").lower()
     page.fill("#ground", "#204060")  # the field's value and its change event

@@ -6,54 +6,10 @@ draws ops at times and reads the canvas back (RGBA uint8, top row first)."""
 from __future__ import annotations
 
 import base64
-import contextlib
-import functools
-import http.server
-import threading
-from pathlib import Path
 
 import numpy as np
 
-WEB = Path(__file__).resolve().parents[2] / "marblevideo" / "design" / "web"
-ARGS = [
-    "--no-sandbox",
-    "--enable-unsafe-swiftshader",
-    "--use-angle=swiftshader",
-    "--ignore-gpu-blocklist",
-]
-BLANK = b"<!doctype html><meta charset=utf-8><title>warp</title><body></body>"
-
-
-class _Handler(http.server.SimpleHTTPRequestHandler):
-    def do_GET(self):  # noqa: N802 (the base class' name)
-        if self.path in ("/", "/index.html"):
-            self.send_response(200)
-            self.send_header("Content-Type", "text/html")
-            self.end_headers()
-            self.wfile.write(BLANK)
-            return
-        super().do_GET()
-
-    def guess_type(self, path):
-        return "text/javascript" if str(path).endswith(".js") else super().guess_type(path)
-
-    def log_message(self, *args):
-        pass
-
-
-@contextlib.contextmanager
-def serve_web():
-    """The web folder at http://127.0.0.1:PORT/web/ (yields the base URL)."""
-    handler = functools.partial(_Handler, directory=str(WEB.parent))
-    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    try:
-        yield f"http://127.0.0.1:{server.server_address[1]}"
-    finally:
-        server.shutdown()
-        server.server_close()
-
+from benchmarks.webfolder import ARGS, serve_web  # noqa: F401 (the tests take them here)
 
 SETUP = """async ([w, h, b64]) => {
   const warp = await import("/web/warp.js");

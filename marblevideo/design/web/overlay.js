@@ -54,7 +54,7 @@ export function showOverlay(s) {
   drawMotion(s.showMotion ? s.motion : null, w);
 }
 // Live mode's motion (shown): each region followed as a circle, each motion
-// stroke as a polyline; data-circles lists the circles drawn ([x, y, r] frame pixels).
+// stroke as a polyline; data-circles lists the circles drawn ([x, y, r] in the sheet's device pixels).
 function drawMotion(m, w) {
   const circles = [];
   if (m) {
