@@ -70,7 +70,8 @@ def test_the_motion_panel_shows_edits_and_meters_the_motion(browser, tmp_path):
             # the overlay has the sheet's device pixels; the canvas is the frame's pixels
             k = page.evaluate("document.getElementById('overlay').width") / 480
             at = page.evaluate("(c) => designer.toPixel(c)", list(centre))
-            assert math.dist((x, y), at) <= k * (max(8, D / 4) + 1), (x, y, t, centre, at)
+            if math.dist((x, y), at) > k * (max(8, D / 4) + 1):
+                return None  # (a frame whose time and circles were read apart): the next one
             return x, y, r / k
 
         x, y, r = wait_for(on_the_disc, "no circle over the moving disc")
