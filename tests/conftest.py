@@ -9,11 +9,11 @@ default choice (PoCL on a machine without a GPU). Nothing is mocked.
 from __future__ import annotations
 
 import os
-import shutil
 import subprocess
 import sys
 
 import pytest
+from browsers import chromium_browser
 from helpers import ROOT, TIERS, fresh_renderer, subprocess_env
 from hypothesis import settings
 
@@ -60,17 +60,16 @@ def one_pixel_renderer():
 
 @pytest.fixture(scope="module")
 def browser():
-    """A headless Chromium driven by Playwright; the test is skipped, with the
-    reason, when either is missing (``pip install playwright``; ``apt-get install
-    chromium``; MARBLEVIDEO_CHROMIUM names another executable)."""
-    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
-    chromium = os.environ.get("MARBLEVIDEO_CHROMIUM") or shutil.which("chromium")
-    if not chromium or not os.path.exists(chromium):
-        pytest.skip("chromium is not installed (apt-get install chromium)")
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(executable_path=chromium, args=["--no-sandbox"])
-        yield b
-        b.close()
+    """A headless Chromium (:func:`browsers.chromium_browser`)."""
+    yield from chromium_browser(["--no-sandbox"])
+
+
+@pytest.fixture(scope="module")
+def webgl_browser():
+    """A headless Chromium with SwiftShader's WebGL2 allowed (the page's warp)."""
+    from benchmarks.webfolder import ARGS
+
+    yield from chromium_browser(ARGS)
 
 
 @pytest.fixture

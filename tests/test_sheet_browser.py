@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import base64
 import json
-import os
 import shutil
 import struct
 import time
@@ -35,23 +34,8 @@ LEVELS, SHARE = 8, 0.98
 EXACT_SHARE = 0.995
 
 
-@pytest.fixture(scope="module")
-def chromium():
-    """A headless Chromium with SwiftShader's WebGL2 (the page's warp)."""
-    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
-    exe = os.environ.get("MARBLEVIDEO_CHROMIUM") or shutil.which("chromium")
-    if not exe or not os.path.exists(exe):
-        pytest.skip("chromium is not installed (apt-get install chromium)")
-    with sync_api.sync_playwright() as p:
-        b = p.chromium.launch(
-            executable_path=exe, args=["--no-sandbox", "--enable-unsafe-swiftshader"]
-        )
-        yield b
-        b.close()
-
-
 @contextmanager
-def sheet_page(chromium, folder, *args, dpr=1, size=(760, 520), query=""):
+def sheet_page(browser, folder, *args, dpr=1, size=(760, 520), query=""):
     """``marblevideo design ARGS`` and its page (``dpr``: device_scale_factor),
     once it shows an exact frame: yields (page, app, errors)."""
     app = LiveProcess(
@@ -60,7 +44,7 @@ def sheet_page(chromium, folder, *args, dpr=1, size=(760, 520), query=""):
     errors: list[str] = []
     try:
         viewport = {"width": size[0], "height": size[1]}
-        page = chromium.new_page(viewport=viewport, device_scale_factor=dpr)
+        page = browser.new_page(viewport=viewport, device_scale_factor=dpr)
         page.on("pageerror", lambda e: errors.append(f"pageerror: {e}"))
         page.goto(app.url + query)
         page.wait_for_selector("body[data-ready='1']")
@@ -146,11 +130,12 @@ def agreement(a: np.ndarray, b: np.ndarray) -> float:
 
 
 @pytest.mark.parametrize("dpr", [1, 2])
-def test_the_sheet_has_its_displayed_size_in_device_pixels(chromium, tmp_path, dpr):
+def test_the_sheet_has_its_displayed_size_in_device_pixels(webgl_browser, tmp_path, dpr):
     recipe = tmp_path / "np.json"
     shutil.copy(ROOT / "samples" / "nonpareil.json", recipe)
     args = ("--ops", recipe)
-    with sheet_page(chromium, tmp_path, *args, dpr=dpr, size=(1100, 700)) as (page, app, errors):
+    sized = sheet_page(webgl_browser, tmp_path, *args, dpr=dpr, size=(1100, 700))
+    with sized as (page, app, errors):
         w, h, cw, ch = page.evaluate(
             """() => { const s = document.getElementById('sheet'), r = s.getBoundingClientRect();
                 return [s.width, s.height, r.width, r.height]; }"""
@@ -170,10 +155,10 @@ def test_the_sheet_has_its_displayed_size_in_device_pixels(chromium, tmp_path, d
         assert errors == []
 
 
-def test_zoom_and_pan_render_the_view_exactly(chromium, tmp_path):
+def test_zoom_and_pan_render_the_view_exactly(webgl_browser, tmp_path):
     recipe = tmp_path / "bq.json"
     shutil.copy(ROOT / "samples" / "bouquet.json", recipe)
-    with sheet_page(chromium, tmp_path, "--ops", recipe) as (page, app, errors):
+    with sheet_page(webgl_browser, tmp_path, "--ops", recipe) as (page, app, errors):
         full = page.evaluate("window.marbleShown.view")
         for keys in (["="], ["="], ["ArrowLeft", "ArrowUp"], ["-"]):
             n = page.evaluate("window.marbleFrames.at(-1).n")
@@ -220,13 +205,13 @@ DROPS = {
 
 
 @pytest.mark.parametrize("query", ["", "?warp=0"])
-def test_a_frame_mid_gesture_agrees_with_the_exact_render(chromium, tmp_path, query):
+def test_a_frame_mid_gesture_agrees_with_the_exact_render(webgl_browser, tmp_path, query):
     """A comb dragged over drops, held mid-drag: the frame drawn for the last move
     (warped on the page; with ?warp=0 the server's quick frame) agrees with the
     exact render of the recipe it shows."""
     recipe = tmp_path / "drops.json"
     recipe.write_text(json.dumps(DROPS))
-    with sheet_page(chromium, tmp_path, "--ops", recipe, query=query) as (page, app, errors):
+    with sheet_page(webgl_browser, tmp_path, "--ops", recipe, query=query) as (page, app, errors):
         page.click("#tool-comb")
         box = page.locator("#overlay").bounding_box()
         x0, y0 = box["x"] + box["width"] * 0.3, box["y"] + box["height"] * 0.4
@@ -248,13 +233,13 @@ def test_a_frame_mid_gesture_agrees_with_the_exact_render(chromium, tmp_path, qu
         assert errors == []
 
 
-def test_a_handle_dragged_mid_gesture_agrees_with_the_exact_render(chromium, tmp_path):
+def test_a_handle_dragged_mid_gesture_agrees_with_the_exact_render(webgl_browser, tmp_path):
     """The first drop's centre dragged (Alt): the page warps the server's layers of
     op 0 (nothing below it, the second drop and the wave above it as a map), and
     the frame agrees with the exact render of the recipe it shows."""
     recipe = tmp_path / "drops.json"
     recipe.write_text(json.dumps(DROPS))
-    with sheet_page(chromium, tmp_path, "--ops", recipe) as (page, app, errors):
+    with sheet_page(webgl_browser, tmp_path, "--ops", recipe) as (page, app, errors):
         page.click("#op-0 .name")
         box = page.locator("#overlay").bounding_box()
         px, py = page.evaluate("designer.toPixel(designer.handles(0)[0][1])")
@@ -276,7 +261,7 @@ def test_a_handle_dragged_mid_gesture_agrees_with_the_exact_render(chromium, tmp
         assert errors == []
 
 
-def test_a_first_frame_soon_and_never_a_black_sheet(chromium, tmp_path):
+def test_a_first_frame_soon_and_never_a_black_sheet(webgl_browser, tmp_path):
     recipe = tmp_path / "np.json"
     shutil.copy(ROOT / "samples" / "nonpareil.json", recipe)
     app = LiveProcess(
@@ -284,7 +269,7 @@ def test_a_first_frame_soon_and_never_a_black_sheet(chromium, tmp_path):
         cwd=tmp_path, command="design",
     )  # fmt: skip
     try:
-        page = chromium.new_page(viewport={"width": 760, "height": 520})
+        page = webgl_browser.new_page(viewport={"width": 760, "height": 520})
         start = time.monotonic()
         page.goto(app.url, wait_until="commit")
         page.wait_for_selector("canvas#sheet")
@@ -314,12 +299,12 @@ def test_a_first_frame_soon_and_never_a_black_sheet(chromium, tmp_path):
         assert app.stop() == 0
 
 
-def test_exports_keep_the_recipes_sizes(chromium, tmp_path):
+def test_exports_keep_the_recipes_sizes(webgl_browser, tmp_path):
     """The export links of a zoomed sheet shown at devicePixelRatio 2 give the
     recipe's frame (480x320), not the sheet's size or view."""
     recipe = tmp_path / "np.json"
     shutil.copy(ROOT / "samples" / "nonpareil.json", recipe)
-    with sheet_page(chromium, tmp_path, "--ops", recipe, dpr=2) as (page, app, errors):
+    with sheet_page(webgl_browser, tmp_path, "--ops", recipe, dpr=2) as (page, app, errors):
         n = page.evaluate("window.marbleFrames.at(-1).n")
         page.keyboard.press("=")
         exact(page, n)

@@ -9,14 +9,12 @@ the reason, when Playwright, Chromium or WebGL2 with float targets is missing.""
 from __future__ import annotations
 
 import math
-import os
-import shutil
 
 import cv2
 import numpy as np
 import pytest
 from helpers import ROOT
-from warp_page import ARGS, serve_web, set_above, setup_warp, warp_frame
+from warp_page import serve_web, set_above, setup_warp, warp_frame
 
 from marblevideo.ops import recipe_types
 from marblevideo.recipe.frame import geometry
@@ -129,23 +127,18 @@ def test_every_op_type_is_tested():
 
 
 @pytest.fixture(scope="module")
-def warp_page():
-    sync_api = pytest.importorskip("playwright.sync_api", reason="playwright is not installed")
-    chromium = os.environ.get("MARBLEVIDEO_CHROMIUM") or shutil.which("chromium")
-    if not chromium or not os.path.exists(chromium):
-        pytest.skip("chromium is not installed (apt-get install chromium)")
+def warp_page(webgl_browser):
     base = cv2.cvtColor(cv2.imread(str(ROOT / "samples" / "coffee.jpg")), cv2.COLOR_BGR2RGBA)
     base = cv2.resize(base, (W, H), interpolation=cv2.INTER_AREA)
-    with serve_web() as url, sync_api.sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=chromium, args=ARGS)
-        page = browser.new_page()
+    with serve_web() as url:
+        page = webgl_browser.new_page()
         page.goto(url + "/")
         if not page.evaluate('async () => (await import("/web/warp.js")).supported()'):
-            browser.close()
+            page.close()
             pytest.skip("no WebGL2 with float render targets in this Chromium")
         assert setup_warp(page, base)
         yield page, base
-        browser.close()
+        page.close()
 
 
 def reference(base: np.ndarray, op: dict, t: float, edges: str = "clamp") -> np.ndarray:

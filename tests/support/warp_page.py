@@ -9,7 +9,7 @@ import base64
 
 import numpy as np
 
-from benchmarks.webfolder import ARGS, serve_web  # noqa: F401 (the tests take them here)
+from benchmarks.webfolder import serve_web  # noqa: F401 (the tests take it here)
 
 SETUP = """async ([w, h, b64]) => {
   const warp = await import("/web/warp.js");
