@@ -23,6 +23,8 @@ import pytest
 from helpers import ROOT
 from live_helpers import LiveProcess
 
+from benchmarks.realtime_probe import agreement
+
 pytestmark = pytest.mark.tier("integration")
 
 #: A mid-gesture frame against the exact render: share of pixels within LEVELS.
@@ -125,10 +127,6 @@ def under(shown: dict, fx: float, fy: float) -> tuple[float, float]:
     return (fx * shown["w"] - dx) / k + x, (fy * shown["h"] - dy) / k + y
 
 
-def agreement(a: np.ndarray, b: np.ndarray) -> float:
-    return float(np.mean(np.abs(a.astype(int) - b).max(axis=2) <= LEVELS))
-
-
 @pytest.mark.parametrize("dpr", [1, 2])
 def test_the_sheet_has_its_displayed_size_in_device_pixels(webgl_browser, tmp_path, dpr):
     recipe = tmp_path / "np.json"
@@ -145,7 +143,7 @@ def test_the_sheet_has_its_displayed_size_in_device_pixels(webgl_browser, tmp_pa
         image, what, frame = shown(page)
         assert image.shape[:2] == (h, w) and (frame["w"], frame["h"]) == (w, h)
         assert (what["w"], what["h"]) == (w, h)
-        assert agreement(image, server_render(app, what)) >= EXACT_SHARE
+        assert agreement(image, server_render(app, what), LEVELS) >= EXACT_SHARE
         # the window grows: the canvas follows, and the sheet renders at the new size
         n = page.evaluate("window.marbleFrames.at(-1).n")
         page.set_viewport_size({"width": 1300, "height": 800})
@@ -166,7 +164,7 @@ def test_zoom_and_pan_render_the_view_exactly(webgl_browser, tmp_path):
                 page.keyboard.press(key)
             exact(page, n)
             image, what, _ = shown(page)
-            assert agreement(image, server_render(app, what)) >= EXACT_SHARE, keys
+            assert agreement(image, server_render(app, what), LEVELS) >= EXACT_SHARE, keys
         assert what["view"][2] < full[2]  # zoomed in twice, out once
         # the wheel zooms about the pointer: the canvas point under it stays put
         box = page.locator("#overlay").bounding_box()
@@ -176,7 +174,7 @@ def test_zoom_and_pan_render_the_view_exactly(webgl_browser, tmp_path):
         page.mouse.wheel(0, -200)
         exact(page, n)
         image, after, _ = shown(page)
-        assert agreement(image, server_render(app, after)) >= EXACT_SHARE
+        assert agreement(image, server_render(app, after), LEVELS) >= EXACT_SHARE
         assert after["view"][2] < what["view"][2]
         pixel = what["view"][2] / what["w"]  # a device pixel, in canvas units
         assert np.allclose(under(what, fx, fy), under(after, fx, fy), atol=pixel)
@@ -228,7 +226,7 @@ def test_a_frame_mid_gesture_agrees_with_the_exact_render(webgl_browser, tmp_pat
         page.mouse.up()
         assert frame["kind"] == kind and frame["inputAt"] <= frame["drawnAt"]
         assert what["doc"]["ops"][-1]["type"] == "comb"
-        share = agreement(image, server_render(app, what))
+        share = agreement(image, server_render(app, what), LEVELS)
         assert share >= SHARE, share
         assert errors == []
 
@@ -256,7 +254,7 @@ def test_a_handle_dragged_mid_gesture_agrees_with_the_exact_render(webgl_browser
         page.mouse.up()
         page.keyboard.up("Alt")
         assert what["doc"]["ops"][0]["center"] != DROPS["ops"][0]["center"]
-        share = agreement(image, server_render(app, what))
+        share = agreement(image, server_render(app, what), LEVELS)
         assert share >= SHARE, share
         assert errors == []
 

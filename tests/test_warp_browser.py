@@ -16,6 +16,7 @@ import pytest
 from helpers import ROOT
 from warp_page import serve_web, set_above, setup_warp, warp_frame
 
+from benchmarks.realtime_probe import agreement
 from marblevideo.ops import recipe_types
 from marblevideo.recipe.frame import geometry
 from marblevideo.recipe.load import Recipe
@@ -145,12 +146,6 @@ def reference(base: np.ndarray, op: dict, t: float, edges: str = "clamp") -> np.
     doc = {"marblevideo": 1, "canvas": [W, H], "antialias": "none", "edges": edges, "ops": [op]}
     spec = Recipe.from_dict(doc).at(t)
     return render(spec, geometry((W, H), (W, H), (W, H)), base)
-
-
-def agreement(a: np.ndarray, b: np.ndarray) -> float:
-    """Share of pixels whose RGB agree within 8 levels."""
-    diff = np.abs(a[..., :3].astype(int) - b[..., :3].astype(int)).max(axis=2)
-    return float((diff <= 8).mean())
 
 
 def check(page, base, op, t, edges="clamp"):
