@@ -254,25 +254,38 @@ def open_page(p, url: str, viewport: tuple[int, int], dpr: float, live: bool = F
     return browser, page
 
 
-def bench_design(design: str, args) -> list[dict]:
+@contextlib.contextmanager
+def served_page(name: str, args, live: bool = False):
+    """``marblevideo design`` (or ``live test --preview``) on ``name`` in a
+    temporary folder and its page in Chromium: yields (url, page)."""
     from playwright.sync_api import sync_playwright
 
-    rows = []
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
-        proc, url = serve(Path(folder), design)
+        proc, url = serve(Path(folder), name, live=live)
         try:
-            browser, page = open_page(p, url, args.viewport, args.dpr)
-            timed_gesture(page, url, "comb", 0.5, args.rate)  # warm up: builds, first renders
-            for run in range(args.repeat):
-                for g in args.gestures:
-                    row = {"design": design, "run": run + 1, "load": os.getloadavg()[0]}
-                    row.update(timed_gesture(page, url, g, args.seconds, args.rate, args.verify))
-                    print(json.dumps(row), file=sys.stderr, flush=True)
-                    rows.append(row)
+            browser, page = open_page(p, url, args.viewport, args.dpr, live=live)
+            yield url, page
             browser.close()
         finally:
             proc.terminate()
             proc.wait(30)
+
+
+def kept(rows: list[dict], row: dict) -> None:
+    """``row`` printed as it comes (stderr, JSON) and kept."""
+    print(json.dumps(row), file=sys.stderr, flush=True)
+    rows.append(row)
+
+
+def bench_design(design: str, args) -> list[dict]:
+    rows: list[dict] = []
+    with served_page(design, args) as (url, page):
+        timed_gesture(page, url, "comb", 0.5, args.rate)  # warm up: builds, first renders
+        for run in range(args.repeat):
+            for g in args.gestures:
+                row = {"design": design, "run": run + 1, "load": os.getloadavg()[0]}
+                row.update(timed_gesture(page, url, g, args.seconds, args.rate, args.verify))
+                kept(rows, row)
     return rows
 
 
@@ -301,23 +314,13 @@ def live_gesture(page, tool: str, args) -> dict:
 
 def bench_live(args) -> list[dict]:
     """``live test --preview`` at 1280x720: each of --live-tools dragged over the live frames."""
-    from playwright.sync_api import sync_playwright
-
-    rows = []
-    with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
-        proc, url = serve(Path(folder), "live", live=True)
-        try:
-            browser, page = open_page(p, url, args.viewport, args.dpr, live=True)
-            for run in range(args.repeat):
-                for tool in args.live_tools:
-                    row = {"run": run + 1, "load": os.getloadavg()[0]}
-                    row.update(live_gesture(page, tool, args))
-                    print(json.dumps(row), file=sys.stderr, flush=True)
-                    rows.append(row)
-            browser.close()
-        finally:
-            proc.terminate()
-            proc.wait(30)
+    rows: list[dict] = []
+    with served_page("live", args, live=True) as (_, page):
+        for run in range(args.repeat):
+            for tool in args.live_tools:
+                row = {"run": run + 1, "load": os.getloadavg()[0]}
+                row.update(live_gesture(page, tool, args))
+                kept(rows, row)
     return rows
 
 
