@@ -66,9 +66,9 @@ function settles(op) {
   return Math.max(-Infinity, ...own, ...Object.entries(op).filter(([f]) => f !== "times").map(([, v]) => lastTime(v)));
 }
 export const settledFrom = (doc, k) => Math.max(lastTime(doc.background), ...doc.ops.map((op, i) => (i === k ? -Infinity : settles(op))));
-const settledAt = (doc, k, t) => t >= settledFrom(doc, k);
-function keyOf(doc, k, t, view, w, h) {
-  const ops = doc.ops.filter((_, i) => i !== k), when = settledAt(doc, k, t) ? "settled" : t.toFixed(3);
+// ``settled``: whether the time shown is past settledFrom (the layers are then any such time's)
+function keyOf(doc, k, t, settled, view, w, h) {
+  const ops = doc.ops.filter((_, i) => i !== k), when = settled ? "settled" : t.toFixed(3);
   return `${k}|${when}|${viewText(view)}|${w}x${h}|${JSON.stringify({...doc, ops})}`;
 }
 
@@ -82,10 +82,11 @@ function keyOf(doc, k, t, view, w, h) {
 export function warpFrame(s, k, answer, draw, exact, shown) {
   const [w, h] = s.screen, view = viewOf(s), doc = s.preview.doc, t = s.t;
   if (!available(w, h)) return false;
-  const key = keyOf(doc, k, t, view, w, h);
+  const since = settledFrom(doc, k), settled = t >= since;
+  const key = keyOf(doc, k, t, settled, view, w, h);
   if (ready !== key) {
     const top = k === s.doc.ops.length;
-    const from = settledAt(doc, k, t) ? settledFrom(doc, k) : null;
+    const from = settled ? since : null;
     const base = top ? baseOf(s, exact, view, w, h, from) || baseOf(s, shown(), view, w, h, from) : null;
     if (base) setLayers(key, base, null, view, w, h);
     else { ask(doc, k, t, view, w, h, key); return false; }
