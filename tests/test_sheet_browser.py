@@ -58,12 +58,15 @@ def sheet_page(browser, folder, *args, dpr=1, size=(760, 520), query=""):
 
 
 def exact(page, after: int = 0) -> None:
-    """Wait for an exact frame of the saved recipe, drawn after frame ``after``."""
+    """Wait for an exact frame of the saved recipe and of the view the page now
+    holds, drawn after frame ``after`` (a frame asked for an earlier view, e.g.
+    between two keys, may land after a later key's press under load)."""
     page.wait_for_function(
-        """(n) => { const f = window.marbleFrames.at(-1);
-            const d = document.getElementById('sheet').dataset;
+        """(n) => { const f = window.marbleFrames.at(-1), s = window.marbleShown;
+            const d = document.getElementById('sheet').dataset, v = designer.state.view;
             return f && f.n > n && f.kind === 'exact'
-                && d.version === String(designer.state.version); }""",
+                && d.version === String(designer.state.version)
+                && (!v || (s && s.view.every((a, i) => Math.abs(a - v[i]) < 1e-9))); }""",
         arg=after,
         timeout=60000,
     )

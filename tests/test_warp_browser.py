@@ -14,7 +14,7 @@ import cv2
 import numpy as np
 import pytest
 from helpers import ROOT
-from warp_page import serve_web, set_above, setup_warp, warp_frame
+from warp_page import answer, serve_web, set_above, setup_warp, warp_frame
 
 from benchmarks.realtime_probe import agreement
 from marblevideo.ops import recipe_types
@@ -127,19 +127,40 @@ def test_every_op_type_is_tested():
     assert {op["type"] for op in OPS} == set(recipe_types())
 
 
+def open_warp(browser, url: str, base: np.ndarray):
+    """A page at ``url`` with a warp of ``base`` set up (the test is skipped
+    without WebGL2 float targets)."""
+    page = browser.new_page()
+    page.goto(url + "/")
+    if not answer(page, 'async () => (await import("/web/warp.js")).supported()'):
+        page.close()
+        pytest.skip("no WebGL2 with float render targets in this Chromium")
+    assert setup_warp(page, base)
+    return page
+
+
 @pytest.fixture(scope="module")
-def warp_page(webgl_browser):
+def warp_pages(webgl_browser):
+    """The module's page and base, and a way to open a new page when a test
+    closed it (a page that stopped answering: warp_page.answer)."""
     base = cv2.cvtColor(cv2.imread(str(ROOT / "samples" / "coffee.jpg")), cv2.COLOR_BGR2RGBA)
     base = cv2.resize(base, (W, H), interpolation=cv2.INTER_AREA)
     with serve_web() as url:
-        page = webgl_browser.new_page()
-        page.goto(url + "/")
-        if not page.evaluate('async () => (await import("/web/warp.js")).supported()'):
-            page.close()
-            pytest.skip("no WebGL2 with float render targets in this Chromium")
-        assert setup_warp(page, base)
-        yield page, base
-        page.close()
+        held = {"page": open_warp(webgl_browser, url, base)}
+
+        def current():
+            if held["page"].is_closed():
+                held["page"] = open_warp(webgl_browser, url, base)
+            return held["page"], base
+
+        yield current
+        if not held["page"].is_closed():
+            held["page"].close()
+
+
+@pytest.fixture
+def warp_page(warp_pages):
+    return warp_pages()
 
 
 def reference(base: np.ndarray, op: dict, t: float, edges: str = "clamp") -> np.ndarray:
@@ -213,7 +234,7 @@ def test_a_growing_stroke_is_the_finished_stroke_at_each_time(warp_page):
     builds = None
     for i in range(1, len(full["points"])):
         grown = {**full, "points": full["points"][: i + 1], "times": full["times"][: i + 1]}
-        n = page.evaluate(EXTEND, grown)
+        n = answer(page, EXTEND, grown)
         builds = n if builds is None else builds
         if i in checked:
             t = full["times"][i]
