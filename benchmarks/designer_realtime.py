@@ -24,7 +24,10 @@ Where the page records the frames and the inputs they answer
 (``window.marbleFrames``), those are read; else the sheet's frame counter stands in (the frame
 answering the newest input at its render's start). ``--live`` measures
 ``marblevideo live test --preview`` at 1280x720 while a comb is dragged and a
-stroke drawn (--live-tools); up->live: from letting go to the second live frame
+stroke drawn (--live-tools): the gesture goes to the session as a preview, and
+a live frame answers the input its preview was made after, the first time a
+frame shows that preview (its ``X-Preview-Serial``), so the latency is from a
+pointer move to the live frame that shows it; up->live: from letting go to the second live frame
 asked for after the save (the first may have been marbled before it).
 
     python -m benchmarks.designer_realtime [--design nonpareil bouquet 64ops]

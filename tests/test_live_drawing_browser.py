@@ -1,8 +1,11 @@
 """``marblevideo live --preview``: a stroke drawn on the page moves the live
 frames' ink as it is drawn, before the mouse is released, and is saved on
-release with its times on the live clock. Real Chromium (Playwright) over a
-still photo looped (``samples/coffee.jpg --loop``, 600x400: the canvas), the
-clock running. Skipped, with the reason, without Playwright or Chromium."""
+release with its times on the live clock; a comb dragged shows in the live
+frames before release too, and each live frame that first shows a preview
+answers the pointer input it was made after (the latency the benchmark
+reads). Real Chromium (Playwright) over a still photo looped
+(``samples/coffee.jpg --loop``, 600x400: the canvas), the clock running.
+Skipped, with the reason, without Playwright or Chromium."""
 
 from __future__ import annotations
 
@@ -77,6 +80,43 @@ def test_a_stroke_moves_the_live_ink_as_it_is_drawn(browser, tmp_path):
         # the preview is gone, the saved stroke is shown: the path's ink stays moved
         after = live_settled(page, live)
         assert np.abs(_near_path(after, scale) - _near_path(before, scale)).mean() > 8
+        page.close()
+        assert errors == []
+    finally:
+        assert live.stop() == 0, live.stderr()
+
+
+def test_a_comb_shows_in_the_live_frames_while_dragged(browser, tmp_path):
+    recipe = tmp_path / "live.json"
+    recipe.write_text(json.dumps({"marblevideo": 1, "ops": []}))
+    live = LiveProcess(
+        ROOT / "samples" / "coffee.jpg", "--loop", "--ops", recipe, "--preview", "--port", "0",
+        "--duration", "120", cwd=tmp_path,
+    )  # fmt: skip
+    saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
+    try:
+        page, errors = watched_page(browser, live.url, "body[data-ready='1'][data-mode='live']")
+        box = page.locator("#overlay").bounding_box()
+        before = live_settled(page, live)
+        page.evaluate("designer.setTool('comb')")
+        first = page.evaluate("window.marbleFrames.length")
+        page.mouse.move(box["x"] + 0.2 * box["width"], box["y"] + 0.5 * box["height"])
+        page.mouse.down()
+        y = box["y"] + 0.5 * box["height"]
+        for k in range(1, 16):
+            page.mouse.move(box["x"] + (0.2 + 0.03 * k) * box["width"], y)
+            time.sleep(0.05)
+        mid = live_settled(page, live)
+        assert saved() == []
+        assert np.abs(mid.astype(float) - before).mean() > 2  # the comb shows unsaved
+        frames = page.evaluate("window.marbleFrames")[first:]
+        answering = [f for f in frames if f["kind"] == "live" and f["input"] is not None]
+        assert answering, "no live frame answered a pointer input"
+        assert all(f["drawnAt"] >= f["inputAt"] for f in answering)
+        assert len({f["input"] for f in answering}) == len(answering)  # each answered once
+        page.mouse.up()
+        (comb,) = wait_for(saved, "the comb is saved")
+        assert comb["type"] == "comb"
         page.close()
         assert errors == []
     finally:

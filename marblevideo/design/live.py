@@ -19,7 +19,9 @@ edit the live recipe file:
 - ``PUT /api/preview``: ``{"recipe": ..., "version": V}``, an unsaved recipe
   the live frames show instead of the saved one while the file is at version V
   (the stroke being drawn; ``recipe`` null clears it), for a few seconds after
-  each send (:mod:`marblevideo.live.preview`); 400 when invalid.
+  each send (:mod:`marblevideo.live.preview`); 400 when invalid. It answers
+  the file's ``version`` and the preview's ``serial``: the live frames that
+  show it come with ``X-Preview-Serial: serial`` (``/frame.jpg``).
 - ``GET /api/signals``, ``POST /api/learn``: the controllers' meters and learn
   (:mod:`marblevideo.controllers.api`).
 - ``GET /api/motion``: the recipe's motion as of the last frame: ``active``,
@@ -94,8 +96,8 @@ class LiveDesign:
     def _preview(self, request) -> dict:
         if not isinstance(request, dict) or set(request) != {"recipe", "version"}:
             raise ValueError('preview: expected {"recipe": ..., "version": V}')
-        self.live.drawing.put(request["recipe"], request["version"])
-        return {"version": self.live.file.snapshot()[2]}
+        serial = self.live.drawing.put(request["recipe"], request["version"])
+        return {"version": self.live.file.snapshot()[2], "serial": serial}
 
     # the live session's own routes
     def stats(self) -> dict:

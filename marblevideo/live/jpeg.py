@@ -4,7 +4,9 @@ own and handed to every client that asks (``/frame.jpg``, ``/stream.mjpg``).
 Frames reach the encoder through a one-slot mailbox: when it is behind, the
 older frame is dropped (:attr:`JpegPreview.skipped`), never queued. Each JPEG
 gets the next sequence number (1, 2, ...), so a client asks for one newer than
-the last it has.
+the last it has, and keeps its frame's tag (the serial of the designer's preview
+it shows, 0 for none: ``X-Preview-Serial``, so the page knows which of its
+inputs a frame shows).
 """
 
 from __future__ import annotations
@@ -26,9 +28,10 @@ class JpegPreview:
     def __init__(self, width: int | None = None, quality: int = 80):
         self.width = width
         self.quality = quality
-        self.shown = Latest()  # frames for the encoder: (RGBA, capture time)
+        self.shown = Latest()  # frames for the encoder: (RGBA, capture time, tag)
         self.seq = 0
         self._data: bytes | None = None
+        self._tag = 0
         self._cond = threading.Condition()
         self._closed = False
 
@@ -37,9 +40,10 @@ class JpegPreview:
         """Frames shown that the encoder never took (it was behind)."""
         return self.shown.dropped
 
-    def put(self, rgba: np.ndarray, ts: float) -> None:
-        """Offer a frame shown (RGBA), captured at ``ts`` (``time.monotonic()``)."""
-        self.shown.put((rgba, ts))
+    def put(self, rgba: np.ndarray, ts: float, tag: int = 0) -> None:
+        """Offer a frame shown (RGBA), captured at ``ts`` (``time.monotonic()``),
+        with its ``tag``."""
+        self.shown.put((rgba, ts, tag))
 
     def run(self, stop: threading.Event, latency: RateWindow) -> None:
         """Encode until ``stop``; each JPEG's capture-to-ready seconds go to ``latency``."""
@@ -48,7 +52,7 @@ class JpegPreview:
             item = self.shown.get(timeout=0.2)
             if item is None:
                 continue
-            rgba, ts = item
+            rgba, ts, tag = item
             if self.width and self.width < rgba.shape[1]:
                 h = max(1, round(rgba.shape[0] * self.width / rgba.shape[1]))
                 rgba = cv2.resize(rgba, (self.width, h), interpolation=cv2.INTER_AREA)
@@ -58,18 +62,22 @@ class JpegPreview:
             done = time.monotonic()
             latency.add(done, done - ts)
             with self._cond:
-                self._data = buf.tobytes()
+                self._data, self._tag = buf.tobytes(), tag
                 self.seq += 1
                 self._cond.notify_all()
 
     def latest(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None]:
         """Wait for a JPEG newer than sequence ``after``: (seq, bytes), or (after,
         None) after ``timeout`` seconds or once closed."""
+        return self.latest_tagged(after, timeout)[:2]
+
+    def latest_tagged(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None, int]:
+        """:meth:`latest` and the JPEG's tag (0 with no JPEG)."""
         with self._cond:
             self._cond.wait_for(lambda: self.seq > after or self._closed, timeout)
             if self.seq > after and self._data is not None:
-                return self.seq, self._data
-            return after, None
+                return self.seq, self._data, self._tag
+            return after, None, 0
 
     def close(self) -> None:
         """Wake every client waiting; the encoder thread ends with its ``stop``."""

@@ -32,15 +32,17 @@ class LivePreview:
         self._sent = 0.0
         self.serial = 0  # counts previews taken: a key for the marbler built for each
 
-    def put(self, doc: object, version: object) -> None:
+    def put(self, doc: object, version: object) -> int:
         """Show ``doc`` (validated: RecipeError, one line, when not a recipe) while
-        the file is at ``version``; ``doc`` None clears the preview."""
+        the file is at ``version``; ``doc`` None clears the preview. Its serial (the
+        live frames that show it are tagged with it)."""
         if not isinstance(version, int) or isinstance(version, bool):
             raise ValueError(f"preview: version must be the recipe's version, got {version!r}")
         recipe = None if doc is None else parse_recipe(doc, f"{self.source} (preview)")
         with self._lock:
             self._recipe, self._base, self._sent = recipe, version, time.monotonic()
             self.serial += 1
+            return self.serial
 
     def current(self, version: int, now: float | None = None) -> tuple[Recipe, int] | None:
         """(the preview's recipe, its serial) to render while the file is at

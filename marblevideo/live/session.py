@@ -84,6 +84,7 @@ class LiveSession:
         self._marbled_for: object = None  # the recipe's version (or a preview's serial)
         #: the stroke being drawn on the designer's page, shown until a save
         self.drawing = LivePreview(str(self.recipe_path))
+        self.showing_preview = 0  # the serial of the preview the frame shows (0: none)
         self.motion = LiveMotion(source.fps)  # the recipe's motion, when it has one
         # other signals (audio, marblevideo.signals.live), beside the controllers: by
         # the shown frame's time in its file when audio_by_frame
@@ -144,8 +145,10 @@ class LiveSession:
         bypass, mirror = self.playback.snapshot()
         _, recipe, version = self.file.snapshot()
         drawing, key = self.drawing.current(version), version
+        self.showing_preview = 0
         if drawing is not None:
             recipe, key = drawing[0], ("preview", drawing[1])
+            self.showing_preview = drawing[1]
         with self._lock:
             if self._marbled_for != key:
                 self._marbler = self._Marbler(
@@ -203,9 +206,10 @@ class LiveSession:
         self._threads.append(thread)
         thread.start()
 
-    def latest_jpeg(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None]:
-        """Wait for a JPEG newer than sequence ``after``: (seq, bytes), or (after, None)."""
-        return self.preview.latest(after, timeout)
+    def latest_jpeg(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None, int]:
+        """Wait for a JPEG newer than sequence ``after``: (seq, bytes, the serial of
+        the designer's preview it shows or 0), or (after, None, 0)."""
+        return self.preview.latest_tagged(after, timeout)
 
     # -- the loop -------------------------------------------------------------
     def run(self, duration: float | None = None) -> None:
@@ -258,7 +262,7 @@ class LiveSession:
         self.meters.frame(now, now - start)
         self.frames += 1
         if self.jpeg:
-            self.preview.put(out, ts)
+            self.preview.put(out, ts, self.showing_preview)
         if self.recorder is not None:
             self.recorder.add(out, ts)
         if self.vcam is not None:

@@ -8,7 +8,8 @@ Routes:
 - ``GET /stream.mjpg``: the marbled frames as MJPEG (``multipart/x-mixed-replace``),
   each JPEG sent once, newest first: a slow client skips frames, it never queues them.
 - ``GET /frame.jpg``: the newest JPEG; ``?after=SEQ``: one newer than SEQ (the
-  sequence number comes as the ``X-Frame-Seq`` header).
+  sequence number comes as the ``X-Frame-Seq`` header, and the serial of the
+  designer's preview it shows, if any, as ``X-Preview-Serial``).
 - ``GET /web/NAME``: the page's static files (its ES modules), from the
   session's ``web`` folder when it has one (:func:`static_file`).
 - ``GET /stats``: JSON counters (fps, latency, dropped frames, recipe version and
@@ -205,7 +206,7 @@ class _Handler(BaseHTTPRequestHandler):
         except ValueError:
             self._send(400, b"after: expected a frame number\n", "text/plain")
             return
-        seq, data = self.server.session.latest_jpeg(after, timeout=2.0)
+        seq, data, *tag = self.server.session.latest_jpeg(after, timeout=2.0)
         if data is None:
             self._send(503, b"no new frame yet\n", "text/plain")
             return
@@ -214,6 +215,8 @@ class _Handler(BaseHTTPRequestHandler):
         self.send_header("Content-Length", str(len(data)))
         self.send_header("Cache-Control", "no-store")
         self.send_header("X-Frame-Seq", str(seq))
+        if tag:
+            self.send_header("X-Preview-Serial", str(tag[0]))
         self.end_headers()
         self.wfile.write(data)
 
@@ -228,7 +231,7 @@ class _Handler(BaseHTTPRequestHandler):
         seq = 0
         try:
             while not self.server.closing.is_set():
-                seq, data = session.latest_jpeg(seq, timeout=0.5)
+                seq, data, *_ = session.latest_jpeg(seq, timeout=0.5)
                 if data is None:
                     continue
                 head = (

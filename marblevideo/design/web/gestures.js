@@ -132,8 +132,8 @@ function dragging(g) {
     move(at, ev) {
       const kind = KINDS[g.kind];
       if (!follow(g, at, ev)) return self;
-      const draft = kind.doc(g, get().doc), live = isLive();  // the live frame shows what is saved
-      if (live && g.stylus) sendPreview(() => kind.doc(g, get().doc), get().version, g.anchor);  // and the stroke drawn
+      const draft = kind.doc(g, get().doc), live = isLive();
+      if (live) sendPreview(() => kind.doc(g, get().doc), get().version, g.anchor);  // the live frames show the gesture
       update(() => ({gesture: kind.shown(g, draft), ...timedView(g), ...(live ? {} : {preview: {doc: draft, draft: true}})}));
       clearTimeout(stillTimer);  // the hand stopped: the exact render of the draft
       if (!live) stillTimer = setTimeout(() => { if (current === self) update(() => ({preview: {doc: draft, draft: false}})); }, 250);
@@ -145,7 +145,7 @@ function dragging(g) {
 }
 function cancelled(g) {
   clearTimeout(stillTimer);
-  if (g.stylus && isLive()) clearPreview(get().version);
+  if (isLive()) clearPreview(get().version);
   update(() => ({gesture: null, preview: null, ...(g.stylus && !isLive() ? g.before : {})}));
   return idle;
 }
@@ -162,7 +162,7 @@ function done(g, at, ev) {
   serial(async () => {
     if (g.anchor) await g.anchor;  // live mode: the stroke's times wait for the live clock
     const next = kind.doc(g, get().doc);
-    if (g.stylus && isLive()) clearPreview(null);  // newer sends are dropped; the save replaces the preview
+    if (isLive()) clearPreview(null);  // newer sends are dropped; the save replaces the preview
     if (await commit(next) && kind.selects) select(next.ops.length - 1);
   });
   return idle;

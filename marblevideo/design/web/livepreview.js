@@ -6,10 +6,17 @@
 // preview it has not heard of for a few seconds, so a page that goes away
 // leaves none behind). A preview names the recipe version it was drawn on: once
 // a save has made a newer one, the session ignores it.
+// Each preview the session takes has a serial, and the live frames that show
+// it carry it (X-Preview-Serial): :func:`previewAnswer` says which input the
+// first such frame answers (the newest when the preview was made), so the
+// frames record the time from a pointer move to the live frame that shows it.
 import * as api from "./api.js";
+import { newestInput } from "./record.js";
 
 const KEEP = 1500;
 let newest = null, sending = false, kept = null, timer = null;
+const made = new Map();  // serial -> the input it shows (the newest at its making)
+let answered = 0;  // the newest serial a frame has answered
 
 // The live clock's time at the press of event time ``stamp`` (ms,
 // performance.now()'s clock), or null while it is paused (a stroke then has
@@ -35,11 +42,24 @@ async function pump() {
     newest = null;
     if (p.anchor) await p.anchor;
     kept = {recipe: p.make(), version: p.version};
-    try { await api.putPreview(kept); } catch (e) { /* the next move sends again */ }
+    const input = newestInput();
+    try {
+      const r = await api.putPreview(kept);
+      const serial = r.ok ? (await r.json()).serial : null;
+      if (serial) made.set(serial, input);
+      if (made.size > 256) made.delete(made.keys().next().value);
+    } catch (e) { /* the next move sends again */ }
   }
   sending = false;
   clearTimeout(timer);
   if (kept) timer = setTimeout(() => { if (kept && !newest) sendPreview(() => kept.recipe, kept.version); }, KEEP);
+}
+// What a live frame tagged with preview ``serial`` answers: the input its
+// preview shows, the first time a frame shows it (or a newer one); else none.
+export function previewAnswer(serial) {
+  if (!serial || serial <= answered || !made.has(serial)) return {input: null, inputAt: null};
+  answered = serial;
+  return made.get(serial);
 }
 // The gesture is over: nothing more is sent; ``version`` (a cancel): the
 // session drops the preview now (null: a save is on its way and replaces it).

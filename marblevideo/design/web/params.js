@@ -6,6 +6,7 @@
 import { $, button, hexColor, input } from "./dom.js";
 import { keyed, setParam } from "./edits.js";
 import { rangeOf, valueNow } from "./numbers.js";
+import { clearPreview, sendPreview } from "./livepreview.js";
 import { bindRow, controlled } from "./signals.js";
 import { get, update, isLive } from "./store.js";
 import { isSignal, isTrack, clone } from "./values.js";
@@ -38,7 +39,8 @@ function keyHere(i, p) {
   setParam(i, p.name, keyed(doc.ops[i][p.name], v, t));
 }
 // A slider for a number, constant or keyed: moved, the frame follows (a draft;
-// live: on release), released, it saves the value (keyed: a key at the current time).
+// live: the live frames, through a preview), released, it saves the value
+// (keyed: a key at the current time).
 function slider(i, p, v, shown) {
   const now = valueNow(v === undefined ? p.default : v);
   if (now === null || now === undefined) return null;
@@ -53,10 +55,12 @@ function slider(i, p, v, shown) {
   el.addEventListener("input", () => {
     const [value, d] = next(), field = $(`p-${p.name}`);
     if (field && field.type === "number") field.value = value;
-    if (!isLive()) update(() => ({preview: {doc: d, draft: true}}));
+    if (isLive()) sendPreview(() => d, get().version);  // the live frames follow the slider
+    else update(() => ({preview: {doc: d, draft: true}}));
   });
   el.addEventListener("change", () => {
     const [, d] = next();
+    if (isLive()) clearPreview(null);  // the save replaces the preview
     save(i, p.name, d.ops[i][p.name], shown);
   });
   return el;

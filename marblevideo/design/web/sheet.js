@@ -10,6 +10,7 @@
 import * as api from "./api.js";
 import { hexColor } from "./dom.js";
 import { claimInput, newestInput, recordFrame } from "./record.js";
+import { previewAnswer } from "./livepreview.js";
 import { get, update, isLive } from "./store.js";
 import { eventPixel, fitSheet, overlay, sheet, sizeOf, toCanvas, toCanvasMap, toPixel, viewOf } from "./view.js";
 import { changedOp, warpFrame, whenLayers } from "./warping.js";
@@ -45,7 +46,7 @@ function ground(s) {
 }
 
 // ---------------------------------------------------------------- what is shown
-let rendering = false, pending = null, frames = 0, liveSeq = 0, idle = () => {};
+let rendering = false, pending = null, frames = 0, liveSeq = 0, liveAnswered = 0, idle = () => {};
 // exactMs: the last exact render's time (a slow one makes the next progressive);
 // stamps: what was asked later is drawn later
 let exactMs = null, stamp = 0, drawnStamp = 0;
@@ -184,6 +185,13 @@ async function liveFrame(o) {
   const r = await api.liveFrame(liveSeq);
   if (!r.ok) return;  // none yet (503 after 2 s): ask again
   liveSeq = Number(r.headers.get("X-Frame-Seq"));
+  // A frame showing a preview answers the input the preview was made after (once);
+  // mid-gesture, one without shows the saved recipe: no input. Each input once.
+  const serial = Number(r.headers.get("X-Preview-Serial") || 0);
+  if (serial) o = {...o, ...previewAnswer(serial)};
+  else if (get().gesture) o = {...o, input: null, inputAt: null};
+  if (o.input !== null && o.input <= liveAnswered) o = {...o, input: null, inputAt: null};
+  if (o.input !== null) liveAnswered = o.input;
   const bitmap = await createImageBitmap(await r.blob());
   await new Promise((resolve) => requestAnimationFrame(() => {
     ctx.drawImage(bitmap, 0, 0, sheet.width, sheet.height);
