@@ -25,6 +25,7 @@ from motion_clips import Disc, disc_clip, line
 from motion_video import encode_clip
 
 from marblevideo.design.backdrop import LiveFeed
+from marblevideo.design.layers import HEADER
 from marblevideo.design.session import DesignSession
 from marblevideo.live.sources import MediaSource
 from marblevideo.serve.recipefile import RecipeFile
@@ -104,6 +105,11 @@ def test_the_designer_over_a_live_source_stirs_with_its_motion(tmp_path, loop_re
         with_motion = pixels(get(url + at))
         without = pixels(send(url + at, PLAIN))
         take = pixels(send(url + at, {**PLAIN, "ops": state["strokes"]}))
+        # a gesture on the last op: the strokes lie above it, in the map of the ops above
+        layers = f"/api/layers?k=0&t={state['t']!r}&w=240"
+        above = [
+            HEADER.unpack_from(send(url + layers, {**r, "ops": [WAVE]}))[3] for r in (RECIPE, PLAIN)
+        ]
     assert state["active"] and state["frames"] > 30 and 2.5 <= state["t"] <= 3.0
     assert {f["name"] for f in state["fields"]} >= {"gain", "width", "heal"}
     assert meter["regions"] == meter["strokes"] == [] and meter["frames"] >= state["frames"]
@@ -118,6 +124,7 @@ def test_the_designer_over_a_live_source_stirs_with_its_motion(tmp_path, loop_re
     # over the same (last) frame: the render is of the recipe and the strokes
     # reported, which move the pixels along the disc's path most
     assert np.array_equal(with_motion, take)
+    assert above == [1, 0]
     moved = np.abs(with_motion[..., :3].astype(int) - without[..., :3]).max(axis=-1) > 24
     assert moved[140:220, 100:400].mean() > 0.5
     assert moved[:40].mean() < 0.02 and moved[320:].mean() < 0.02
