@@ -178,3 +178,39 @@ def test_the_page_over_a_live_source_meters_shows_and_edits_the_motion(browser, 
         page.press("#motion-gain", "Enter")
         wait_for(lambda: json.loads(recipe.read_text()).get("motion") == {"gain": 2}, "not saved")
         assert errors == []
+
+
+def test_the_designer_over_a_video_shows_the_strokes_a_file_render_makes(cli, tmp_path):
+    """A video backdrop is sought by time; its motion is read from the file in
+    order up to the time shown: the strokes of the file render's take."""
+    encode_clip(disc_clip([DISC], size=(480, 360), seconds=2.0, fps=30), tmp_path / "disc.mp4")
+    (tmp_path / "r.json").write_text(json.dumps(RECIPE))
+    done = cli("disc.mp4", "--ops", "r.json", "-o", "out.mp4", "--automation", "take.json", "-q")
+    assert done.returncode == 0, done.stderr
+    take = json.loads((tmp_path / "take.json").read_text())["ops"]
+    assert take and all(op["type"] == "stroke" for op in take)
+    app = LiveProcess(
+        "disc.mp4", "--ops", "r.json", "--no-browser", "--port", "0", "--duration", "120",
+        cwd=tmp_path, command="design",
+    )  # fmt: skip
+    url = app.url.rstrip("/")
+    try:
+        assert app.get("/api/motion")["active"] is False  # none seen yet
+        app.get("/api/frame.rgba?t=1.99")  # played to its last frame (1.967 s)
+        state = app.get("/api/motion")
+        assert state["active"] and state["frames"] == 60 and state["strokes"] == take
+        at = f"/api/frame.rgba?t={state['t']!r}"
+        shown, taken = pixels(app.get(at)), pixels(send(url + at, {**PLAIN, "ops": take}))
+        app.get("/api/frame.rgba?t=0.8&w=120")  # scrubbed back: again from the start
+        back = app.get("/api/motion")
+        app.post("/api/recipe", {**PLAIN, "ops": [WAVE]}, "PUT")
+        app.get("/api/frame.rgba?t=1.5&w=120")
+        plain = app.get("/api/motion")
+    finally:
+        assert app.stop() == 0, app.stderr()
+    assert np.array_equal(shown, taken)
+    assert back["frames"] == 25 and back["t"] == 0.8
+    (stroke,) = back["strokes"]
+    assert stroke["times"] == take[0]["times"][: len(stroke["times"])]
+    assert stroke["times"][-1] <= 0.8 < take[0]["times"][-1]
+    assert plain["t"] == back["t"] and plain["frames"] == 25  # no motion: nothing seen

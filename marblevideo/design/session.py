@@ -365,6 +365,7 @@ class DesignSession:
         backdrop is its opener's to close."""
         with self._render_lock:
             self.stop_event.set()
+        self.motion.close()
         if self._watcher is not None:
             self._watcher.join(5.0)
 
