@@ -1,9 +1,9 @@
 """The recipe's ``motion`` in the designer (revision 4): over a live source
-(:class:`~marblevideo.design.backdrop.LiveFeed`) the backdrop's frames stir the
-ink as in ``marblevideo live``, with the same tracker
-(:class:`~marblevideo.live.stirring.LiveMotion`).
+(:class:`~marblevideo.design.backdrop.LiveFeed`) or a video the backdrop's
+frames stir the ink as in ``marblevideo live`` and in file renders, with the
+same tracker (:class:`~marblevideo.live.stirring.LiveMotion`).
 
-- Frames: the backdrop's one taking thread hands each frame it takes, in order,
+- Live frames: the backdrop's one taking thread hands each frame it takes, in order,
   to the tracker, with the saved recipe (its ``motion`` fields, the page's
   edits once saved), at its capture time from the source's start (a file
   source's: its time in the file, continued across loops), before the frame is
@@ -38,14 +38,16 @@ from marblevideo.recipe import Recipe
 
 log = logging.getLogger("marblevideo.design")
 
-#: ``GET /api/motion`` where nothing is tracked (a blank sheet, a still, a video).
+#: ``GET /api/motion`` where nothing is tracked (a blank sheet, a still; a video
+#: before its first render of a recipe with ``motion``).
 NO_MOTION = {"active": False, "t": None, "level": 0.0, "regions": [], "strokes": []}
 
 
 class DesignMotion:
     """The motion of a designer over ``backdrop``; ``saved()`` gives the saved
     recipe. ``live``: the tracker's :class:`~marblevideo.live.stirring.LiveMotion`
-    over a live backdrop, else None (nothing is tracked)."""
+    over a live backdrop; ``video``: the :class:`VideoMotion` of a video backdrop;
+    both None over a blank sheet or a still (nothing is tracked)."""
 
     def __init__(self, backdrop, saved: Callable[[], Recipe]):
         self.live = None
