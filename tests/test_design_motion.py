@@ -1,12 +1,13 @@
-"""The recipe's ``motion`` in the designer over a live source
+"""The recipe's ``motion`` in the designer over a live source or a video
 (:mod:`marblevideo.design.motion`): the backdrop's frames feed one tracker, the
 renders carry its strokes, ``/api/motion`` reports them as in ``marblevideo
 live``, and a recipe without ``motion`` runs no tracker.
 
 The source is a file played live (the clip of ``motion_clips``: a textured disc
 crossing a still textured background, encoded with PyAV), behind the real
-designer session and its HTTP server; and ``marblevideo design test`` (its page
-in a real headless Chromium: the meter and the overlay of the motion).
+designer session and its HTTP server; ``marblevideo design test`` (its page in
+a real headless Chromium: the meter and the overlay of the motion); and
+``marblevideo design`` over the clip as a video, against the file render's take.
 """
 
 from __future__ import annotations

@@ -136,7 +136,7 @@ class DesignSession:
         self._watcher: threading.Thread | None = None
         self.last_render_ms: float | None = None
         self.controllers = ControllerSignals()  # OSC and MIDI over a live source (--osc, --midi)
-        self.motion = DesignMotion(backdrop, lambda: document.snapshot()[1])  # a live one's
+        self.motion = DesignMotion(backdrop, lambda: document.snapshot()[1])  # live, video
 
     # -- what is shown ----------------------------------------------------------
     def out_size(self, recipe: Recipe) -> tuple[int, int]:
@@ -199,7 +199,7 @@ class DesignSession:
         t = _number(query, "t", None)
         if t is None:
             t = recipe.end_time()
-        if only is None:  # the motion strokes over a live source (a solo render: none)
+        if only is None:  # the motion strokes over a live source or a video (solo: none)
             recipe = self.motion.over(recipe, t)
         if query.get("draft", ["0"])[-1] == "1":
             recipe = dataclasses.replace(recipe, antialias="none")
