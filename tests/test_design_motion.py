@@ -215,3 +215,21 @@ def test_the_designer_over_a_video_shows_the_strokes_a_file_render_makes(cli, tm
     assert stroke["times"] == take[0]["times"][: len(stroke["times"])]
     assert stroke["times"][-1] <= 0.8 < take[0]["times"][-1]
     assert plain["t"] == back["t"] and plain["frames"] == 25  # no motion: nothing seen
+
+
+def test_the_page_over_a_video_meters_the_motion_at_the_time_shown(browser, tmp_path):
+    encode_clip(disc_clip([DISC], size=(480, 360), seconds=2.0, fps=30), tmp_path / "disc.mp4")
+    recipe = tmp_path / "r.json"
+    recipe.write_text(json.dumps(RECIPE))
+    with designer_page(browser, tmp_path, "disc.mp4", "--ops", recipe) as (page, errors):
+        assert page.is_visible("#motion-level") and page.is_visible("#motion-show")
+        level = lambda: float(page.get_attribute("#motion-level", "data-level"))  # noqa: E731
+        scrub = "(el, t) => { el.value = t; el.dispatchEvent(new Event('input')); }"
+        page.locator("#time").evaluate(scrub, 1.0)  # the disc crossing
+        wait_for(lambda: level() > 0, "the meter never showed the disc crossing")
+        page.check("#motion-show")
+        circles = "JSON.parse(document.getElementById('overlay').dataset.circles || '[]')"
+        wait_for(lambda: page.evaluate(circles), "no region drawn over the sheet")
+        page.locator("#time").evaluate(scrub, 1.9)  # the disc still again
+        wait_for(lambda: level() == 0, "the meter never fell back")
+        assert errors == []
