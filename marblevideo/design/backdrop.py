@@ -98,7 +98,7 @@ class LiveFeed(Backdrop):
     already made): its newest frame. One thread takes the source's frames, in
     order, and hands each to ``seen`` (a callable of a
     :class:`~marblevideo.live.sources.Captured`, set by its user: the designer's
-    motion, :mod:`marblevideo.design.motion`) before it is shown; frames come
+    motion, :mod:`marblevideo.design.motion`) before it is shown; frames that come
     faster than ``seen`` takes them are dropped, as in a live session.
     ``started``: the monotonic time the source was started at."""
 
