@@ -109,8 +109,9 @@ def test_the_motion_panel_shows_edits_and_meters_the_motion(browser, tmp_path):
 
 
 def test_the_designer_edits_the_motion_block_without_meter(browser, tmp_path):
-    """In design mode the panel edits the block (the renders there have no motion
-    strokes: they come from an input's frames), with no meter and no overlay."""
+    """In design mode over a blank sheet the panel edits the block (its renders
+    have no motion strokes: they come from a live source's or a video's frames,
+    tests/test_design_motion.py), with no meter and no overlay."""
     recipe = tmp_path / "d.json"
     recipe.write_text(json.dumps({"marblevideo": 1, "canvas": [320, 240], "ops": []}))
     saved = lambda: json.loads(recipe.read_text())  # noqa: E731

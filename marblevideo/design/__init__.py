@@ -38,9 +38,12 @@ everything through this HTTP API, which scripts and tests may use too:
   ``offset`` [dx, dy]: pixel = s * canvas point + offset, the recipe format's
   geometry), the recipe's ``end`` time and number of ``ops``.
 - ``GET /api/motion``: the ``fields`` of the recipe's ``motion`` block as the
-  page edits them (live mode adds the motion of the last frame:
-  :mod:`marblevideo.design.live`); the designer's renders have no motion strokes
-  (they come from an input's frames: file renders and live sessions).
+  page edits them, and over a live source or a video the motion of the newest
+  frame seen (``active``, ``t``, ``frames``, ``level``, ``regions``,
+  ``strokes``; with ``?shapes=0`` the two lists empty), whose strokes the
+  renders carry (:mod:`marblevideo.design.motion`; live mode:
+  :mod:`marblevideo.design.live`). Over a blank sheet or a still nothing is
+  tracked: the renders have no motion strokes.
 - ``GET /api/ops``: every op and layout type with its parameters (name, kind,
   help, whether optional and keyable, slider ranges as data) and the tools that
   draw it (:mod:`marblevideo.design.describe`).

@@ -12,6 +12,7 @@ import contextlib
 import os
 import re
 import threading
+import time
 from pathlib import Path
 
 import numpy as np
@@ -93,16 +94,24 @@ class Video(Backdrop):
 
 
 class LiveFeed(Backdrop):
-    """A live source (:func:`marblevideo.live.sources.open_source`): its newest frame."""
+    """A live source (:func:`marblevideo.live.sources.open_source`, or ``source``
+    already made): its newest frame. One thread takes the source's frames, in
+    order, and hands each to ``seen`` (a callable of a
+    :class:`~marblevideo.live.sources.Captured`, set by its user: the designer's
+    motion, :mod:`marblevideo.design.motion`) before it is shown; frames that come
+    faster than ``seen`` takes them are dropped, as in a live session.
+    ``started``: the monotonic time the source was started at."""
 
     kind = "live"
 
-    def __init__(self, spec: str, size: tuple[int, int] | None = None):
+    def __init__(self, spec: str, size: tuple[int, int] | None = None, source=None):
         from marblevideo.live.sources import open_source
 
         self.name = spec
-        self.source = open_source(spec, size, None, loop=True)
+        self.source = source or open_source(spec, size, None, loop=True)
         self.size = self.source.size
+        self.seen = None
+        self.started = time.monotonic()
         self.source.start()
         first = self.source.frames.get(timeout=10.0)
         if first is None:
@@ -110,14 +119,26 @@ class LiveFeed(Backdrop):
             raise MediaError(f"{spec}: no frame from the live source") from self.source.error
         self._last = first.rgba
         self.size = (first.rgba.shape[1], first.rgba.shape[0])
+        self._stop = threading.Event()
+        self._taker = threading.Thread(target=self._take, name="marblevideo-feed", daemon=True)
+        self._taker.start()
+
+    def _take(self) -> None:
+        while not self._stop.is_set():
+            cap = self.source.frames.get(timeout=0.1)
+            if cap is None:
+                continue
+            seen = self.seen
+            if seen is not None:
+                seen(cap)
+            self._last = cap.rgba
 
     def frame(self, t: float) -> np.ndarray:
-        cap = self.source.frames.get(timeout=0)
-        if cap is not None:
-            self._last = cap.rgba
         return self._last
 
     def close(self) -> None:
+        self._stop.set()
+        self._taker.join(5.0)
         self.source.stop()
 
 

@@ -21,8 +21,9 @@ from urllib.parse import parse_qs
 
 from marblevideo.controllers.api import learn, signals_state
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
-from marblevideo.design.describe import describe_motion, describe_ops
+from marblevideo.design.describe import describe_ops
 from marblevideo.design.layers import above_map, layers_answer, parse_view
+from marblevideo.design.motion import DesignMotion
 from marblevideo.errors import MarbleError, RecipeError, UsageError
 from marblevideo.limits import MAX_SIDE
 from marblevideo.marbler import Marbler, blank_size, image_size
@@ -32,10 +33,6 @@ from marblevideo.serve.server import json_answer, request_json
 
 RELOAD_POLL = 0.25
 RAW = "application/octet-stream"
-#: ``GET /api/motion`` of the designer: its renders are of the recipe's ops (the
-#: motion strokes come from frames: renders of files, live sessions); the page
-#: edits the ``motion`` block with the ``fields`` it adds.
-NO_MOTION = {"active": False, "t": None, "level": 0.0, "regions": [], "strokes": []}
 #: The page: ``index.html`` and its ES modules, served as ``/web/NAME``.
 WEB = resources.files("marblevideo.design") / "web"
 
@@ -139,6 +136,7 @@ class DesignSession:
         self._watcher: threading.Thread | None = None
         self.last_render_ms: float | None = None
         self.controllers = ControllerSignals()  # OSC and MIDI over a live source (--osc, --midi)
+        self.motion = DesignMotion(backdrop, lambda: document.snapshot()[1])  # live, video
 
     # -- what is shown ----------------------------------------------------------
     def out_size(self, recipe: Recipe) -> tuple[int, int]:
@@ -196,10 +194,13 @@ class DesignSession:
         default: the frame's), a draft (no antialiasing) when ``draft`` is 1; of
         the recipe ``body`` (JSON, not saved) when given, else of the saved one."""
         doc, version = self._doc(body)
-        recipe = self._recipe(doc, version, _only(query, len(doc["ops"])))
+        only = _only(query, len(doc["ops"]))
+        recipe = self._recipe(doc, version, only)
         t = _number(query, "t", None)
         if t is None:
             t = recipe.end_time()
+        if only is None:  # the motion strokes over a live source or a video (solo: none)
+            recipe = self.motion.over(recipe, t)
         if query.get("draft", ["0"])[-1] == "1":
             recipe = dataclasses.replace(recipe, antialias="none")
         size, view = _size(query, self.out_size(recipe)), _view(query)
@@ -223,6 +224,7 @@ class DesignSession:
         k = int(k)
         below, above = (self._part(doc, part) for part in (ops[:k], ops[k + 1 :]))
         t = _number(query, "t", None)
+        above = self.motion.over(above, below.end_time() if t is None else t)  # on top
         size, view = _size(query, self.out_size(below)), _view(query)
         signals = SessionSignals(self.controllers)
         with self._rendering():
@@ -304,7 +306,7 @@ class DesignSession:
             ("GET", "/api/design.svg"): lambda: (self.svg(q), "image/svg+xml"),
             ("GET", "/api/signals"): lambda: (self.signals(), None),
             ("POST", "/api/learn"): lambda: (learn(self.controllers), None),
-            ("GET", "/api/motion"): lambda: ({**NO_MOTION, "fields": describe_motion()}, None),
+            ("GET", "/api/motion"): lambda: (self.motion.state(q), None),
         }
         if (method, path) == ("GET", "/api/recipe"):  # 409 while FILE is broken on disk
             code, doc = self.document.answer()
@@ -363,6 +365,7 @@ class DesignSession:
         backdrop is its opener's to close."""
         with self._render_lock:
             self.stop_event.set()
+        self.motion.close()
         if self._watcher is not None:
             self._watcher.join(5.0)
 

@@ -103,18 +103,24 @@ class LiveMotion:
             )
         return self._marbler
 
+    def over(self, base, shown: float):
+        """``base`` (any recipe: the designer's, :mod:`marblevideo.design.motion`)
+        with the motion strokes of the last frame seen, moved in time by ``shown``
+        minus that frame's time, so that rendered at ``shown`` they show as that
+        frame left them; ``base`` itself when it has no ``motion`` or no frame was
+        seen with motion (the last frame's recipe had none)."""
+        with self._lock:
+            if base.motion is None or self._stirred is None or not self.active:
+                return base
+            strokes, shift = self._stirred.tracker.strokes(), shown - self.t
+        return _with_strokes(base, strokes, shift)
+
     def _shifted(self, base, shift: float):
         """``base`` (the recipe without motion strokes) with the motion strokes of
         now, their ``times`` and ``heal`` moved by ``shift`` seconds."""
-        from marblevideo.recipe.load import build_op
-
         with self._lock:
             strokes = self._stirred.tracker.strokes()
-        n, entries = len(base.ops), base.entries
-        ops = [build_op(_moved(op, shift), n + k, entries + k) for k, op in enumerate(strokes)]
-        return dataclasses.replace(
-            base, ops=base.ops + tuple(ops), entries=entries + len(ops), motion=None
-        )
+        return _with_strokes(base, strokes, shift)
 
     def state(self, shapes: bool = True) -> dict:
         """``GET /api/motion``: whether the recipe has motion (``active``), the last
@@ -143,6 +149,18 @@ class LiveMotion:
             if self._stirred is None:
                 return {k: v for k, v in document.items() if k != "motion"}
             return self._stirred.take_document(document)
+
+
+def _with_strokes(base, strokes: list[dict], shift: float):
+    """``base`` without ``motion``, its ops followed by the stroke ops ``strokes``
+    (the tracker's) moved ``shift`` seconds later."""
+    from marblevideo.recipe.load import build_op
+
+    n, entries = len(base.ops), base.entries
+    ops = [build_op(_moved(op, shift), n + k, entries + k) for k, op in enumerate(strokes)]
+    return dataclasses.replace(
+        base, ops=base.ops + tuple(ops), entries=entries + len(ops), motion=None
+    )
 
 
 def _moved(op: dict, shift: float) -> dict:

@@ -2,10 +2,11 @@
 // ink). "on" adds the block (its fields at their defaults) or removes it; each
 // field is saved into the recipe as any edit (a refusal is shown, and the fields
 // show the saved recipe again). The fields and their bounds come from GET
-// /api/motion. Live mode only (the strokes come from the live frames): a meter
-// of the motion seen (level, 0..1) and "show", which draws the regions followed
-// and the motion strokes over the sheet (overlay.js); /api/motion is polled at
-// 10 Hz into the store (``motion``), its regions and strokes only while shown.
+// /api/motion. Over frames only (live mode, the designer over a live source or
+// a video: the strokes come from its frames): a meter of the motion seen (level,
+// 0..1) and "show", which draws the regions followed and the motion strokes
+// over the sheet (overlay.js); /api/motion is polled at 10 Hz into the store
+// (``motion``), its regions and strokes only while shown.
 import * as api from "./api.js";
 import { $ } from "./dom.js";
 import { edited } from "./recipe.js";
@@ -39,8 +40,9 @@ export async function initMotion() {
   }
   $("motion-on").addEventListener("change", () => setMotion($("motion-on").checked));
   $("motion-show").addEventListener("change", () => update(() => ({showMotion: $("motion-show").checked})));
-  for (const id of ["motion-level", "motion-show-label"]) $(id).hidden = !isLive();
-  if (isLive()) pollMotion();
+  const tracked = isLive() || ["live", "video"].includes(get().info.input.kind);
+  for (const id of ["motion-level", "motion-show-label"]) $(id).hidden = !tracked;
+  if (tracked) pollMotion();
 }
 function pollMotion() {
   setTimeout(async () => {

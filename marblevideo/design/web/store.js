@@ -31,8 +31,8 @@ let state = {
   refusals: 0,  // saves refused: the editors show the recipe again after each
   status: "",  // the footer's line
   live: null,  // live mode: the session's counters and switches (GET /stats)
-  motion: null,  // live mode: the motion of the last frame (GET /api/motion)
-  showMotion: false,  // live mode: the motion's regions and strokes drawn over the sheet
+  motion: null,  // the motion of the last frame (GET /api/motion; tracked over a live source or a video only)
+  showMotion: false,  // over a live source or a video: the motion's regions and strokes drawn over the sheet
   view: null,  // the window of the canvas the sheet shows, [x, y, w, h] canvas units (null: the frame's)
   screen: null,  // the sheet's size in device pixels [w, h] (its CSS size x devicePixelRatio)
 };
