@@ -145,10 +145,9 @@ class LiveSession:
         bypass, mirror = self.playback.snapshot()
         _, recipe, version = self.file.snapshot()
         drawing, key = self.drawing.current(version), version
-        self.showing_preview = 0
+        self.showing_preview = 0 if drawing is None else drawing[1]
         if drawing is not None:
             recipe, key = drawing[0], ("preview", drawing[1])
-            self.showing_preview = drawing[1]
         with self._lock:
             if self._marbled_for != key:
                 self._marbler = self._Marbler(
@@ -179,8 +178,7 @@ class LiveSession:
 
     def stats(self) -> dict:
         """``GET /stats``: the counters, the meters' figures and the playback's state."""
-        now = time.monotonic()
-        recorder = self.recorder
+        now, recorder = time.monotonic(), self.recorder
         return {
             "frames": self.frames,
             **self.meters.figures(now),
@@ -207,8 +205,7 @@ class LiveSession:
         thread.start()
 
     def latest_jpeg(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None, int]:
-        """Wait for a JPEG newer than sequence ``after``: (seq, bytes, the serial of
-        the designer's preview it shows or 0), or (after, None, 0)."""
+        """A JPEG newer than ``after``: (seq, bytes, its preview's serial or 0)."""
         return self.preview.latest_tagged(after, timeout)
 
     # -- the loop -------------------------------------------------------------
