@@ -106,11 +106,11 @@ def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
         t1 = time.perf_counter()
         small = reduce(gray, k)
         t2 = time.perf_counter()
-        field = flow.step(small)
+        motion = flow.step(small)
         t3 = time.perf_counter()
-        if field is None:
+        if motion is None:
             continue
-        regions(moving(field, (k * FPS, k * FPS), 60.0, flow.shift), k)
+        regions(moving(motion, (k * FPS, k * FPS), 60.0), k)
         t4 = time.perf_counter()
         for name, a, b in zip(out, (t0, t1, t2, t3), (t1, t2, t3, t4), strict=True):
             out[name].append((b - a) * 1000)

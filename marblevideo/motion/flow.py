@@ -110,69 +110,93 @@ class Flow:
     def reset(self) -> None:
         self.previous, self.flow = None, None
 
-    def step(self, small: np.ndarray) -> np.ndarray | None:
-        """The motion (dx, dy) per reduced point, from the previous luma to ``small``,
-        at the points of ``small`` (HxWx2 float32), or None for the first frame (and
-        for a luma smaller than :data:`MIN_SIDE`)."""
+    def step(self, small: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """The remaining motion (dx, dy) per reduced point from the previous luma to
+        ``small``, at the points of ``small`` (two HxW float32 arrays, reduced points
+        per frame), the dominant motion (:attr:`shift`) taken out; None for the
+        first frame (and for a luma smaller than :data:`MIN_SIDE`)."""
         previous, self.previous = self.previous, small
         if min(small.shape) < MIN_SIDE:
             self.previous = None  # too small to analyse
         if previous is None or previous.shape != small.shape or self.previous is None:
             self.flow = None
             return None
-        # DIS starts from the flow it is given when it has the images' size
-        seed = None if self.flow is None or not SEED else self.flow.copy()
+        # DIS starts from the flow it is given when it has the images' size (and
+        # writes its result over it: the seed is the flow's own, made for this call)
+        seed = self.flow if SEED else None
         flow = self.dis.calc(small, previous, seed)
         mx, my = dominant(flow)
-        self.flow, self.shift = carried(flow, (mx, my)), (-mx, -my)
-        return -flow
+        dx = flow[..., 0] - np.float32(mx)
+        dy = flow[..., 1] - np.float32(my)
+        self.flow, self.shift = carried(flow, dx, dy), (-mx, -my)
+        # the backward flow's remaining motion, turned forward (exactly: -(a - b))
+        np.negative(dx, out=dx)
+        np.negative(dy, out=dy)
+        return dx, dy
 
 
 def dominant(flow: np.ndarray) -> tuple[float, float]:
     """The frame's dominant motion: the per-axis median of the flow at every other
     point of every other row (a pan or a shake moves them all)."""
-    sample = flow[::2, ::2].reshape(-1, 2)
-    return float(np.median(sample[:, 0])), float(np.median(sample[:, 1]))
+    sample = flow[::2, ::2]
+    return _median(sample[..., 0]), _median(sample[..., 1])
 
 
-def carried(flow: np.ndarray, shift: tuple[float, float]) -> np.ndarray:
+def _median(values: np.ndarray) -> float:
+    """``np.median`` of float32 ``values`` (the mean of the middle two of an even
+    count), by one partition of a copy."""
+    a = np.array(values, dtype=np.float32).ravel()
+    half = a.size // 2
+    if a.size % 2:
+        a.partition(half)
+        return float(a[half])
+    a.partition((half - 1, half))
+    return float(np.mean(a[half - 1 : half + 1]))
+
+
+def carried(flow: np.ndarray, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
     """The seed of the next frame's (backward) flow: each point that moves apart
     from the dominant motion carried on by one more frame of its own motion (where
     a fast object will be, its flow already), the fastest winning where several
-    land on one point; the other points keep their flow. ``shift``: its
-    :func:`dominant` motion."""
+    land on one point (of equal speeds, the first in row-major order); the other
+    points keep their flow. ``dx``, ``dy``: the flow less its :func:`dominant`
+    motion. ``flow`` itself where nothing moves apart, else a new array."""
     h, w = flow.shape[:2]
-    mx, my = shift
-    dx, dy = flow[..., 0] - np.float32(mx), flow[..., 1] - np.float32(my)
-    apart = dx * dx + dy * dy  # squared
-    vs, us = np.nonzero(apart > CARRY * CARRY)
-    if len(us) == 0:
+    apart = dx * dx  # squared
+    apart += dy * dy
+    at = np.flatnonzero(apart > CARRY * CARRY)
+    if len(at) == 0:
         return flow
-    b = flow[vs, us]
+    b = flow.reshape(-1, 2)[at]
+    vs, us = np.divmod(at, w)
     x = np.rint(us - b[:, 0]).astype(np.int64)
     y = np.rint(vs - b[:, 1]).astype(np.int64)
-    inside = (x >= 0) & (x < w) & (y >= 0) & (y < h)
-    order = np.argsort(-apart[vs, us][inside], kind="stable")
-    where = (y[inside] * w + x[inside])[order]
-    where, first = np.unique(where, return_index=True)  # the fastest at each point
+    inside = np.flatnonzero((x >= 0) & (x < w) & (y >= 0) & (y < h))
+    # one stable sort by (target point, speed down): a speed's float32 bits, as
+    # an integer, order as it does (it is >= 0)
+    bits = apart.ravel()[at[inside]].view(np.int32).astype(np.int64)
+    key = (y[inside] * w + x[inside]) << 31 | (np.int64(0x7FFFFFFF) - bits)
+    order = np.argsort(key, kind="stable")
+    where = key[order] >> 31
+    first = np.ones(len(where), bool)
+    first[1:] = where[1:] != where[:-1]
     seed = flow.copy()
-    seed.reshape(-1, 2)[where] = b[inside][order][first]
+    seed.reshape(-1, 2)[where[first]] = b[inside[order[first]]]
     return seed
 
 
 def moving(
-    flow: np.ndarray,
-    scale: tuple[float, float],
-    threshold: float,
-    shift: tuple[float, float] | None = None,
+    motion: tuple[np.ndarray, np.ndarray], scale: tuple[float, float], threshold: float
 ) -> np.ndarray:
-    """The remaining speed per point (``scale``: reduced points per frame -> canvas
-    units per second, per axis), the dominant motion (``shift``, else
-    :func:`dominant`'s) taken out, and zero where it is under ``threshold`` or in the margin."""
-    mx, my = dominant(flow) if shift is None else shift
-    dx = (flow[..., 0] - mx) * scale[0]
-    dy = (flow[..., 1] - my) * scale[1]
-    speed = np.sqrt(dx * dx + dy * dy)
+    """The remaining speed per point of ``motion`` (:meth:`Flow.step`'s; ``scale``:
+    reduced points per frame -> canvas units per second, per axis), zero where it
+    is under ``threshold`` or in the margin."""
+    dx = motion[0] * np.float32(scale[0])
+    dy = motion[1] * np.float32(scale[1])
+    np.multiply(dx, dx, out=dx)
+    np.multiply(dy, dy, out=dy)
+    np.add(dx, dy, out=dx)
+    speed = np.sqrt(dx, out=dx)
     speed[speed < threshold] = 0.0
     m = MARGIN
     speed[:m], speed[-m:], speed[:, :m], speed[:, -m:] = 0.0, 0.0, 0.0, 0.0
@@ -195,8 +219,19 @@ def regions(speed: np.ndarray, k: int) -> list[Region]:
         x, y, w, h = (int(stats[label, c]) for c in range(4))
         box = labels[y : y + h, x : x + w] == label
         values = speed[y : y + h, x : x + w]
-        top = float(np.percentile(values[box], 90))
+        top = _top(values[box])
         vs, us = np.nonzero(box & (values >= CORE * top))
         center = (k * (x + float(us.mean()) + 0.5), k * (y + float(vs.mean()) + 0.5))
         found.append(Region(center, float(len(us) * k * k), top))
     return found
+
+
+def _top(values: np.ndarray) -> float:
+    """The 90th percentile of ``values`` (linear between the closest ranks, as
+    ``np.percentile``'s default), by one partition."""
+    at = 0.9 * (values.size - 1)
+    low = int(at)
+    high = min(low + 1, values.size - 1)
+    part = np.partition(values, (low, high))
+    a, b = float(part[low]), float(part[high])
+    return a + (b - a) * (at - low)
