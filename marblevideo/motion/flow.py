@@ -73,13 +73,20 @@ def reduction(width: int, height: int) -> int:
 
 
 def reduce(gray: np.ndarray, k: int) -> np.ndarray:
-    """``gray`` averaged over k x k blocks (the last partial row and column dropped)."""
+    """``gray`` averaged over k x k blocks (the last partial row and column
+    dropped), each average rounded; an even k by halving in 2 x 2 blocks first
+    (rounded at each halving: OpenCV's fast path, a third of the time of one
+    4 x 4 average)."""
     h, w = gray.shape
     if k == 1:
         return gray
-    return cv2.resize(
-        gray[: h - h % k, : w - w % k], (w // k, h // k), interpolation=cv2.INTER_AREA
-    )
+    gray = gray[: h - h % k, : w - w % k]
+    while k % 2 == 0 and k > 2:
+        h, w = gray.shape
+        gray = cv2.resize(gray, (w // 2, h // 2), interpolation=cv2.INTER_AREA)
+        k //= 2
+    h, w = gray.shape
+    return cv2.resize(gray, (w // k, h // k), interpolation=cv2.INTER_AREA)
 
 
 @dataclass(frozen=True)
@@ -160,7 +167,7 @@ def carried(flow: np.ndarray, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
     a fast object will be, its flow already), the fastest winning where several
     land on one point (of equal speeds, the first in row-major order); the other
     points keep their flow. ``dx``, ``dy``: the flow less its :func:`dominant`
-    motion. ``flow`` itself where nothing moves apart, else a new array."""
+    motion. Written over ``flow``, returned."""
     h, w = flow.shape[:2]
     apart = dx * dx  # squared
     apart += dy * dy
@@ -180,9 +187,8 @@ def carried(flow: np.ndarray, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
     where = key[order] >> 31
     first = np.ones(len(where), bool)
     first[1:] = where[1:] != where[:-1]
-    seed = flow.copy()
-    seed.reshape(-1, 2)[where[first]] = b[inside[order[first]]]
-    return seed
+    flow.reshape(-1, 2)[where[first]] = b[inside[order[first]]]
+    return flow
 
 
 def moving(
@@ -211,7 +217,10 @@ def regions(speed: np.ndarray, k: int) -> list[Region]:
     (the flow's smear past an object's edge, slower, is left out); its centre is
     their centroid in frame coordinates, its area their frame pixels."""
     mask = cv2.morphologyEx((speed > 0).astype(np.uint8), cv2.MORPH_OPEN, _OPEN)
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
+    # 16-bit labels (at most a ninth of the points after the opening): twice as fast
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(
+        mask, connectivity=8, ltype=cv2.CV_16U
+    )
     found = []
     for label in range(1, count):
         if stats[label, cv2.CC_STAT_AREA] < MIN_POINTS:
