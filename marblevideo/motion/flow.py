@@ -5,8 +5,9 @@ Conventions: a frame's pixel (i, j) covers [i, i+1] x [j, j+1] of *frame
 coordinates* (its centre at (i + 0.5, j + 0.5)), as the contract's geometry says.
 The analysis runs on the luma reduced by an integer factor ``k``
 (:func:`reduction`: the longer side about :data:`REDUCED_SIDE` points, 1280x720 ->
-320x180) with area averaging, so reduced point (u, v) covers frame pixels
-[k u, k u + k) x [k v, k v + k) and its centre is at (k (u + 0.5), k (v + 0.5)).
+320x180) with area averaging (:func:`reduce`), so reduced point (u, v) covers
+frame pixels [k u, k u + k) x [k v, k v + k) and its centre is at
+(k (u + 0.5), k (v + 0.5)).
 
 The flow is OpenCV's DIS (``DISOPTICAL_FLOW_PRESET_ULTRAFAST``, with its finest scale
 brought down from 2 to 1 and its patches from 8 points every 4 to 4 points every 2,
@@ -16,7 +17,11 @@ one, so that it is defined where things are now: a moving region lies where the 
 current frame, not where it was. Each computation is seeded with the previous one
 (a motion under way is followed from frame to frame). DIS gives the same flow
 whatever OpenCV's thread count (its work is split by rows, each computed alike), so
-the analysis is deterministic bit for bit without setting it.
+the analysis is deterministic bit for bit without setting it. DIS is most of
+the analysis' cost (about 4 ms of CPU a frame at 1280x720 here, BENCHMARKS.md):
+OpenCV computes 4-point patches without SIMD, but 8-point ones, spatial
+propagation off, fewer descent iterations or no patch mean normalization each
+lose a contract case (tests/test_motion.py).
 The dominant motion (a pan, a shaken camera) is the per-axis median of the flow
 (:func:`dominant`), subtracted; what remains, at least ``threshold`` canvas units
 per second, is moving.
