@@ -138,12 +138,10 @@ class Flow:
         seed = self.flow if SEED else None
         flow = self.dis.calc(small, previous, seed)
         mx, my = dominant(flow)
-        dx = flow[..., 0] - np.float32(mx)
-        dy = flow[..., 1] - np.float32(my)
+        # the backward flow's remaining motion, turned forward
+        dx = np.float32(mx) - flow[..., 0]
+        dy = np.float32(my) - flow[..., 1]
         self.flow, self.shift = carried(flow, dx, dy), (-mx, -my)
-        # the backward flow's remaining motion, turned forward (exactly: -(a - b))
-        np.negative(dx, out=dx)
-        np.negative(dy, out=dy)
         return dx, dy
 
 
@@ -171,8 +169,8 @@ def carried(flow: np.ndarray, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
     from the dominant motion carried on by one more frame of its own motion (where
     a fast object will be, its flow already), the fastest winning where several
     land on one point (of equal speeds, the first in row-major order); the other
-    points keep their flow. ``dx``, ``dy``: the flow less its :func:`dominant`
-    motion. Written over ``flow``, returned."""
+    points keep their flow. ``dx``, ``dy``: its :func:`dominant` motion less the
+    flow (or the flow less it). Written over ``flow``, returned."""
     h, w = flow.shape[:2]
     apart = dx * dx  # squared
     apart += dy * dy
