@@ -88,17 +88,19 @@ def decoded(path: Path) -> tuple[list[np.ndarray], list[np.ndarray], list[float]
     return images, planes, times
 
 
-def analysed(images: list[np.ndarray]) -> tuple[list[float], list[float], int]:
-    """Each ``see``'s wall and CPU time (all the process' threads) in ms, the first
-    frame left out, and the strokes made."""
+def analysed(images: list[np.ndarray]) -> tuple[list[float], list[float], list[float], int]:
+    """Each ``see``'s wall time, CPU time of all the process' threads and CPU time
+    of the calling thread (its share of OpenCV's parallel work, the rest running
+    beside it on the other core) in ms, the first frame left out, and the strokes made."""
     tracker = MotionTracker(MotionSpec(), (1.0, 1.0, 0.0, 0.0))
-    wall, cpu = [], []
+    wall, cpu, own = [], [], []
     for n, image in enumerate(images):
-        began, used = time.perf_counter(), time.process_time()
+        began, used, mine = time.perf_counter(), time.process_time(), time.thread_time()
         tracker.see(image, n / FPS)
         wall.append((time.perf_counter() - began) * 1000)
         cpu.append((time.process_time() - used) * 1000)
-    return wall[1:], cpu[1:], len(tracker.take())
+        own.append((time.thread_time() - mine) * 1000)
+    return wall[1:], cpu[1:], own[1:], len(tracker.take())
 
 
 def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
@@ -135,17 +137,16 @@ def main() -> None:
     header()
     print(f"# OpenCV {cv2.__version__}, {cv2.getNumThreads()} threads; load average before: "
           + " ".join(f"{x:.2f}" for x in os.getloadavg()))  # fmt: skip
-    decode, see, cpu, see_y, cpu_y, steps, strokes = [], [], [], [], [], {}, 0
+    decode, see, cpu, see_y, cpu_y, own_y, steps, strokes = [], [], [], [], [], [], {}, 0
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "clip.mp4"
         write_clip(path, seconds)
         for _ in range(rounds):
             images, planes, took = decoded(path)
             decode += took
-            took, used, strokes = analysed(planes)
-            see_y += took
-            cpu_y += used
-            took, used, _ = analysed(images)
+            took, used, own, strokes = analysed(planes)
+            see_y, cpu_y, own_y = see_y + took, cpu_y + used, own_y + own
+            took, used, _, _ = analysed(images)
             see += took
             cpu += used
             for name, values in parts(images).items():
@@ -156,6 +157,7 @@ def main() -> None:
     print(_row("decode to RGB (baseline)", decode))
     print(_row("MotionTracker.see, luma plane (a file render's)", see_y))
     print(_row("MotionTracker.see, luma plane, CPU time (all threads)", cpu_y))
+    print(_row("MotionTracker.see, luma plane, CPU time (calling thread)", own_y))
     print(_row("MotionTracker.see, RGB", see))
     print(_row("MotionTracker.see, RGB, CPU time (all threads)", cpu))
     for name, values in steps.items():
