@@ -5,10 +5,13 @@ baseline a file render pays anyway), side by side in one run.
 Writes a SECONDS-long 1280x720 30 fps clip (x264, in a temporary folder) of two
 textured discs moving over a textured background, then, in ROUNDS rounds,
 decodes it to RGB frames (timing each decode) and feeds them to a fresh tracker
-(timing each ``see``; the first frame, which has no flow, left out), and times the
-analysis' parts on the same frames. Prints medians and 95th percentiles in ms, the
-machine, the CPU's flags and the load average. Run from the repository root:
-``python -m benchmarks.motion_bench [SECONDS] [ROUNDS]``.
+(timing each ``see``; the first frame, which has no flow, left out), feeds the
+frames' decoded luma planes (:func:`~marblevideo.media.decode.frame_luma`, what a
+file render's transform stage hands the analysis) to another, and times the
+analysis' parts on the RGB frames. Prints medians and 95th percentiles in ms, the
+machine, the CPU's flags and the load average. THREADS, where given, is set as
+OpenCV's thread count first (default: OpenCV's own, one per core). Run from the
+repository root: ``python -m benchmarks.motion_bench [SECONDS] [ROUNDS] [THREADS]``.
 """
 
 from __future__ import annotations
@@ -24,6 +27,7 @@ import av
 import cv2
 import numpy as np
 
+from marblevideo.media.decode import frame_luma
 from marblevideo.motion import MotionSpec, MotionTracker, luma
 from marblevideo.motion.flow import Flow, moving, reduce, reduction, regions
 
@@ -65,9 +69,9 @@ def write_clip(path: Path, seconds: float) -> None:
         out.mux(stream.encode())
 
 
-def decoded(path: Path) -> tuple[list[np.ndarray], list[float]]:
-    """Every frame as RGB, and each decode's time in ms."""
-    images, times = [], []
+def decoded(path: Path) -> tuple[list[np.ndarray], list[np.ndarray], list[float]]:
+    """Every frame as RGB and its luma plane (copied), and each RGB decode's time in ms."""
+    images, planes, times = [], [], []
     with av.open(str(path)) as container:
         stream = container.streams.video[0]
         stream.thread_type = "NONE"
@@ -80,20 +84,23 @@ def decoded(path: Path) -> tuple[list[np.ndarray], list[float]]:
                 break
             images.append(frame.to_ndarray(format="rgb24"))
             times.append((time.perf_counter() - began) * 1000)
-    return images, times
+            planes.append(np.array(frame_luma(frame)))
+    return images, planes, times
 
 
-def analysed(images: list[np.ndarray]) -> tuple[list[float], list[float], int]:
-    """Each ``see``'s wall and CPU time (all the process' threads) in ms, the first
-    frame left out, and the strokes made."""
+def analysed(images: list[np.ndarray]) -> tuple[list[float], list[float], list[float], int]:
+    """Each ``see``'s wall time, CPU time of all the process' threads and CPU time
+    of the calling thread (its share of OpenCV's parallel work, the rest running
+    beside it on the other core) in ms, the first frame left out, and the strokes made."""
     tracker = MotionTracker(MotionSpec(), (1.0, 1.0, 0.0, 0.0))
-    wall, cpu = [], []
+    wall, cpu, own = [], [], []
     for n, image in enumerate(images):
-        began, used = time.perf_counter(), time.process_time()
+        began, used, mine = time.perf_counter(), time.process_time(), time.thread_time()
         tracker.see(image, n / FPS)
         wall.append((time.perf_counter() - began) * 1000)
         cpu.append((time.process_time() - used) * 1000)
-    return wall[1:], cpu[1:], len(tracker.take())
+        own.append((time.thread_time() - mine) * 1000)
+    return wall[1:], cpu[1:], own[1:], len(tracker.take())
 
 
 def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
@@ -106,11 +113,11 @@ def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
         t1 = time.perf_counter()
         small = reduce(gray, k)
         t2 = time.perf_counter()
-        field = flow.step(small)
+        motion = flow.step(small)
         t3 = time.perf_counter()
-        if field is None:
+        if motion is None:
             continue
-        regions(moving(field, (k * FPS, k * FPS), 60.0, flow.shift), k)
+        regions(moving(motion, (k * FPS, k * FPS), 60.0), k)
         t4 = time.perf_counter()
         for name, a, b in zip(out, (t0, t1, t2, t3), (t1, t2, t3, t4), strict=True):
             out[name].append((b - a) * 1000)
@@ -125,17 +132,21 @@ def _row(name: str, times: list[float]) -> str:
 def main() -> None:
     seconds = float(sys.argv[1]) if len(sys.argv) > 1 else 10.0
     rounds = int(sys.argv[2]) if len(sys.argv) > 2 else 3
+    if len(sys.argv) > 3:
+        cv2.setNumThreads(int(sys.argv[3]))
     header()
     print(f"# OpenCV {cv2.__version__}, {cv2.getNumThreads()} threads; load average before: "
           + " ".join(f"{x:.2f}" for x in os.getloadavg()))  # fmt: skip
-    decode, see, cpu, steps, strokes = [], [], [], {}, 0
+    decode, see, cpu, see_y, cpu_y, own_y, steps, strokes = [], [], [], [], [], [], {}, 0
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "clip.mp4"
         write_clip(path, seconds)
         for _ in range(rounds):
-            images, took = decoded(path)
+            images, planes, took = decoded(path)
             decode += took
-            took, used, strokes = analysed(images)
+            took, used, own, strokes = analysed(planes)
+            see_y, cpu_y, own_y = see_y + took, cpu_y + used, own_y + own
+            took, used, _, _ = analysed(images)
             see += took
             cpu += used
             for name, values in parts(images).items():
@@ -144,8 +155,11 @@ def main() -> None:
     print("| per frame | median ms | p95 ms | frames |")
     print("|---|---|---|---|")
     print(_row("decode to RGB (baseline)", decode))
-    print(_row("MotionTracker.see", see))
-    print(_row("MotionTracker.see, CPU time (all threads)", cpu))
+    print(_row("MotionTracker.see, luma plane (a file render's)", see_y))
+    print(_row("MotionTracker.see, luma plane, CPU time (all threads)", cpu_y))
+    print(_row("MotionTracker.see, luma plane, CPU time (calling thread)", own_y))
+    print(_row("MotionTracker.see, RGB", see))
+    print(_row("MotionTracker.see, RGB, CPU time (all threads)", cpu))
     for name, values in steps.items():
         print(_row(f"  {name}", values))
     print("# load average after: " + " ".join(f"{x:.2f}" for x in os.getloadavg()))

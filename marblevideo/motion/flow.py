@@ -5,8 +5,9 @@ Conventions: a frame's pixel (i, j) covers [i, i+1] x [j, j+1] of *frame
 coordinates* (its centre at (i + 0.5, j + 0.5)), as the contract's geometry says.
 The analysis runs on the luma reduced by an integer factor ``k``
 (:func:`reduction`: the longer side about :data:`REDUCED_SIDE` points, 1280x720 ->
-320x180) with area averaging, so reduced point (u, v) covers frame pixels
-[k u, k u + k) x [k v, k v + k) and its centre is at (k (u + 0.5), k (v + 0.5)).
+320x180) with area averaging (:func:`reduce`), so reduced point (u, v) covers
+frame pixels [k u, k u + k) x [k v, k v + k) and its centre is at
+(k (u + 0.5), k (v + 0.5)).
 
 The flow is OpenCV's DIS (``DISOPTICAL_FLOW_PRESET_ULTRAFAST``, with its finest scale
 brought down from 2 to 1 and its patches from 8 points every 4 to 4 points every 2,
@@ -16,7 +17,11 @@ one, so that it is defined where things are now: a moving region lies where the 
 current frame, not where it was. Each computation is seeded with the previous one
 (a motion under way is followed from frame to frame). DIS gives the same flow
 whatever OpenCV's thread count (its work is split by rows, each computed alike), so
-the analysis is deterministic bit for bit without setting it.
+the analysis is deterministic bit for bit without setting it. DIS is most of
+the analysis' cost (about 4 ms of CPU a frame at 1280x720 here, BENCHMARKS.md):
+OpenCV computes 4-point patches without SIMD, but 8-point ones, spatial
+propagation off, fewer descent iterations or no patch mean normalization each
+lose a contract case (tests/test_motion.py).
 The dominant motion (a pan, a shaken camera) is the per-axis median of the flow
 (:func:`dominant`), subtracted; what remains, at least ``threshold`` canvas units
 per second, is moving.
@@ -73,13 +78,20 @@ def reduction(width: int, height: int) -> int:
 
 
 def reduce(gray: np.ndarray, k: int) -> np.ndarray:
-    """``gray`` averaged over k x k blocks (the last partial row and column dropped)."""
+    """``gray`` averaged over k x k blocks (the last partial row and column
+    dropped), each average rounded; an even k by halving in 2 x 2 blocks first
+    (rounded at each halving: OpenCV's fast path, a third of the time of one
+    4 x 4 average)."""
     h, w = gray.shape
     if k == 1:
         return gray
-    return cv2.resize(
-        gray[: h - h % k, : w - w % k], (w // k, h // k), interpolation=cv2.INTER_AREA
-    )
+    gray = gray[: h - h % k, : w - w % k]
+    while k % 2 == 0 and k > 2:
+        h, w = gray.shape
+        gray = cv2.resize(gray, (w // 2, h // 2), interpolation=cv2.INTER_AREA)
+        k //= 2
+    h, w = gray.shape
+    return cv2.resize(gray, (w // k, h // k), interpolation=cv2.INTER_AREA)
 
 
 @dataclass(frozen=True)
@@ -110,69 +122,90 @@ class Flow:
     def reset(self) -> None:
         self.previous, self.flow = None, None
 
-    def step(self, small: np.ndarray) -> np.ndarray | None:
-        """The motion (dx, dy) per reduced point, from the previous luma to ``small``,
-        at the points of ``small`` (HxWx2 float32), or None for the first frame (and
-        for a luma smaller than :data:`MIN_SIDE`)."""
+    def step(self, small: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
+        """The remaining motion (dx, dy) per reduced point from the previous luma to
+        ``small``, at the points of ``small`` (two HxW float32 arrays, reduced points
+        per frame), the dominant motion (:attr:`shift`) taken out; None for the
+        first frame (and for a luma smaller than :data:`MIN_SIDE`)."""
         previous, self.previous = self.previous, small
         if min(small.shape) < MIN_SIDE:
             self.previous = None  # too small to analyse
         if previous is None or previous.shape != small.shape or self.previous is None:
             self.flow = None
             return None
-        # DIS starts from the flow it is given when it has the images' size
-        seed = None if self.flow is None or not SEED else self.flow.copy()
+        # DIS starts from the flow it is given when it has the images' size (and
+        # writes its result over it: the seed is the flow's own, made for this call)
+        seed = self.flow if SEED else None
         flow = self.dis.calc(small, previous, seed)
         mx, my = dominant(flow)
-        self.flow, self.shift = carried(flow, (mx, my)), (-mx, -my)
-        return -flow
+        # the backward flow's remaining motion, turned forward
+        dx = np.float32(mx) - flow[..., 0]
+        dy = np.float32(my) - flow[..., 1]
+        self.flow, self.shift = carried(flow, dx, dy), (-mx, -my)
+        return dx, dy
 
 
 def dominant(flow: np.ndarray) -> tuple[float, float]:
     """The frame's dominant motion: the per-axis median of the flow at every other
     point of every other row (a pan or a shake moves them all)."""
-    sample = flow[::2, ::2].reshape(-1, 2)
-    return float(np.median(sample[:, 0])), float(np.median(sample[:, 1]))
+    sample = flow[::2, ::2]
+    return _median(sample[..., 0]), _median(sample[..., 1])
 
 
-def carried(flow: np.ndarray, shift: tuple[float, float]) -> np.ndarray:
+def _median(values: np.ndarray) -> float:
+    """``np.median`` of float32 ``values`` (the mean of the middle two of an even
+    count), by one partition of a copy."""
+    a = np.array(values, dtype=np.float32).ravel()
+    half = a.size // 2
+    if a.size % 2:
+        a.partition(half)
+        return float(a[half])
+    a.partition((half - 1, half))
+    return float((a[half - 1] + a[half]) / np.float32(2))  # np.mean's float32 sum, halved
+
+
+def carried(flow: np.ndarray, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
     """The seed of the next frame's (backward) flow: each point that moves apart
     from the dominant motion carried on by one more frame of its own motion (where
     a fast object will be, its flow already), the fastest winning where several
-    land on one point; the other points keep their flow. ``shift``: its
-    :func:`dominant` motion."""
+    land on one point (of equal speeds, the first in row-major order); the other
+    points keep their flow. ``dx``, ``dy``: its :func:`dominant` motion less the
+    flow (or the flow less it). Written over ``flow``, returned."""
     h, w = flow.shape[:2]
-    mx, my = shift
-    dx, dy = flow[..., 0] - np.float32(mx), flow[..., 1] - np.float32(my)
-    apart = dx * dx + dy * dy  # squared
-    vs, us = np.nonzero(apart > CARRY * CARRY)
-    if len(us) == 0:
+    apart = dx * dx  # squared
+    apart += dy * dy
+    at = np.flatnonzero(apart > CARRY * CARRY)
+    if len(at) == 0:
         return flow
-    b = flow[vs, us]
+    b = flow.reshape(-1, 2)[at]
+    vs, us = np.divmod(at, w)
     x = np.rint(us - b[:, 0]).astype(np.int64)
     y = np.rint(vs - b[:, 1]).astype(np.int64)
-    inside = (x >= 0) & (x < w) & (y >= 0) & (y < h)
-    order = np.argsort(-apart[vs, us][inside], kind="stable")
-    where = (y[inside] * w + x[inside])[order]
-    where, first = np.unique(where, return_index=True)  # the fastest at each point
-    seed = flow.copy()
-    seed.reshape(-1, 2)[where] = b[inside][order][first]
-    return seed
+    inside = np.flatnonzero((x >= 0) & (x < w) & (y >= 0) & (y < h))
+    # one stable sort by (target point, speed down): a speed's float32 bits, as
+    # an integer, order as it does (it is >= 0)
+    bits = apart.ravel()[at[inside]].view(np.int32).astype(np.int64)
+    key = (y[inside] * w + x[inside]) << 31 | (np.int64(0x7FFFFFFF) - bits)
+    order = np.argsort(key, kind="stable")
+    where = key[order] >> 31
+    first = np.ones(len(where), bool)
+    first[1:] = where[1:] != where[:-1]
+    flow.reshape(-1, 2)[where[first]] = b[inside[order[first]]]
+    return flow
 
 
 def moving(
-    flow: np.ndarray,
-    scale: tuple[float, float],
-    threshold: float,
-    shift: tuple[float, float] | None = None,
+    motion: tuple[np.ndarray, np.ndarray], scale: tuple[float, float], threshold: float
 ) -> np.ndarray:
-    """The remaining speed per point (``scale``: reduced points per frame -> canvas
-    units per second, per axis), the dominant motion (``shift``, else
-    :func:`dominant`'s) taken out, and zero where it is under ``threshold`` or in the margin."""
-    mx, my = dominant(flow) if shift is None else shift
-    dx = (flow[..., 0] - mx) * scale[0]
-    dy = (flow[..., 1] - my) * scale[1]
-    speed = np.sqrt(dx * dx + dy * dy)
+    """The remaining speed per point of ``motion`` (:meth:`Flow.step`'s; ``scale``:
+    reduced points per frame -> canvas units per second, per axis), zero where it
+    is under ``threshold`` or in the margin."""
+    dx = motion[0] * np.float32(scale[0])
+    dy = motion[1] * np.float32(scale[1])
+    np.multiply(dx, dx, out=dx)
+    np.multiply(dy, dy, out=dy)
+    np.add(dx, dy, out=dx)
+    speed = np.sqrt(dx, out=dx)
     speed[speed < threshold] = 0.0
     m = MARGIN
     speed[:m], speed[-m:], speed[:, :m], speed[:, -m:] = 0.0, 0.0, 0.0, 0.0
@@ -187,7 +220,10 @@ def regions(speed: np.ndarray, k: int) -> list[Region]:
     (the flow's smear past an object's edge, slower, is left out); its centre is
     their centroid in frame coordinates, its area their frame pixels."""
     mask = cv2.morphologyEx((speed > 0).astype(np.uint8), cv2.MORPH_OPEN, _OPEN)
-    count, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8)
+    # 16-bit labels where they suffice (after the opening each region holds a 3x3
+    # block: at most a ninth of the points are regions): twice as fast
+    ltype = cv2.CV_16U if mask.size // 9 < 65535 else cv2.CV_32S
+    count, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8, ltype=ltype)
     found = []
     for label in range(1, count):
         if stats[label, cv2.CC_STAT_AREA] < MIN_POINTS:
@@ -195,8 +231,20 @@ def regions(speed: np.ndarray, k: int) -> list[Region]:
         x, y, w, h = (int(stats[label, c]) for c in range(4))
         box = labels[y : y + h, x : x + w] == label
         values = speed[y : y + h, x : x + w]
-        top = float(np.percentile(values[box], 90))
+        top = _top(values[box])
         vs, us = np.nonzero(box & (values >= CORE * top))
-        center = (k * (x + float(us.mean()) + 0.5), k * (y + float(vs.mean()) + 0.5))
-        found.append(Region(center, float(len(us) * k * k), top))
+        n = len(us)
+        center = (k * (x + float(us.sum()) / n + 0.5), k * (y + float(vs.sum()) / n + 0.5))
+        found.append(Region(center, float(n * k * k), top))
     return found
+
+
+def _top(values: np.ndarray) -> float:
+    """The 90th percentile of ``values`` (linear between the closest ranks, as
+    ``np.percentile``'s default), by one partition."""
+    at = 0.9 * (values.size - 1)
+    low = int(at)
+    high = min(low + 1, values.size - 1)
+    part = np.partition(values, (low, high))
+    a, b = float(part[low]), float(part[high])
+    return a + (b - a) * (at - low)

@@ -172,13 +172,13 @@ class MotionTracker:
             self.flow.reset()
         previous, self._t = self._t, float(t)
         self._heal_live(float(t))
-        flow = self.flow.step(reduce(gray, k))
-        if flow is None or previous is None or not t > previous:
+        motion = self.flow.step(reduce(gray, k))
+        if motion is None or previous is None or not t > previous:
             self._regions, self._level = [], 0.0
             return
         a, b = abs(self.to_canvas[0]), abs(self.to_canvas[1])
         dt = t - previous
-        speed = moving(flow, (k * a / dt, k * b / dt), self.spec.threshold, self.flow.shift)
+        speed = moving(motion, (k * a / dt, k * b / dt), self.spec.threshold)
         self._level = min(1.0, float(np.count_nonzero(speed)) / speed.size / FULL_LEVEL)
         speck = self.spec.width[0] ** 2 * math.pi / 4 / (a * b)  # frame pixels
         found = [r for r in regions(speed, k) if r.area >= speck]
