@@ -1,24 +1,31 @@
 /* ops/stroke.cl: stroke (marblevideo/ops/stroke.py), a stylus drawn along a path
  * as a train of vortex-pair steps, walked back last step first: each step turns
  * P' about B = C - h by +t g(|P' - B|), then about A = C + h by -t g(|P1 - A|),
- * g(r) = (1 - r^2 / w^2)^2 inside w. A step moves nothing farther than 3w/2
- * from its centre C (one squared distance skips it), and a stroke nothing
- * outside its steps' bounding box.
+ * g(r) = (1 - r^2 / w^2)^2 inside w.
  * The host packs the acting steps in forward order: a revision-3 stroke's prefix
  * (e_k folded into t), or a timed stroke's whole steps and its one partial step
  * (ops/stylus.py), so both walk the same loop.
+ * What is skipped, every skip exact (a skipped turn would have kept every lane):
+ * a stroke where no lane is in its steps' bounding box; a block of `block`
+ * consecutive steps where none is inside the block's circle (every point its
+ * steps can move; marblevideo/ops/stepblocks.py); a step where none is within
+ * 3w/2 of its centre C; a turn where none is within w of its centre.
+ * A chained section (OpDef.chained): x, y, ink point to the work-item's CHAINS
+ * chains, walked together, so that one test serves them all and their turns'
+ * independent polynomials interleave.
  * p: steps_at, steps_n (where the steps start in `lists`, how many), inv_w2
- * (1/w^2), reach2 ((3w/2)^2), the box xmin, ymin, xmax, ymax. A step: cx, cy,
- * hx, hy, t (radians) */
+ * (1/w^2), reach2 ((3w/2)^2), the box xmin, ymin, xmax, ymax, block (steps per
+ * block). A step: cx, cy, hx, hy, t (radians); after the steps, a block's
+ * circle: cx, cy, r^2. */
 
 /* Whether any lane of the CHAINS chains at (x, y) lies within sqrt(r2) of (cx, cy). */
 inline int stroke_near(const vf *x, const vf *y, float cx, float cy, float r2) {
-    int near = 0;
+    vi near = (vi)0;
     for (int c = 0; c < CHAINS; c++) {
         vf dx = x[c] - cx, dy = y[c] - cy;
-        near |= ANY(dx * dx + dy * dy < r2);
+        near |= dx * dx + dy * dy < r2;
     }
-    return near;
+    return ANY(near);
 }
 
 /* Turn the chains' points about (cx, cy) by t g(r); from r = w on (g = 0) the
@@ -31,13 +38,13 @@ inline int stroke_near(const vf *x, const vf *y, float cx, float cy, float r2) {
  * keeps several in flight (one chain's alone is a chain of dependent FMAs). */
 inline void stroke_turn(vf *x, vf *y, float cx, float cy, float t, float inv_w2) {
     vf g[CHAINS];
-    int near = 0;
+    vi near = (vi)0;
     for (int c = 0; c < CHAINS; c++) {
         vf qx = x[c] - cx, qy = y[c] - cy;
         g[c] = fmax(1.0f - (qx * qx + qy * qy) * inv_w2, 0.0f);
-        near |= ANY(g[c] > 0.0f);
+        near |= g[c] > 0.0f;
     }
-    if (!near)
+    if (!ANY(near))
         return;
     for (int c = 0; c < CHAINS; c++) {
         vf qx = x[c] - cx, qy = y[c] - cy;
@@ -53,13 +60,12 @@ inline void stroke_turn(vf *x, vf *y, float cx, float cy, float t, float inv_w2)
     }
 }
 
-/* A chained section (OpDef.chained): x, y, ink hold the CHAINS chains' vectors. */
 inline void op_stroke(OP_ARGS) {
-    int inbox = 0;
+    vi inbox = (vi)0;
     for (int c = 0; c < CHAINS; c++)
-        inbox |= ANY((x[c] >= p[P_STROKE_XMIN]) & (x[c] <= p[P_STROKE_XMAX])
+        inbox |= ((x[c] >= p[P_STROKE_XMIN]) & (x[c] <= p[P_STROKE_XMAX])
                      & (y[c] >= p[P_STROKE_YMIN]) & (y[c] <= p[P_STROKE_YMAX]));
-    if (!inbox)
+    if (!ANY(inbox))
         return;
     const int n = (int)p[P_STROKE_STEPS_N], per = (int)p[P_STROKE_BLOCK];
     __global const float *s = lists + (int)p[P_STROKE_STEPS_AT];
