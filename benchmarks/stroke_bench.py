@@ -19,18 +19,20 @@ baselines, in one run on one renderer.
 from __future__ import annotations
 
 import itertools
+import json
 from functools import partial
 
 import numpy as np
 
-from marblevideo import load_recipe
+from marblevideo import load_recipe, samples_path
 from marblevideo.opencl.program import pack_params
 from marblevideo.opencl.renderer import Renderer
-from marblevideo.ops.stroke import layout
+from marblevideo.ops.stroke import acting_steps, layout
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
 
 from . import common
+from .motion_clip import texture
 
 SIZE = (1024, 768)
 
@@ -174,3 +176,55 @@ def timed_against_revision3(full: Renderer) -> None:
     got = _paired({"rev3": calls[False], "times": calls[True]}, rounds=4, repeat=7)
     print("\nPacking one stroke of about 200000 steps mid-gesture, ms per frame:")
     print(f"revision 3 {_ms(got['rev3'])}, times {_ms(got['times'])}", flush=True)
+
+
+def motion_strokes(width: float = 140.0, points: int = 50, spacing: float = 19.0) -> list[dict]:
+    """Six strokes as the motion analysis lays them on the six-disc clip
+    (:mod:`benchmarks.motion_clip`): each follows its disc round its circle (radius
+    90), ``points`` points ``spacing`` apart (about 930 canvas units, 26 steps of a
+    140-wide stroke), drawn at 30 points a second, ``drag`` 1.5, healing far later."""
+    from .motion_clip import RADIUS
+
+    size, out = (1280, 720), []
+    for k in range(6):
+        gx, gy = size[0] * (1 + 2 * (k % 3)) / 6, size[1] * (1 + 2 * (k // 3)) / 4
+        turn = (-1) ** k * spacing / RADIUS
+        path = [
+            [
+                round(gx + RADIUS * np.cos(k + turn * j), 2),
+                round(gy + RADIUS * np.sin(k + turn * j), 2),
+            ]
+            for j in range(points)
+        ]
+        times = [j / 30 for j in range(points)]
+        out.append({"type": "stroke", "points": path, "times": times, "width": width,
+                    "drag": 1.5, "heal": [100.0, 102.5]})  # fmt: skip
+    return out
+
+
+def motion_render(device: str | None, repeat: int = 11) -> None:
+    """A 1280x720 frame of the ``dance`` preset (two waves) alone and with six motion
+    strokes (:func:`motion_strokes`), in process, loop walk (as the live session
+    renders), exact walk and lattice allowed."""
+    doc = json.loads(samples_path("dance.json").read_text())
+    doc = {k: v for k, v in doc.items() if k not in ("motion", "$schema")}
+    renderer = Renderer(device, loop_walk=True, reuse_maps=False)
+    ground = texture(1280, 720, 1)
+    print("\n## The dance preset at 1280x720 with six motion strokes, loop walk, in process")
+    print(f"ms per frame, best / median of {repeat}")
+    print("| a frame of | exact walk | lattice allowed | steps |")
+    print("|---|---|---|---|")
+    for name, extra in (("two waves", []), ("two waves and six motion strokes", motion_strokes())):
+        recipe = parse_recipe({**doc, "ops": [*doc["ops"], *extra]}, "bench.json")
+        spec, geom = recipe.at(5.0), geometry(recipe.canvas, (1280, 720))
+        frame = np.empty((720, 1280, 4), np.uint8)
+        render = partial(renderer.render, spec, geom, ground, out=frame)
+        cells = [_ms(timings(partial(render, lattice=lat), repeat=repeat)) for lat in (False, True)]
+        steps = sum(len(acting_steps(op.values)[2]) for op in spec.ops if op.type == "stroke")
+        print(f"| {name} | {cells[0]} | {cells[1]} | {steps} |", flush=True)
+
+
+if __name__ == "__main__":
+    import sys
+
+    motion_render(None, int(sys.argv[1]) if len(sys.argv) > 1 else 11)

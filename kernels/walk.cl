@@ -2,7 +2,8 @@
  * shaded and stored as RGBA (the `marble` kernel; see prelude.cl for the
  * defines, sampling.cl for the input's sampling).
  *
- * WALK (generated): op i of the recipe, last op first, as OP(i, op_<type>); or for
+ * WALK (generated): op i of the recipe, last op first, as OP(i, op_<type>) (or
+ * OP_CHAINS for a section that walks every chain in one call); or for
  * long recipes (and editors' renderers) a loop over NOPS ops, the first float of
  * `lists`, whose switch has a case per op type.
  * INK (generated): INK_COLOR(i) for every ink op (resolves a hit to its colour).
@@ -19,6 +20,10 @@
 #define OP(i, section)                                                         \
     if (PARAMS(i)[CODE_SLOT] >= 0.0f)                                          \
         FOR_CHAINS section(&px[c], &py[c], &ink[c], PARAMS(i), i, lists);
+/* The same for a chained section (OpDef.chained), called once for every chain. */
+#define OP_CHAINS(i, section)                                                  \
+    if (PARAMS(i)[CODE_SLOT] >= 0.0f)                                          \
+        section(px, py, ink, PARAMS(i), i, lists);
 /* The colour of ink op i for the lanes whose walk ended there (INK lists these). */
 #define INK_COLOR(i)                                                           \
     { vi m = ink[c] == i;                                                      \

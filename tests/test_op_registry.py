@@ -137,7 +137,7 @@ def test_the_example_renders_on_the_device_as_the_reference_does(renderer, defin
 
 def test_the_loop_walk_has_one_case_per_op_type_and_no_default():
     header = walk_source(None)  # the loop walk (Programs.program_key: types None)
-    cases = re.findall(r"case CODE_(\w+): OP\(i, (\w+)\)", header)
+    cases = re.findall(r"case CODE_(\w+): OP(?:_CHAINS)?\(i, (\w+)\)", header)
     assert cases == [(d.type.upper(), d.kernel_function) for d in OPS]
     assert "default" not in header
     inks = re.findall(r"code_ == CODE_(\w+)", header)

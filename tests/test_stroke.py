@@ -17,6 +17,7 @@ from tolerances import KERNEL_SHARE, SVG_SHARE
 from marblevideo.opencl.program import STILL_CODE, pack_params
 from marblevideo.opencl.selfcheck import agreement
 from marblevideo.ops import op_def
+from marblevideo.ops.stepblocks import BLOCK_FLOATS, BLOCK_STEPS
 from marblevideo.ops.stroke import STEP_FLOATS, _rows, angles, layout
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import OpState, geometry
@@ -151,7 +152,8 @@ def test_progress_packs_the_steps_the_stylus_has_passed():
     assert counts[2:] == [int(np.ceil(0.25 * n)), int(np.ceil(0.95 * n)), n]
     packed = pack_params(recipe.at(3))
     at = int(packed.params.reshape(-1, 12)[-1][0])
-    assert packed.lists.size == at + n * STEP_FLOATS
+    blocks = -(-n // BLOCK_STEPS)  # the steps, then their blocks' culling circles
+    assert packed.lists.size == at + n * STEP_FLOATS + blocks * BLOCK_FLOATS
 
 
 def test_a_static_stroke_is_laid_out_once():

@@ -12,7 +12,9 @@ copied by hand into a ``.cl`` file:
   ``COLOR_SLOT`` (where an ink op's red, green, blue start);
 - ``EDGES_<MODE>``: the edges modes (the build option ``EDGES`` is one of them);
 - and, per recipe structure (:func:`walk_source`), WALK and INK, which call
-  each op's section by its name (:attr:`marblevideo.ops.OpDef.kernel_function`).
+  each op's section by its name (:attr:`marblevideo.ops.OpDef.kernel_function`),
+  as ``OP`` (once per chain) or ``OP_CHAINS`` (once for every chain: a
+  :attr:`~marblevideo.ops.OpDef.chained` section).
 
 Names are upper case, ``-`` as ``_``.
 """
@@ -63,6 +65,11 @@ def header_source() -> str:
     return "\n".join(lines) + "\n"
 
 
+def op_macro(definition) -> str:
+    """How the walk calls an op's section: OP_CHAINS for a chained one, else OP."""
+    return "OP_CHAINS" if definition.chained else "OP"
+
+
 def walk_source(types: tuple[str, ...] | None) -> str:
     """The generated part that bakes a recipe's structure into the program: WALK
     calls every op's section, last op first, and INK resolves the ink ops' hits
@@ -71,7 +78,7 @@ def walk_source(types: tuple[str, ...] | None) -> str:
     ``lists``) and switch on the type code, with one case per registered op type."""
     if types is None:
         cases = " ".join(
-            f"case {code_macro(d.type)}: OP(i, {d.kernel_function}) break;"
+            f"case {code_macro(d.type)}: {op_macro(d)}(i, {d.kernel_function}) break;"
             for d in REGISTRY.values()
         )
         ink = " || ".join(f"code_ == {code_macro(d.type)}" for d in REGISTRY.values() if d.ink)
@@ -83,7 +90,8 @@ def walk_source(types: tuple[str, ...] | None) -> str:
             f"{{ const int code_ = (int)PARAMS(i)[CODE_SLOT]; if ({ink}) INK_COLOR(i) }}\n"
         )
     walk = " ".join(
-        f"OP({i}, {op_def(t).kernel_function})" for i, t in reversed(list(enumerate(types)))
+        f"{op_macro(op_def(t))}({i}, {op_def(t).kernel_function})"
+        for i, t in reversed(list(enumerate(types)))
     )
     ink = " ".join(f"INK_COLOR({i})" for i, t in enumerate(types) if is_ink(t))
     return f"#define WALK {walk}\n#define INK {ink}\n"

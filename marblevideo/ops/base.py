@@ -145,6 +145,9 @@ class OpDef:
       (for tests, the device check and docs).
     - ``family``: the module that defines it, and so the kernel file
       ``kernels/ops/<family>.cl`` that holds its ``op_<type>`` section.
+    - ``chained``: the section walks a work-item's CHAINS chains in one call
+      (``x``, ``y``, ``ink`` point to CHAINS vectors each), so that their
+      independent work interleaves; False: one call per chain.
     - ``tools``: the designer's tools that draw it (:mod:`marblevideo.ops.gestures`);
       ``settings``: the numbers those tools ask for once, beside them.
     """
@@ -166,6 +169,7 @@ class OpDef:
     tools: tuple[Tool, ...] = ()
     settings: tuple[Setting, ...] = ()
     family: str = ""
+    chained: bool = False
     code: int = field(default=-1, compare=False)
 
     def __post_init__(self):

@@ -36,6 +36,7 @@ import numpy as np
 
 from marblevideo.ops.base import OpDef, Param, Points, Values
 from marblevideo.ops.gestures import Setting, Tool
+from marblevideo.ops.stepblocks import BLOCK_STEPS, block_rows, prefix_blocks
 from marblevideo.ops.stylus import (
     acting,
     kernel_rows,
@@ -79,13 +80,15 @@ class Layout:
     """Where a stroke's steps lie, independent of ``drag`` and progress: ``n``
     steps along the path of length ``step`` each, ``tines`` of them per step;
     ``centres`` and ``halves`` (n * tines, 2) in forward order (step-major):
-    each step's C + o N0 and (w/2) N, so A = centre + half, B = centre - half."""
+    each step's C + o N0 and (w/2) N, so A = centre + half, B = centre - half;
+    ``blocks`` the steps' culling circles (:mod:`marblevideo.ops.stepblocks`)."""
 
     n: int
     step: float
     tines: int
     centres: np.ndarray
     halves: np.ndarray
+    blocks: tuple[float, ...]
 
 
 @lru_cache(maxsize=64)
@@ -107,7 +110,8 @@ def layout(flat: tuple[float, ...], width: float, tines: tuple[float, ...]) -> L
     halves = np.repeat(normal * (width / 2), len(tines), axis=0)
     for a in (centres, halves):
         a.flags.writeable = False
-    return Layout(n, float(arc[-1]) / n, len(tines), centres, halves)
+    blocks = tuple(block_rows(centres, halves, width).ravel().tolist())
+    return Layout(n, float(arc[-1]) / n, len(tines), centres, halves, blocks)
 
 
 def layout_of(v: Values) -> Layout:
@@ -206,40 +210,44 @@ def _steps(steps, block, sign: float, width: float, x, y) -> Points:
 
 
 @lru_cache(maxsize=64)
-def _rows(flat, width: float, tines, drag: float, travel: float) -> tuple[tuple, tuple]:
-    """The kernel's data of the acting steps (a prefix: e_k > 0 for k < p n), and
-    their bounding box grown by ``width`` (empty when none acts)."""
+def _rows(flat, width: float, tines, drag: float, travel: float) -> tuple[tuple, tuple, tuple]:
+    """The kernel's data of the acting steps (a prefix: e_k > 0 for k < p n), their
+    blocks' culling circles (:mod:`marblevideo.ops.stepblocks`), and their bounding
+    box grown by ``width`` (empty when none acts)."""
     v = {"points": flat, "width": width, "tines": tines, "drag": drag, "travel": travel}
     lay = layout_of(v)
     turns = angles(v, lay)
     count = len(turns) if drag == 0 else int(np.count_nonzero(turns))
     if drag == 0 or count == 0:
-        return (), (1e30, 1e30, -1e30, -1e30)
+        return (), (), (1e30, 1e30, -1e30, -1e30)
     c, h = lay.centres[:count], lay.halves[:count]
     rows = np.column_stack([c, h, turns[:count]])
+    at = count - count % BLOCK_STEPS  # steps in the whole stroke's whole blocks
+    blocks = prefix_blocks(lay.blocks, at, c[at:], h[at:], width)
     ends = np.concatenate([c + h, c - h])
     lo, hi = ends.min(axis=0) - width, ends.max(axis=0) + width
-    return tuple(rows.ravel().tolist()), (*lo.tolist(), *hi.tolist())
+    return tuple(rows.ravel().tolist()), blocks, (*lo.tolist(), *hi.tolist())
 
 
 #: A stroke's packed floats (:func:`pack`).
-SLOTS = ("steps_at", "steps_n", "inv_w2", "reach2", "xmin", "ymin", "xmax", "ymax")
+SLOTS = ("steps_at", "steps_n", "inv_w2", "reach2", "xmin", "ymin", "xmax", "ymax", "block")
 
 
 def pack(v: Values, lists: list) -> dict[str, float]:
     """Where the steps start in ``lists``, how many, 1/w^2, (3w/2)^2 (a step's
-    reach from its centre), and the bounding box xmin, ymin, xmax, ymax of every
-    acting step's reach. Each step: cx, cy, hx, hy, theta e_k (radians, at most
-    16/9: the kernel's polynomials need no range reduction)."""
+    reach from its centre), the bounding box xmin, ymin, xmax, ymax of every
+    acting step's reach, and the steps per culling block. Each step: cx, cy, hx,
+    hy, theta e_k (radians, at most 16/9: the kernel's polynomials need no range
+    reduction); after the steps, each block's circle: cx, cy, r^2."""
     w = float(v["width"])
     flat, tines, drag = tuple(v["points"]), tuple(v["tines"]), float(v["drag"])
     if "times" in v:
-        rows, box = kernel_rows(flat, w, tines, drag, timed_travel(v))
+        rows, blocks, box = kernel_rows(flat, w, tines, drag, timed_travel(v))
     else:
-        rows, box = _rows(flat, w, tines, drag, float(v.get("travel", 1.0)))
+        rows, blocks, box = _rows(flat, w, tines, drag, float(v.get("travel", 1.0)))
     at = len(lists)
-    lists.extend(rows)
-    steps = {"steps_at": at, "steps_n": len(rows) // STEP_FLOATS}
+    lists.extend(rows + blocks)
+    steps = {"steps_at": at, "steps_n": len(rows) // STEP_FLOATS, "block": BLOCK_STEPS}
     reach = {"inv_w2": 1.0 / (w * w), "reach2": (1.5 * w) ** 2}
     return {**steps, **reach, **dict(zip(("xmin", "ymin", "xmax", "ymax"), box, strict=True))}
 
@@ -373,6 +381,7 @@ STROKE = OpDef(
         Setting("spacing", "and their spacing", {"div": ["side", 16]}, positive=True),
     ),
     pack=pack,
+    chained=True,
     inverse=_walk(-1.0),
     forward=_walk(1.0),
     check=check,

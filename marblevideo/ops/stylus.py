@@ -26,6 +26,8 @@ from functools import lru_cache
 
 import numpy as np
 
+from marblevideo.ops.stepblocks import BLOCK_STEPS, block_rows, prefix_blocks
+
 #: d = w / SPACING_PER_WIDTH: the fixed spacing of a timed stroke's steps.
 SPACING_PER_WIDTH = 4.0
 
@@ -203,20 +205,33 @@ def _whole_rows(flat, width: float, tines, drag: float) -> tuple[float, ...]:
     return tuple(np.column_stack([whole.centres, whole.halves, turn]).ravel().tolist())
 
 
-def kernel_rows(flat, width: float, tines, drag: float, s: float) -> tuple[tuple, tuple]:
+@lru_cache(maxsize=64)
+def _whole_blocks(flat, width: float, tines) -> tuple[float, ...]:
+    """The culling circles (:mod:`marblevideo.ops.stepblocks`) of every whole step."""
+    whole = whole_steps(flat, width, tines)
+    return tuple(block_rows(whole.centres, whole.halves, width).ravel().tolist())
+
+
+def kernel_rows(flat, width: float, tines, drag: float, s: float) -> tuple[tuple, tuple, tuple]:
     """The kernel's data of the acting steps at travel ``s`` (the whole steps' a
-    prefix of the finished stroke's, then the partial one), and their bounding box
-    grown by ``width`` (empty when none acts)."""
+    prefix of the finished stroke's, then the partial one), their blocks' culling
+    circles, and their bounding box grown by ``width`` (empty when none acts)."""
     whole = whole_steps(flat, width, tines)
     done = whole_count(s, whole.spacing)
     part = partial_step(flat, width, tines, s, whole)
     if drag == 0 or (done == 0 and len(part.centres) == 0):
-        return (), (1e30, 1e30, -1e30, -1e30)
+        return (), (), (1e30, 1e30, -1e30, -1e30)
     turn = np.full(len(part.centres), turn_law(drag, width)(part.length))
     rows = np.column_stack([part.centres, part.halves, turn])
     lo, hi = whole.lo[done], whole.hi[done]
     if len(part.centres):
         ends = np.concatenate([part.centres + part.halves, part.centres - part.halves])
         lo, hi = np.minimum(lo, ends.min(axis=0)), np.maximum(hi, ends.max(axis=0))
-    data = _whole_rows(flat, width, tines, drag)[: 5 * done * whole.tines]
-    return data + tuple(rows.ravel().tolist()), (*(lo - width).tolist(), *(hi + width).tolist())
+    count = done * whole.tines
+    data = _whole_rows(flat, width, tines, drag)[: 5 * count]
+    at = count - count % BLOCK_STEPS  # steps in the finished stroke's whole blocks
+    centres = np.concatenate([whole.centres[at:count], part.centres])
+    halves = np.concatenate([whole.halves[at:count], part.halves])
+    blocks = prefix_blocks(_whole_blocks(flat, width, tines), at, centres, halves, width)
+    box = (*(lo - width).tolist(), *(hi + width).tolist())
+    return data + tuple(rows.ravel().tolist()), blocks, box
