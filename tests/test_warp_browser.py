@@ -277,3 +277,32 @@ def test_a_scaled_canvas_and_the_ops_above(warp_page, changing):
     want = render(Recipe.from_dict(whole).at(0.5), geom, base)
     assert agreement(got, want) >= 0.98
     assert agreement(got, base) < 0.9  # the op and the ops above show
+
+
+KIND = 'async (op) => (await import("/web/warp_ops.js")).resolve(op, 0.5).kind'
+SERIES = [
+    # even and odd tine counts, spaced closer than 2 falloffs: dozens of tines reach a pixel
+    {"type": "rake", "point": [120, 90], "angle": 25, "alpha": 6, "falloff": 5, "spacing": 7,
+     "count": 24},
+    {"type": "rake", "point": [110, 95], "angle": 100, "alpha": 5, "falloff": 6, "spacing": 5,
+     "count": 41},
+    {"type": "rake", "point": [120, 90], "angle": 0, "alpha": 9, "falloff": 4,
+     "tines": [-66, -44, -22, 0, 22, 44, 66]},
+    {"type": "stir", "center": C, "radii": [15, -30, 45, -60, 75, -90], "alpha": 10, "falloff": 9},
+    {"type": "stir", "center": C, "radii": [80, 20, 60, 40, 100], "alpha": 8, "falloff": 12},
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("op", SERIES, ids=[f"{op['type']}-{k}" for k, op in enumerate(SERIES)])
+def test_a_long_series_in_closed_form_agrees_with_the_reference(warp_page, op):
+    """Evenly spaced tines (even and odd counts) and rings (equal or alternating
+    signs, given in any order) are summed in closed form, as the kernels'
+    series_sum: four exponentials, whatever the count."""
+    page, base = warp_page
+    op = {**op, **WINDOW}
+    assert page.evaluate(KIND, op) == (9 if op["type"] == "rake" else 10)
+    moved = 0.0
+    for t in TIMES:
+        got, _ = check(page, base, op, t)
+        moved = max(moved, 1 - agreement(got, base))
+    assert moved > 0.05, f"{op['type']}: the op changed too little for the test to see a fault"
