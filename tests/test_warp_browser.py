@@ -8,6 +8,7 @@ the reason, when Playwright, Chromium or WebGL2 with float targets is missing.""
 
 from __future__ import annotations
 
+import base64
 import math
 
 import cv2
@@ -224,6 +225,34 @@ def test_a_growing_stroke_is_the_finished_stroke_at_each_time(warp_page):
     healing = {**full, "heal": [1.5, 2.5]}
     for t in (1.7, 2.2):
         check(page, base, healing, t)
+
+
+READ = """() => {
+  const px = W.readPixels();
+  let s = "";
+  const n = 0x8000;
+  for (let i = 0; i < px.length; i += n) s += String.fromCharCode(...px.subarray(i, i + n));
+  return btoa(s);
+}"""
+
+
+def test_a_stroke_grown_frame_by_frame_redraws_all_it_changes(warp_page):
+    """Each frame of a growing stroke redraws only where the new steps reach
+    (the rest of the canvas is kept from the frames before): what the canvas
+    holds then is the whole frame drawn afresh, and the reference. Ten points
+    a frame (a hand faster than the frames): several whole steps each."""
+    page, base = warp_page
+    full = timed_stroke()
+    for i in [*range(1, 59, 10), 59]:
+        grown = {**full, "points": full["points"][: i + 1], "times": full["times"][: i + 1]}
+        page.evaluate(EXTEND, grown)
+        if i in (21, 41, 59):
+            kept = np.frombuffer(base64.b64decode(page.evaluate(READ)), np.uint8)
+            kept = kept.reshape(base.shape)
+            afresh = warp_frame(page, grown, full["times"][i], base.shape)
+            assert agreement(kept, afresh) >= 0.999, f"grown to point {i}"
+            assert agreement(kept, reference(base, full, full["times"][i])) >= 0.98
+    assert agreement(kept, base) < 0.9
 
 
 def test_a_signal_is_refused(warp_page):
