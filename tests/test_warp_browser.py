@@ -255,6 +255,17 @@ def test_a_stroke_grown_frame_by_frame_redraws_all_it_changes(warp_page):
     assert agreement(kept, base) < 0.9
 
 
+@pytest.mark.parametrize("width", [0, 1e-300])
+def test_a_stroke_of_endless_steps_is_refused(warp_page, width):
+    """A stroke (without and with times) of width 0 (a draft the server would
+    refuse) or so thin that its steps could not be counted: the warp says it
+    cannot, rather than loop."""
+    page, base = warp_page
+    for timed in ({}, {"times": [0, 0.5]}):
+        op = {"type": "stroke", "points": [[20, 20], [200, 150]], "width": width, **timed}
+        assert warp_frame(page, op, 1.0, base.shape) is None
+
+
 def test_a_signal_is_refused(warp_page):
     page, base = warp_page
     alpha = {"signal": "audio.level", "range": [0, 9]}

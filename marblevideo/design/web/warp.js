@@ -15,6 +15,8 @@ import { StrokeMap, deviceRect, setSteps, stepRows } from "./warp_map.js";
 import { program, setCommon, texture } from "./warp_gl.js";
 
 const EDGES = { clamp: 0, repeat: 1, mirror: 2, background: 3 };
+// The most steps of a stroke the page folds (marblevideo/ops/stroke.py MAX_STEPS; more: the server's frame).
+const MAX_STEPS = 200000;
 
 let canWarp = null;
 
@@ -122,6 +124,7 @@ class Warp {
     let steps = { list, n: 0, rect: [1, 1, -1, -1] }, clip = null;
     if (kind === "stroke") {
       const layout = strokeAt(op, t, plan.drag), builds = this.map.builds ?? 0;
+      if (!(layout.count <= MAX_STEPS)) throw new Error(`stroke: ${layout.count} steps`);
       this.map.exact = !!this.exactSteps;
       const folded = this.map.update(op, layout, plan.drag, this.toCanvas, [width, height]);
       kind = 8;
