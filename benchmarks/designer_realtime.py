@@ -81,14 +81,16 @@ def serve(tmp: Path, design: str, live: bool = False):
 
 def settle(page, quiet_ms: int = 700, limit: float = 30) -> None:
     """Wait until the newest frame is exact, none was drawn for ``quiet_ms`` and no
-    save is on its way (at most ``limit`` seconds)."""
+    save or server frame is on its way (``designer.rendering``, where the page
+    has it: an undo's frames no longer run into the next gesture; at most
+    ``limit`` seconds)."""
     end = time.time() + limit
     while time.time() < end:
         state = page.evaluate(
             """() => { const B = benchProbe, f = B.frames.at(-1), g = B.pageFrames.at(-1);
               const last = Array.isArray(window.marbleFrames) ? g : f;
               return {idle: performance.now() - (last ? last.drawnAt : 0), kind: last && last.kind,
-                      saving: designer.state.saving}; }"""
+                      saving: designer.state.saving || !!designer.rendering?.()}; }"""
         )
         if state["idle"] >= quiet_ms and not state["saving"] and state["kind"] in ("exact", None):
             return

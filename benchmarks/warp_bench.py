@@ -8,6 +8,7 @@ work is inside the time):
 
 - drop: a drop growing (start 0, end 1) at a new t each frame;
 - comb: a comb pulled (alpha growing) at a new t each frame;
+- rake: a rake of 43 tines (nonpareil's last op, scaled) pulled likewise;
 - stroke: a 200-point stroke with ``times`` drawn point by point (60 points a
   second, width 24, two tines), each frame the gesture so far at its newest
   point's time: whole steps folded into the map by chunks, the rest walked.
@@ -53,7 +54,10 @@ BENCH = """async ([w, h, frames]) => {
   const drop = { type: "drop", center: [cx, cy], radius: h / 5, color: "#c03020", ...win };
   const comb = { type: "comb", point: [cx, cy], angle: 30, spacing: h / 16, alpha: h / 20,
     lambda: h / 60, ...win };
-  for (const [name, op] of [["drop", drop], ["comb", comb]]) {
+  // nonpareil's top op: a rake of 43 tines (closed form in the shader since issue 39)
+  const rake = { type: "rake", point: [cx, cy], angle: 0, alpha: h / 32, falloff: h / 128,
+    spacing: h / 40, count: 43, ...win };
+  for (const [name, op] of [["drop", drop], ["comb", comb], ["rake", rake]]) {
     time(() => W.draw(op, 0.5));
     const at = (k) => (k + 1) / (frames + 1);
     out[name] = Array.from({ length: frames }, (_, k) => time(() => W.draw(op, at(k))));
@@ -100,7 +104,7 @@ def main(argv: list[str] | None = None) -> int:
                 print(f"| {size} | - | no WebGL2 with float targets | |")
                 continue
             load = " ".join(f"{v:.2f}" for v in os.getloadavg())
-            for name in ("drop", "comb", "stroke"):
+            for name in ("drop", "comb", "rake", "stroke"):
                 print(f"| {size} | {name} | {stats(out[name])} | {load} |", flush=True)
         browser.close()
     return 0

@@ -8,6 +8,7 @@ the reason, when Playwright, Chromium or WebGL2 with float targets is missing.""
 
 from __future__ import annotations
 
+import base64
 import math
 
 import cv2
@@ -247,6 +248,45 @@ def test_a_growing_stroke_is_the_finished_stroke_at_each_time(warp_page):
         check(page, base, healing, t)
 
 
+READ = """() => {
+  const px = W.readPixels();
+  let s = "";
+  const n = 0x8000;
+  for (let i = 0; i < px.length; i += n) s += String.fromCharCode(...px.subarray(i, i + n));
+  return btoa(s);
+}"""
+
+
+def test_a_stroke_grown_frame_by_frame_redraws_all_it_changes(warp_page):
+    """Each frame of a growing stroke redraws only where the new steps reach
+    (the rest of the canvas is kept from the frames before): what the canvas
+    holds then is the whole frame drawn afresh, and the reference. Ten points
+    a frame (a hand faster than the frames): several whole steps each."""
+    page, base = warp_page
+    full = timed_stroke()
+    for i in [*range(1, 59, 10), 59]:
+        grown = {**full, "points": full["points"][: i + 1], "times": full["times"][: i + 1]}
+        page.evaluate(EXTEND, grown)
+        if i in (21, 41, 59):
+            kept = np.frombuffer(base64.b64decode(page.evaluate(READ)), np.uint8)
+            kept = kept.reshape(base.shape)
+            afresh = warp_frame(page, grown, full["times"][i], base.shape)
+            assert agreement(kept, afresh) >= 0.999, f"grown to point {i}"
+            assert agreement(kept, reference(base, full, full["times"][i])) >= 0.98
+    assert agreement(kept, base) < 0.9
+
+
+@pytest.mark.parametrize("width", [0, 1e-300])
+def test_a_stroke_of_endless_steps_is_refused(warp_page, width):
+    """A stroke (without and with times) of width 0 (a draft the server would
+    refuse) or so thin that its steps could not be counted: the warp says it
+    cannot, rather than loop."""
+    page, base = warp_page
+    for timed in ({}, {"times": [0, 0.5]}):
+        op = {"type": "stroke", "points": [[20, 20], [200, 150]], "width": width, **timed}
+        assert warp_frame(page, op, 1.0, base.shape) is None
+
+
 def test_a_signal_is_refused(warp_page):
     page, base = warp_page
     alpha = {"signal": "audio.level", "range": [0, 9]}
@@ -298,3 +338,32 @@ def test_a_scaled_canvas_and_the_ops_above(warp_page, changing):
     want = render(Recipe.from_dict(whole).at(0.5), geom, base)
     assert agreement(got, want) >= 0.98
     assert agreement(got, base) < 0.9  # the op and the ops above show
+
+
+KIND = 'async (op) => (await import("/web/warp_ops.js")).resolve(op, 0.5).kind'
+SERIES = [
+    # even and odd tine counts, spaced closer than 2 falloffs: dozens of tines reach a pixel
+    {"type": "rake", "point": [120, 90], "angle": 25, "alpha": 6, "falloff": 5, "spacing": 7,
+     "count": 24},
+    {"type": "rake", "point": [110, 95], "angle": 100, "alpha": 5, "falloff": 6, "spacing": 5,
+     "count": 41},
+    {"type": "rake", "point": [120, 90], "angle": 0, "alpha": 9, "falloff": 4,
+     "tines": [-66, -44, -22, 0, 22, 44, 66]},
+    {"type": "stir", "center": C, "radii": [15, -30, 45, -60, 75, -90], "alpha": 10, "falloff": 9},
+    {"type": "stir", "center": C, "radii": [80, 20, 60, 40, 100], "alpha": 8, "falloff": 12},
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("op", SERIES, ids=[f"{op['type']}-{k}" for k, op in enumerate(SERIES)])
+def test_a_long_series_in_closed_form_agrees_with_the_reference(warp_page, op):
+    """Evenly spaced tines (even and odd counts) and rings (equal or alternating
+    signs, given in any order) are summed in closed form, as the kernels'
+    series_sum: four exponentials, whatever the count."""
+    page, base = warp_page
+    op = {**op, **WINDOW}
+    assert page.evaluate(KIND, op) == (9 if op["type"] == "rake" else 10)
+    moved = 0.0
+    for t in TIMES:
+        got, _ = check(page, base, op, t)
+        moved = max(moved, 1 - agreement(got, base))
+    assert moved > 0.05, f"{op['type']}: the op changed too little for the test to see a fault"

@@ -20,13 +20,13 @@ import { initPointer, replayEarly } from "./pointer.js";
 import { initMotion, motionFieldsOf, motionLevelOf, showMotionFields, showMotionLevel } from "./motion.js";
 import { loadInfo, loadRecipe, poll } from "./recipe.js";
 import { initRecord } from "./record.js";
-import { resize, screenOf, sheetOf, showSheet, whenIdle } from "./sheet.js";
+import { isRendering, resize, screenOf, sheetOf, showSheet, whenIdle } from "./sheet.js";
 import { get, isLive, subscribe, update } from "./store.js";
 import { clockOf, initTimeline, liveStats, playOf, resume, setTime, showClock, showPlay } from "./timeline.js";
 import { buildToolbar } from "./toolbar.js";
 import { buildTools } from "./tools.js";
 import { initSize, initView, panBy, resetView, toCanvas, toPixel, zoomAt } from "./view.js";
-import { warpState } from "./warping.js";
+import { prefetchLayers, warpState } from "./warping.js";
 
 // The views that need the recipe and /api/info, in the order they first run
 // (the canvas sized before the sheet renders).
@@ -45,6 +45,7 @@ const VIEWS = [
   [motionFieldsOf, showMotionFields],
   [motionLevelOf, showMotionLevel],
   [(s) => [s.gesture === null], resume],  // the clock goes on after a gesture
+  [(s) => [s.selected, s.doc, s.preview, s.screen, s.view, s.playing, s.solo], prefetchLayers],
 ];
 
 async function start() {
@@ -84,6 +85,7 @@ window.designer = {
   handles: (i) => pointsOf(i),  // op i's handles: [name, point]
   setTool: (name) => update(() => ({tool: name})),
   warp: warpState,  // whether the page warps during gestures (warp.js loaded, WebGL2), layers held
+  rendering: isRendering,  // whether a server frame is on its way (benchmarks settle on it)
   zoomAt, panBy, resetView,  // the view (zoom about a device pixel, pan by device pixels)
   toCanvas, toPixel,  // the sheet's device pixels <-> canvas points, through the view
 };

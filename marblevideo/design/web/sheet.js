@@ -149,7 +149,13 @@ function paint() {
   if (warpJob) {
     const job = warpJob; warpJob = null;
     const done = job.answer.stamp >= drawnStamp ? job() : undefined;  // undefined: stale
-    if (done) { ctx.drawImage(done.canvas, 0, 0); note("warp", job.answer, done.shown); lastWarp = done.shown; }
+    if (done) {
+      // only what changed since the warp's last frame, when that is what the sheet shows
+      const {image, rect} = done.read(lastKind !== "warp");
+      if (rect[2] > 0 && rect[3] > 0) ctx.putImageData(image, 0, 0, ...rect);
+      note("warp", job.answer, done.shown);
+      lastWarp = done.shown;
+    }
     else if (done === null) show({draft: true, doc: get().preview ? get().preview.doc : null}, job.answer);
   }
   if (waiting) {

@@ -11,10 +11,12 @@
 import { STEP, drawSource } from "./warp_shaders.js";
 import { at, resolve, rgb255 } from "./warp_ops.js";
 import { strokeAt } from "./warp_stroke.js";
-import { StrokeMap, deviceRect, setSteps } from "./warp_map.js";
+import { StrokeMap, deviceRect, setSteps, stepRows } from "./warp_map.js";
 import { program, setCommon, texture } from "./warp_gl.js";
 
 const EDGES = { clamp: 0, repeat: 1, mirror: 2, background: 3 };
+// The most steps of a stroke the page folds (marblevideo/ops/stroke.py MAX_STEPS; more: the server's frame).
+const MAX_STEPS = 200000;
 
 let canWarp = null;
 
@@ -122,21 +124,30 @@ class Warp {
     let steps = { list, n: 0, rect: [1, 1, -1, -1] }, clip = null;
     if (kind === "stroke") {
       const layout = strokeAt(op, t, plan.drag), builds = this.map.builds ?? 0;
+      if (!(layout.count <= MAX_STEPS)) throw new Error(`stroke: ${layout.count} steps`);
       this.map.exact = !!this.exactSteps;
       const folded = this.map.update(op, layout, plan.drag, this.toCanvas, [width, height]);
       kind = 8;
       p = [];
-      steps = this.map.pending(layout, op.width ?? 24);
-      // a stroke growing over the same layers changes the frame only where its
-      // steps folded or walked now or in the last frame reach: the rest is kept
-      const now = union(steps.n ? steps.rect : null, folded);
-      if (this.lastStroke && (this.map.builds ?? 0) === builds) clip = union(this.lastStroke, now) || [1, 1, -1, -1];
-      this.lastStroke = now || [1, 1, -1, -1];
+      const sw = op.width ?? 24, last = this.lastStroke;
+      steps = this.map.pending(layout, sw);
+      // a stroke growing over the same layers changes the frame only where the
+      // steps made whole since the last frame, that frame's partial step, this
+      // one's and the steps folded now reach (the newest steps act first on the
+      // way back: a point out of their reach walks the same steps as before)
+      const partial = layout.partial ? stepRows(layout, 0, 0, sw, layout.partial).rect : null;
+      if (last && (this.map.builds ?? 0) === builds && layout.count >= last.count) {
+        const made = stepRows(layout, last.count, layout.count, sw);
+        clip = union(union(made.n ? made.rect : null, folded), union(last.partial, partial)) || [1, 1, -1, -1];
+      }
+      this.lastStroke = { count: layout.count, partial };
     } else this.lastStroke = null;
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, width, height);
+    this.dirty = [0, 0, width, height];
     if (clip) {
       const [x0, y0, x1, y1] = deviceRect(clip, this.toCanvas, width, height);
+      this.dirty = [x0, y0, Math.max(0, x1 - x0), Math.max(0, y1 - y0)];
       if (x1 <= x0 || y1 <= y0) return;
       gl.enable(gl.SCISSOR_TEST);
       gl.scissor(x0, y0, x1 - x0, y1 - y0);
@@ -184,6 +195,29 @@ class Warp {
   // How many times the stroke map was laid from scratch (tests: a growing stroke lays it once).
   get strokeBuilds() {
     return this.map.builds ?? 0;
+  }
+
+  // The last draw's pixels into an ImageData of the canvas' size, kept and
+  // reused (RGBA, top row first): all of them, or (``all`` false) only those
+  // the draw changed since the one before. Returns { image, rect: [x, y, w, h] }
+  // (device pixels, y down) for putImageData's dirty rect. A readPixels and
+  // putImageData cost a few ms a 930x620 frame on SwiftShader, where drawing
+  // the WebGL canvas into a 2D one cost 15-25 ms.
+  read(all = true) {
+    const gl = this.gl, { width, height } = this.canvas;
+    if (!this.image || this.image.width !== width || this.image.height !== height) {
+      this.image = new ImageData(width, height);
+      all = true;
+    }
+    const [x, y, w, h] = all || !this.dirty ? [0, 0, width, height] : this.dirty;
+    if (w > 0 && h > 0) {
+      if (!this.rows || this.rows.length < w * h * 4) this.rows = new Uint8Array(w * h * 4);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      gl.readPixels(x, y, w, h, gl.RGBA, gl.UNSIGNED_BYTE, this.rows);
+      const data = this.image.data, row = w * 4;
+      for (let j = 0; j < h; j++) data.set(this.rows.subarray(j * row, (j + 1) * row), ((height - 1 - y - j) * width + x) * 4);
+    }
+    return { image: this.image, rect: [x, height - y - h, w, h] };
   }
 
   // The canvas' pixels, RGBA, top row first.

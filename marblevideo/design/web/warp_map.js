@@ -111,9 +111,7 @@ export class StrokeMap {
 
   // The whole steps not folded yet and the partial one, for the frame's walk.
   pending(layout, width) {
-    const rows = stepRows(layout, this.count, layout.count, width), st = layout.partial;
-    if (st) addRows(rows, st, st.theta, width);
-    return rows;
+    return stepRows(layout, this.count, layout.count, width, layout.partial);
   }
 
   // Mark the 16x16 device tiles a chunk's steps reach (the map is 0 elsewhere;
@@ -146,11 +144,13 @@ export class StrokeMap {
   }
 }
 
-// Whole steps a..b-1 as list rows (cx, cy, hx, hy; theta, 0, 0, 0 per tine, in
-// forward order), their count and their reach (1.5 w about each centre) in canvas units.
-export function stepRows(layout, a, b, width) {
+// Whole steps a..b-1 (and ``partial``, a step with its theta, when given) as
+// list rows (cx, cy, hx, hy; theta, 0, 0, 0 per tine, in forward order), their
+// count and their reach (1.5 w about each centre) in canvas units.
+export function stepRows(layout, a, b, width, partial = null) {
   const rows = { list: [], n: 0, width, rect: [Infinity, Infinity, -Infinity, -Infinity] };
   for (let k = a; k < b; k++) addRows(rows, layout.wholeStep(k), layout.wholeTheta, width);
+  if (partial) addRows(rows, partial, partial.theta, width);
   return rows;
 }
 

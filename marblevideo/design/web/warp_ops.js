@@ -131,6 +131,27 @@ function inks(op, t) {
 
 const rad = (deg) => (deg * Math.PI) / 180;
 
+// sum_k c_k e^(-|u - o_k| / L) in closed form, as marblevideo/ops/series.py
+// packs it for the kernels' series_sum (the same limits: at least 4 terms
+// evenly spaced at least 0.05 L apart, the c_k all equal or alternating in
+// sign): [o0, 1/s, s, s/L, 1/(1 - sigma q), c0, sigma, sigma^(n-1)], q = e^(-s/L),
+// positions sorted; null: summed term by term.
+export function closedSeries(positions, coefficients, falloff) {
+  const n = positions.length;
+  if (n < 4) return null;
+  const pairs = positions.map((o, k) => [o, coefficients[k]]).sort((a, b) => a[0] - b[0] || a[1] - b[1]);
+  const o = pairs.map((q) => q[0]), c = pairs.map((q) => q[1]), step = (o[n - 1] - o[0]) / (n - 1);
+  if (!(step > 0) || o.some((ok, k) => Math.abs(ok - (o[0] + k * step)) > 1e-9 * step)) return null;
+  const ratio = step / falloff;
+  if (!(ratio >= 0.05)) return null;
+  let sigma;
+  if (c.every((ck) => ck === c[0])) sigma = 1;
+  else if (c.every((ck, k) => ck === c[0] * (k % 2 ? -1 : 1))) sigma = -1;
+  else return null;
+  const g = sigma > 0 ? 1 / -Math.expm1(-ratio) : 1 / (1 + Math.exp(-ratio));
+  return [o[0], 1 / step, step, ratio, g, c[0], sigma, n % 2 ? 1 : sigma];
+}
+
 // The op at t as { kind, p: [16 numbers], list: [numbers] } for the shader
 // (kinds and slots as warp_shaders.js reads them), or { kind: "stroke", ... }
 // for warp.js, or null when the page cannot.
@@ -164,9 +185,12 @@ function resolveOrThrow(op, t) {
     return { kind: 4, p: [o[0] * p, o[1] * p], list: [] };
   }
   if (ty === "rake") {
-    const a = rad(v("angle")), pt = v("point"), n = op.count, s = op.spacing;
+    const a = rad(v("angle")), pt = v("point"), n = op.count, s = op.spacing, L = v("falloff");
     const tines = op.tines ? op.tines.map(Number) : Array.from({ length: n }, (_, k) => (k - (n - 1) / 2) * s);
-    return { kind: 5, p: [pt[0], pt[1], Math.cos(a), Math.sin(a), v("alpha") * p, 1 / v("falloff"), tines.length], list: tines.flatMap((o) => [o, 1, 0, 0]) };
+    const head = [pt[0], pt[1], Math.cos(a), Math.sin(a), v("alpha") * p, 1 / L, tines.length, 0];
+    const closed = closedSeries(tines, tines.map(() => 1), L);
+    if (closed) return { kind: 9, p: [...head, ...closed], list: [] };
+    return { kind: 5, p: head, list: tines.flatMap((o) => [o, 1, 0, 0]) };
   }
   return rotation(op, t, p, v);
 }
@@ -175,7 +199,9 @@ function resolveOrThrow(op, t) {
 // 0 circle/vortex (a = alpha, b = lambda, c = radius or -1 for a vortex),
 // 1 turn (a = angle radians), 2 oseen (a = G, b = (4 nu)^(3/4), c = (2 pi / T)^(3/4)),
 // 3 stir by arc (a = alpha, rings |r|, sign, 1/L), 4 stir by turn (a = radians, rings |r|, sign, 1/(L |r|)).
-// Jiggle is kind 7: p = [mx, my, 1/w, phase turns, A, B].
+// Jiggle is kind 7: p = [mx, my, 1/w, phase turns, A, B]. A closed-form series
+// (closedSeries: its 8 numbers in p[8..15]) makes a rake kind 9 (kind 5's p) and
+// a stir by arc kind 10 (p = [cx, cy, 3, alpha, 1/L, 0, n, 0]).
 function rotation(op, t, p, v) {
   const ty = op.type;
   if (ty === "jiggle") {
@@ -198,6 +224,8 @@ function rotation(op, t, p, v) {
     const radii = op.radii.map(Number), L = v("falloff"), relative = op.turn !== undefined;
     const list = radii.flatMap((r) => [Math.abs(r), Math.sign(r), 1 / (relative ? L * Math.abs(r) : L), 0]);
     if (relative) return rot(4, rad(v("turn") * p), 0, 0, radii.length, list);
+    const closed = closedSeries(radii.map(Math.abs), radii.map(Math.sign), L);
+    if (closed) return { kind: 10, p: [c[0], c[1], 3, v("alpha") * p, 1 / L, 0, radii.length, 0, ...closed], list: [] };
     return rot(3, v("alpha") * p, 0, 0, radii.length, list);
   }
   throw new Error(`unknown op ${ty}`);

@@ -146,6 +146,22 @@ vec2 drops(vec2 P) {
   return P;
 }
 
+// sum_k c_k e^(-|u - o_k| / L) over n evenly spaced terms in closed form, as
+// kernels/prelude.cl series_sum (two geometric series either side of u: four
+// exponentials for any n). uQ2, uQ3: o0, 1/s, s, s/L; 1/(1 - sigma q), c0,
+// sigma, sigma^(n-1) (warp_ops.js closedSeries).
+float seriesSum(float u, float invL, float n) {
+  float o0 = uQ2.x, step = uQ2.z, ratio = uQ2.w, sigma = uQ3.z;
+  float j = clamp(floor((u - o0) * uQ2.y), -1.0, n - 1.0);
+  float b = u - (o0 + j * step);
+  float sj = 1.0 + (sigma - 1.0) * (j - 2.0 * floor(0.5 * j));
+  float below = exp(-(j < 0.0 ? 0.0 : b) * invL);
+  float above = exp(-(j >= n - 1.0 ? 0.0 : step - b) * invL);
+  below *= 1.0 - sj * sigma * exp(-(j + 1.0) * ratio);
+  above *= sigma * (1.0 - uQ3.w * sj * exp(-(n - 1.0 - j) * ratio));
+  return uQ3.y * uQ3.x * sj * (below + above);
+}
+
 vec2 shears(vec2 P) {
   vec2 A = vec2(uQ0.x, uQ0.y), M = vec2(uQ0.z, uQ0.w), N = vec2(-M.y, M.x);
   float across = dot(P - A, N), shift;
@@ -155,6 +171,8 @@ vec2 shears(vec2 P) {
     if (s > 0.0) d = 0.5 * s - abs(d - s * floor(d / s) - 0.5 * s);
     shift = uQ1.x * lam / (d + lam);
   }
+#elif KIND == 9
+  shift = uQ1.x * seriesSum(across, uQ1.y, uQ1.z);
 #else
   {
     float sum = 0.0;
@@ -165,6 +183,14 @@ vec2 shears(vec2 P) {
   return P - shift * M;
 }
 
+#if KIND == 10
+// A stir whose rings are a closed-form series: theta = alpha sum(R) / R.
+vec2 rotations(vec2 P) {
+  vec2 C = vec2(uQ0.x, uQ0.y), q = P - C;
+  float R = length(q);
+  return C + rot(q, R > 0.0 ? -uQ0.w * seriesSum(R, uQ1.x, uQ1.z) / R : 0.0);
+}
+#else
 vec2 rotations(vec2 P) {
   vec2 C = vec2(uQ0.x, uQ0.y), q = P - C;
   int sub = int(uQ0.z);
@@ -183,6 +209,7 @@ vec2 rotations(vec2 P) {
   }
   return C + rot(q, -theta);
 }
+#endif
 
 vec2 jiggle(vec2 P) {
   vec2 M = vec2(uQ0.x, uQ0.y), N = vec2(-M.y, M.x);
@@ -208,13 +235,13 @@ vec2 wave(vec2 P) {
 vec2 inverseOp(vec2 P) {
 #if KIND == 1
   return drops(P);
-#elif KIND == 2 || KIND == 5
+#elif KIND == 2 || KIND == 5 || KIND == 9
   return shears(P);
 #elif KIND == 3
   return wave(P);
 #elif KIND == 4
   return P - vec2(uQ0.x, uQ0.y);
-#elif KIND == 6
+#elif KIND == 6 || KIND == 10
   return rotations(P);
 #elif KIND == 7
   return jiggle(P);

@@ -45,6 +45,8 @@ function step(a, b, n0, tines, w) {
 // stylus.whole_count: the largest W with W d <= s.
 export function wholeCount(s, d) {
   let k = Math.floor(s / d);
+  // past 2^52 k + 1 is k: the loops below would not end
+  if (!(k < 2 ** 52)) throw new Error(`stroke: ${s} / ${d} steps`);
   while ((k + 1) * d <= s) k += 1;
   while (k > 0 && k * d > s) k -= 1;
   return k;
@@ -54,6 +56,8 @@ export function wholeCount(s, d) {
 // wholeStep(k), partial (a step with theta, or null) } at time t; drag given.
 export function strokeAt(op, t, drag) {
   const w = op.width ?? 24, tines = (op.tines ?? [0]).map(Number), pa = path(op.points);
+  // (a width of 0 would make infinitely many steps: loops without end; the server refuses it)
+  if (!(w > 0)) throw new Error(`stroke: width ${w}`);
   const l = pa.arc[pa.arc.length - 1], p = progress(op, t), law = (len) => (drag * len * 16) / (9 * w);
   if (!(l > 0)) return { timed: !!op.times, d: w / 4, count: 0, partial: null, wholeTheta: 0, wholeStep: null };
   if (op.times) {

@@ -12,7 +12,7 @@ import * as lib from "./warp.js";
 
 // (``?warp=0`` in the page's address: the server's frames only, for tests and benchmarks)
 let warp = null, canvas = null, broken = new URLSearchParams(location.search).get("warp") === "0";
-let ready = null, loading = null, wanted = null, again = () => {};
+let ready = null, loading = null, wanted = null, failed = null, again = () => {};
 // ``fn`` runs when layers come (the sheet draws the gesture again).
 export function whenLayers(fn) { again = fn; }
 
@@ -74,7 +74,8 @@ function keyOf(doc, k, t, settled, view, w, h) {
 
 // Draw the preview of ``s`` (op k changed) by warping, through ``draw(job)``
 // (job() draws into a canvas of the sheet's size at the next animation frame and
-// returns {canvas, shown}, or null: it could not; ``answer``: the inputs it
+// returns {read, shown}, or null: it could not; read(all) gives the pixels,
+// {image, rect}: all, or only those changed since the warp's frame before; ``answer``: the inputs it
 // answers, given back with it); false when the page
 // cannot warp it now (the caller asks the server). ``exact``: the page's last
 // exact frame of the saved recipe, or null; ``shown()``: the sheet's picture
@@ -89,13 +90,19 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
     const from = settled ? since : null;
     const base = top ? baseOf(s, exact, view, w, h, from) || baseOf(s, shown(), view, w, h, from) : null;
     if (base) setLayers(key, base, null, view, w, h);
-    else { ask(doc, k, t, view, w, h, key); return false; }
+    else {
+      // while its layers are on their way the frame waits for them (whenLayers
+      // draws the newest input then): a server frame meanwhile would only slow
+      // them down on the same cores; it is asked for when they cannot come
+      ask(doc, k, t, view, w, h, key);
+      return failed !== key && (loading === key || (wanted !== null && wanted.key === key));
+    }
   }
   const op = doc.ops[k], edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
   draw(() => {
     if (ready !== key) return null;
     const ok = warp.draw(op, t, doc.background === undefined ? "#ffffff" : doc.background, edges);
-    return ok ? {canvas, shown: {doc, t: +t.toFixed(3), w, h, view, ops: null}} : null;
+    return ok ? {read: (all) => warp.read(all), shown: {doc, t: +t.toFixed(3), w, h, view, ops: null}} : null;
   }, answer);
   return true;
 }
@@ -128,7 +135,7 @@ async function ask(doc, k, t, view, w, h, key) {
     try {
       const q = new URLSearchParams({k: o.k, t: o.t.toFixed(3), w: o.w, h: o.h, view: viewText(o.view)});
       const r = await api.post(`/api/layers?${q}`, o.doc);
-      if (!r.ok) continue;
+      if (!r.ok) { failed = o.key; continue; }
       const raw = await r.arrayBuffer(), head = new DataView(raw);
       const bw = head.getUint32(0, true), bh = head.getUint32(4, true), n = bw * bh * 4;
       const above = head.getUint32(12, true) ? new Float32Array(raw, 16 + n, n) : null;
@@ -136,9 +143,22 @@ async function ask(doc, k, t, view, w, h, key) {
         setLayers(o.key, new Uint8Array(raw, 16, n), above, o.view, bw, bh);
         again();
       }
-    } catch (e) { /* the server is away: the caller's frames go on */ }
+    } catch (e) { failed = o.key; /* the server is away: the caller's frames go on */ }
     finally { loading = null; }
   }
+}
+// The layers of the selected op asked before a gesture needs them (its handles
+// and sliders are what the hand takes next), at the time shown, when no
+// gesture, play or solo is on (main.js runs this when the selection, the
+// recipe, the size or the view change, not the time).
+export function prefetchLayers(s) {
+  const k = s.selected, doc = s.doc;
+  if (k === null || !doc || !(k < doc.ops.length) || s.preview || s.playing || s.solo !== null || !s.screen) return;
+  if (!s.info || s.info.mode === "live") return;
+  const [w, h] = s.screen, view = viewOf(s), t = s.t;
+  if (!available(w, h)) return;
+  const key = keyOf(doc, k, t, t >= settledFrom(doc, k), view, w, h);
+  if (ready !== key) ask(doc, k, t, view, w, h, key);
 }
 // For tests and benchmarks: whether the page warps, and the layers it holds.
 export const warpState = () => ({broken, ready: ready !== null});
