@@ -266,9 +266,9 @@ def test_a_stroke_grown_frame_by_frame_redraws_all_it_changes(warp_page):
     full = timed_stroke()
     for i in [*range(1, 59, 10), 59]:
         grown = {**full, "points": full["points"][: i + 1], "times": full["times"][: i + 1]}
-        page.evaluate(EXTEND, grown)
+        answer(page, EXTEND, grown)
         if i in (21, 41, 59):
-            kept = np.frombuffer(base64.b64decode(page.evaluate(READ)), np.uint8)
+            kept = np.frombuffer(base64.b64decode(answer(page, READ)), np.uint8)
             kept = kept.reshape(base.shape)
             afresh = warp_frame(page, grown, full["times"][i], base.shape)
             assert agreement(kept, afresh) >= 0.999, f"grown to point {i}"
@@ -361,7 +361,7 @@ def test_a_long_series_in_closed_form_agrees_with_the_reference(warp_page, op):
     series_sum: four exponentials, whatever the count."""
     page, base = warp_page
     op = {**op, **WINDOW}
-    assert page.evaluate(KIND, op) == (9 if op["type"] == "rake" else 10)
+    assert answer(page, KIND, op) == (9 if op["type"] == "rake" else 10)
     moved = 0.0
     for t in TIMES:
         got, _ = check(page, base, op, t)
