@@ -9,15 +9,15 @@ Skipped, with the reason, without Playwright or Chromium."""
 
 from __future__ import annotations
 
-import json
 import time
 
 import numpy as np
 import pytest
-from helpers import ROOT
-from live_helpers import LiveProcess, live_settled, wait_for, watched_page
+from live_helpers import live_designer, live_settled, wait_for
 
 pytestmark = pytest.mark.tier("integration")
+
+EMPTY = {"marblevideo": 1, "ops": []}
 
 #: The stroke drawn, in frame pixels: left to right across the middle.
 PATH = [(120 + 9 * k, 200 + 30 * np.sin(k / 6)) for k in range(41)]
@@ -35,15 +35,7 @@ def _near_path(image: np.ndarray, scale: float) -> np.ndarray:
 
 
 def test_a_stroke_moves_the_live_ink_as_it_is_drawn(browser, tmp_path):
-    recipe = tmp_path / "live.json"
-    recipe.write_text(json.dumps({"marblevideo": 1, "ops": []}))
-    live = LiveProcess(
-        ROOT / "samples" / "coffee.jpg", "--loop", "--ops", recipe, "--preview", "--port", "0",
-        "--duration", "120", cwd=tmp_path,
-    )  # fmt: skip
-    saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
-    try:
-        page, errors = watched_page(browser, live.url, "body[data-ready='1'][data-mode='live']")
+    with live_designer(browser, tmp_path, EMPTY) as (live, page, errors, saved):
         box = page.locator("#overlay").bounding_box()
         scale = box["width"] / 600  # the shot's pixels per frame pixel
 
@@ -82,20 +74,10 @@ def test_a_stroke_moves_the_live_ink_as_it_is_drawn(browser, tmp_path):
         assert np.abs(_near_path(after, scale) - _near_path(before, scale)).mean() > 8
         page.close()
         assert errors == []
-    finally:
-        assert live.stop() == 0, live.stderr()
 
 
 def test_a_comb_shows_in_the_live_frames_while_dragged(browser, tmp_path):
-    recipe = tmp_path / "live.json"
-    recipe.write_text(json.dumps({"marblevideo": 1, "ops": []}))
-    live = LiveProcess(
-        ROOT / "samples" / "coffee.jpg", "--loop", "--ops", recipe, "--preview", "--port", "0",
-        "--duration", "120", cwd=tmp_path,
-    )  # fmt: skip
-    saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
-    try:
-        page, errors = watched_page(browser, live.url, "body[data-ready='1'][data-mode='live']")
+    with live_designer(browser, tmp_path, EMPTY) as (live, page, errors, saved):
         box = page.locator("#overlay").bounding_box()
         before = live_settled(page, live)
         page.evaluate("designer.setTool('comb')")
@@ -119,5 +101,3 @@ def test_a_comb_shows_in_the_live_frames_while_dragged(browser, tmp_path):
         assert comb["type"] == "comb"
         page.close()
         assert errors == []
-    finally:
-        assert live.stop() == 0, live.stderr()

@@ -15,7 +15,7 @@ import cv2
 import numpy as np
 import pytest
 from helpers import ROOT
-from warp_page import answer, serve_web, set_above, setup_warp, warp_frame
+from warp_page import READ, answer, serve_web, set_above, setup_warp, warp_frame
 
 from benchmarks.realtime_probe import agreement
 from marblevideo.ops import recipe_types
@@ -246,15 +246,6 @@ def test_a_growing_stroke_is_the_finished_stroke_at_each_time(warp_page):
     healing = {**full, "heal": [1.5, 2.5]}
     for t in (1.7, 2.2):
         check(page, base, healing, t)
-
-
-READ = """() => {
-  const px = W.readPixels();
-  let s = "";
-  const n = 0x8000;
-  for (let i = 0; i < px.length; i += n) s += String.fromCharCode(...px.subarray(i, i + n));
-  return btoa(s);
-}"""
 
 
 def test_a_stroke_grown_frame_by_frame_redraws_all_it_changes(warp_page):

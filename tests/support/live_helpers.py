@@ -130,6 +130,27 @@ def designer_page(browser, folder: Path, *args: object, duration: float = 60):
         assert app.stop() == 0
 
 
+@contextmanager
+def live_designer(browser, folder: Path, recipe: dict):
+    """``marblevideo live samples/coffee.jpg --loop --preview`` (600x400, the clock
+    running) on ``recipe`` saved in ``folder``, and the page in live mode: yields
+    (live, page, errors, saved), ``saved()`` the file's ops now; the session
+    must then exit with status 0."""
+    from helpers import ROOT
+
+    path = folder / "live.json"
+    path.write_text(json.dumps(recipe))
+    live = LiveProcess(
+        ROOT / "samples" / "coffee.jpg", "--loop", "--ops", path, "--preview", "--port", "0",
+        "--duration", "120", cwd=folder,
+    )  # fmt: skip
+    try:
+        page, errors = watched_page(browser, live.url, "body[data-ready='1'][data-mode='live']")
+        yield live, page, errors, lambda: json.loads(path.read_text())["ops"]
+    finally:
+        assert live.stop() == 0, live.stderr()
+
+
 # The page, driven in Chromium: waits, drags and what the sheet shows.
 
 INK = "#1d3557"  # the page's first colour

@@ -25,15 +25,23 @@ SETUP = """async ([w, h, b64]) => {
   return true;
 }"""
 
-DRAW = """([op, t, bg, edges, toCanvas, toBase]) => {
-  W.setGeometry(toCanvas, toBase);
-  if (!W.draw(op, t, bg, edges)) return null;
-  const px = W.readPixels();
+_PIXELS = """const px = W.readPixels();
   let s = "";
   const n = 0x8000;
   for (let i = 0; i < px.length; i += n) s += String.fromCharCode(...px.subarray(i, i + n));
-  return btoa(s);
-}"""
+  return btoa(s);"""
+
+#: The warp canvas' pixels as it is now, base64 (RGBA, top row first).
+READ = "() => {\n  " + _PIXELS + "\n}"
+
+DRAW = (
+    """([op, t, bg, edges, toCanvas, toBase]) => {
+  W.setGeometry(toCanvas, toBase);
+  if (!W.draw(op, t, bg, edges)) return null;
+  """
+    + _PIXELS
+    + "\n}"
+)
 
 
 ABOVE = """(b64) => {
