@@ -7,11 +7,7 @@ lossless route of the same run; timing against the input.
 
 from __future__ import annotations
 
-import contextlib
-import functools
-import http.server
 import json
-import threading
 
 import cv2
 import numpy as np
@@ -21,6 +17,7 @@ from helpers import ROOT, files, one_line
 from PIL import Image
 from tolerances import KERNEL_LEVELS, KERNEL_SHARE
 
+from benchmarks.webfolder import serve_folder
 from marblevideo import api
 from marblevideo.errors import UsageError
 from marblevideo.jobs.pipeline import iter_frames
@@ -344,26 +341,8 @@ def test_pipe_stills(cli, tmp_path, recipe):
     assert len(probe(tmp_path / "o.nut").frames) == 15
 
 
-@contextlib.contextmanager
-def _served(folder):
-    handler = functools.partial(_QuietHandler, directory=str(folder))
-    server = http.server.ThreadingHTTPServer(("127.0.0.1", 0), handler)
-    thread = threading.Thread(target=server.serve_forever, daemon=True)
-    thread.start()
-    try:
-        yield f"http://127.0.0.1:{server.server_address[1]}"
-    finally:
-        server.shutdown()
-        server.server_close()
-
-
-class _QuietHandler(http.server.SimpleHTTPRequestHandler):
-    def log_message(self, *args):
-        pass
-
-
 def test_url_input(cli, tmp_path, clip, recipe):
-    with _served(tmp_path) as base:
+    with serve_folder(tmp_path) as base:
         proc = cli(f"{base}/in.mp4", "--ops", "r.json", "-o", "url.mkv", "--codec", "ffv1")
         assert proc.returncode == 0, proc.stderr
         grab = cli(f"{base}/in.mp4", "--ops", "r.json", "-o", "url.png", "--time", "0.5")
