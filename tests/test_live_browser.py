@@ -13,16 +13,14 @@ import copy
 import json
 
 import pytest
-from helpers import ROOT
 from live_helpers import (
     RECIPE,
     REFUSED,
-    LiveProcess,
     drag,
     frame_diff,
+    live_designer,
     live_settled,
     wait_for,
-    watched_page,
 )
 
 from marblevideo.ops import op_def, slider_range
@@ -59,15 +57,8 @@ def _edit(page, field: str, value: str) -> None:
 
 
 def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
-    recipe = tmp_path / "live.json"
-    recipe.write_text(json.dumps(RECIPE))
-    live = LiveProcess(
-        ROOT / "samples" / "coffee.jpg", "--loop", "--ops", recipe, "--preview", "--port", "0",
-        "--duration", "120", cwd=tmp_path,
-    )  # fmt: skip
-    saved = lambda: json.loads(recipe.read_text())["ops"]  # noqa: E731
-    try:
-        page, errors = watched_page(browser, live.url, "body[data-ready='1'][data-mode='live']")
+    recipe = tmp_path / "live.json"  # live_designer's file
+    with live_designer(browser, tmp_path, RECIPE) as (live, page, errors, saved):
         # the stream: frames keep coming, and the live counters with them
         page.wait_for_function("Number(document.getElementById('sheet').dataset.frames) > 5")
         first = int(page.get_attribute("#sheet", "data-frames"))
@@ -187,9 +178,6 @@ def test_live_page_is_the_designer_in_live_mode(browser, tmp_path):
         page.wait_for_function(f"Number(document.getElementById('sheet').dataset.frames) > {n}")
         assert live.get("/stats")["recipe_version"] == version
         page.close()
-    finally:
-        rc = live.stop()
-    assert rc == 0, live.stderr()
     line = [x for x in live.stderr().splitlines() if "ops[1].lambda" in x]
     assert len(line) == 1 and "keeping the previous recipe" in line[0], live.stderr()
     # Chromium logs the refused PUT, and a read of the recipe while the file was

@@ -133,7 +133,7 @@ def designer_page(browser, folder: Path, *args: object, duration: float = 60):
 @contextmanager
 def live_designer(browser, folder: Path, recipe: dict):
     """``marblevideo live samples/coffee.jpg --loop --preview`` (600x400, the clock
-    running) on ``recipe`` saved in ``folder``, and the page in live mode: yields
+    running) on ``recipe`` saved as ``folder``/live.json, and the page in live mode: yields
     (live, page, errors, saved), ``saved()`` the file's ops now; the session
     must then exit with status 0."""
     from helpers import ROOT
