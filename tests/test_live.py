@@ -132,14 +132,14 @@ def test_the_preview_encodes_the_newest_frame_at_its_width():
         rgba = np.zeros((60, 80, 4), np.uint8)
         rgba[..., 0], rgba[..., 3] = 200, 255  # red
         preview.put(rgba, time.monotonic())
-        seq, data = preview.latest(0, timeout=5.0)
-        assert seq == 1 and latency.median() is not None
+        seq, data, tag = preview.latest(0, timeout=5.0)
+        assert seq == 1 and tag == 0 and latency.median() is not None
         bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
         assert bgr.shape == (30, 40, 3) and abs(int(bgr[15, 20, 2]) - 200) <= 3
-        assert preview.latest(1, timeout=0.05) == (1, None)
+        assert preview.latest(1, timeout=0.05) == (1, None, 0)
         preview.close()
         start = time.monotonic()
-        assert preview.latest(1, timeout=5.0) == (1, None) and time.monotonic() - start < 1
+        assert preview.latest(1, timeout=5.0) == (1, None, 0) and time.monotonic() - start < 1
     finally:
         stop.set()
         encoder.join(5)

@@ -66,13 +66,9 @@ class JpegPreview:
                 self.seq += 1
                 self._cond.notify_all()
 
-    def latest(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None]:
-        """Wait for a JPEG newer than sequence ``after``: (seq, bytes), or (after,
-        None) after ``timeout`` seconds or once closed."""
-        return self.latest_tagged(after, timeout)[:2]
-
-    def latest_tagged(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None, int]:
-        """:meth:`latest` and the JPEG's tag (0 with no JPEG)."""
+    def latest(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None, int]:
+        """Wait for a JPEG newer than sequence ``after``: (seq, bytes, its tag), or
+        (after, None, 0) after ``timeout`` seconds or once closed."""
         with self._cond:
             self._cond.wait_for(lambda: self.seq > after or self._closed, timeout)
             if self.seq > after and self._data is not None:

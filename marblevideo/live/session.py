@@ -84,7 +84,6 @@ class LiveSession:
         self._marbled_for: object = None  # the recipe's version (or a preview's serial)
         #: the stroke being drawn on the designer's page, shown until a save
         self.drawing = LivePreview(str(self.recipe_path))
-        self.showing_preview = 0  # the serial of the preview the frame shows (0: none)
         self.motion = LiveMotion(source.fps)  # the recipe's motion, when it has one
         # other signals (audio, marblevideo.signals.live), beside the controllers: by
         # the shown frame's time in its file when audio_by_frame
@@ -144,17 +143,17 @@ class LiveSession:
     def _current(self):
         bypass, mirror = self.playback.snapshot()
         _, recipe, version = self.file.snapshot()
-        drawing, key = self.drawing.current(version), version
-        self.showing_preview = 0 if drawing is None else drawing[1]
-        if drawing is not None:
-            recipe, key = drawing[0], ("preview", drawing[1])
+        drawing, key, serial = self.drawing.current(version), version, 0
+        if drawing is not None:  # the designer's preview, whose serial tags the JPEG
+            recipe, serial = drawing
+            key = ("preview", serial)
         with self._lock:
             if self._marbled_for != key:
                 self._marbler = self._Marbler(
                     self._bound(recipe), renderer=self.renderer, lattice=self.lattice
                 )
                 self._marbled_for = key
-            return self._marbler, bypass, mirror
+            return self._marbler, bypass, mirror, serial
 
     def take_document(self) -> dict:
         """The recipe's JSON now, with the motion strokes made as ordinary
@@ -206,7 +205,7 @@ class LiveSession:
 
     def latest_jpeg(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None, int]:
         """A JPEG newer than ``after``: (seq, bytes, its preview's serial or 0)."""
-        return self.preview.latest_tagged(after, timeout)
+        return self.preview.latest(after, timeout)
 
     # -- the loop -------------------------------------------------------------
     def run(self, duration: float | None = None) -> None:
@@ -246,7 +245,7 @@ class LiveSession:
         """Marble one captured frame and hand it to every output; ``frame_t``: its
         time for the motion (default: ``ts`` from the session's start); ``luma``:
         its decoded luma plane, which the motion sees (default: the RGBA's luma)."""
-        marbler, bypass, mirror = self._current()
+        marbler, bypass, mirror, serial = self._current()
         if mirror:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
             luma = None if luma is None else luma[:, ::-1]
@@ -259,7 +258,7 @@ class LiveSession:
         self.meters.frame(now, now - start)
         self.frames += 1
         if self.jpeg:
-            self.preview.put(out, ts, self.showing_preview)
+            self.preview.put(out, ts, 0 if bypass else serial)
         if self.recorder is not None:
             self.recorder.add(out, ts)
         if self.vcam is not None:

@@ -206,7 +206,7 @@ class _Handler(BaseHTTPRequestHandler):
         except ValueError:
             self._send(400, b"after: expected a frame number\n", "text/plain")
             return
-        seq, data, *tag = self.server.session.latest_jpeg(after, timeout=2.0)
+        seq, data, serial = self.server.session.latest_jpeg(after, timeout=2.0)
         if data is None:
             self._send(503, b"no new frame yet\n", "text/plain")
             return
@@ -215,8 +215,8 @@ class _Handler(BaseHTTPRequestHandler):
         self.send_header("Content-Length", str(len(data)))
         self.send_header("Cache-Control", "no-store")
         self.send_header("X-Frame-Seq", str(seq))
-        if tag:
-            self.send_header("X-Preview-Serial", str(tag[0]))
+        if serial:
+            self.send_header("X-Preview-Serial", str(serial))
         self.end_headers()
         self.wfile.write(data)
 
@@ -231,7 +231,7 @@ class _Handler(BaseHTTPRequestHandler):
         seq = 0
         try:
             while not self.server.closing.is_set():
-                seq, data, *_ = session.latest_jpeg(seq, timeout=0.5)
+                seq, data, _ = session.latest_jpeg(seq, timeout=0.5)
                 if data is None:
                     continue
                 head = (

@@ -7,16 +7,15 @@
 // leaves none behind). A preview names the recipe version it was drawn on: once
 // a save has made a newer one, the session ignores it.
 // Each preview the session takes has a serial, and the live frames that show
-// it carry it (X-Preview-Serial): :func:`previewAnswer` says which input the
-// first such frame answers (the newest when the preview was made), so the
-// frames record the time from a pointer move to the live frame that shows it.
+// it carry it (X-Preview-Serial): :func:`previewAnswer` says which input such a
+// frame shows (the newest when the preview was made), so the frames record the
+// time from a pointer move to the live frame that shows it.
 import * as api from "./api.js";
 import { newestInput } from "./record.js";
 
 const KEEP = 1500;
 let newest = null, sending = false, kept = null, timer = null;
 const made = new Map();  // serial -> the input it shows (the newest at its making)
-let answered = 0;  // the newest serial a frame has answered
 
 // The live clock's time at the press of event time ``stamp`` (ms,
 // performance.now()'s clock), or null while it is paused (a stroke then has
@@ -54,13 +53,9 @@ async function pump() {
   clearTimeout(timer);
   if (kept) timer = setTimeout(() => { if (kept && !newest) sendPreview(() => kept.recipe, kept.version); }, KEEP);
 }
-// What a live frame tagged with preview ``serial`` answers: the input its
-// preview shows, the first time a frame shows it (or a newer one); else none.
-export function previewAnswer(serial) {
-  if (!serial || serial <= answered || !made.has(serial)) return {input: null, inputAt: null};
-  answered = serial;
-  return made.get(serial);
-}
+// The input a live frame tagged with preview ``serial`` shows (none when unknown;
+// the sheet counts each input once).
+export const previewAnswer = (serial) => made.get(serial) || {input: null, inputAt: null};
 // The gesture is over: nothing more is sent; ``version`` (a cancel): the
 // session drops the preview now (null: a save is on its way and replaces it).
 export function clearPreview(version) {
