@@ -5,9 +5,10 @@ pointer), the page's preview PUTs and JPEG fetches timed in the page.
 Prints the live frames that answered inputs and their latency median (a pointer
 move to the first live frame showing the preview made after it: X-Preview-Serial),
 the PUTs' round trip and spacing, the JPEGs' spacing, and from a JPEG's arrival
-to its drawing.
+to its drawing, and the session's figures (frames rendered, source frames
+dropped, frames marbled again for a preview: ``redrawn``).
 
-    python -m benchmarks.live_latency [--seconds 2]
+    python -m benchmarks.live_latency [--seconds 2] [--fps 30]
 
 Not a test: numbers depend on the machine (see BENCHMARKS.md).
 """
@@ -35,8 +36,9 @@ def median(values) -> float:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--seconds", type=float, default=2.0, help="length of the drag (2)")
+    p.add_argument("--fps", type=float, default=None, help="the test source's rate (30)")
     args = argparse.Namespace(viewport=(1280, 860), dpr=1, **vars(p.parse_args()))
-    with served_page("live", args, live=True) as (_, page):
+    with served_page("live", args, live=True, fps=args.fps) as (_, page):
         page.evaluate(WRAP)
         page.evaluate("designer.setTool('comb')")
         first = page.evaluate("window.marbleFrames.length")
@@ -46,6 +48,7 @@ def main() -> None:
         time.sleep(1.5)
         frames = page.evaluate("window.marbleFrames")[first:]
         timed = page.evaluate("window.__timed")
+        stats = page.evaluate("fetch('/stats').then((r) => r.json())")
     answered = [f for f in frames if f["kind"] == "live" and f["input"] is not None]
     puts = [t for t in timed if t["kind"] == "put"]
     jpgs = [t for t in timed if t["kind"] == "jpg"]
@@ -60,6 +63,8 @@ def main() -> None:
           f"{median(gaps(puts, 's'))} ms")  # fmt: skip
     print(f"JPEGs: one every {median(gaps(jpgs, 'e'))} ms; arrival to drawn median "
           f"{median(drawn)} ms")  # fmt: skip
+    print(f"session: {stats['frames']} frames rendered, {stats['dropped']} source frames "
+          f"dropped, {stats.get('redrawn', 'no')} redrawn for a preview")  # fmt: skip
 
 
 if __name__ == "__main__":
