@@ -64,7 +64,8 @@ def main() -> None:
     print(f"JPEGs: one every {median(gaps(jpgs, 'e'))} ms; arrival to drawn median "
           f"{median(drawn)} ms")  # fmt: skip
     print(f"session: {stats['frames']} frames rendered, {stats['dropped']} source frames "
-          f"dropped, {stats.get('redrawn', 'no')} redrawn for a preview")  # fmt: skip
+          f"dropped, {stats.get('redrawn', 'no')} redrawn for a preview; render median "
+          f"{stats['render_ms']} ms, capture to JPEG median {stats['latency_ms']} ms")  # fmt: skip
 
 
 if __name__ == "__main__":
