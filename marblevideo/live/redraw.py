@@ -24,7 +24,9 @@ import numpy as np
 
 class LastFrame:
     """The last frame captured (as captured: before the mirror), its capture time
-    and its render's seconds, for a redraw; ``count``: redraws made."""
+    and the seconds a render takes (the session's median of the last seconds: a
+    render slowed once by other programs does not stop the redraws), for a
+    redraw; ``count``: redraws made."""
 
     def __init__(self, fps: float):
         self.period = 1.0 / fps if fps > 0 else 0.0

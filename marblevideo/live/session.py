@@ -258,7 +258,7 @@ class LiveSession:
         out = rgba if bypass else marbler.render(rgba, shown, animated=True)
         now = time.monotonic()
         self.meters.frame(now, now - start)
-        self.last.captured(captured, ts, now - start)
+        self.last.captured(captured, ts, self.meters.render.median() or now - start)
         self.frames += 1
         if self.jpeg:
             self.preview.put(out, ts, 0 if bypass else serial)
