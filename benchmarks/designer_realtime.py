@@ -59,8 +59,9 @@ LIVE_RECIPE = {"marblevideo": 1, "canvas": [1280, 720], "antialias": "rgss", "op
     {"type": "drop", "center": [640, 360], "radius": 80, "color": "#e9c46a"}]}  # fmt: skip
 
 
-def serve(tmp: Path, design: str, live: bool = False):
-    """The designer (or live --preview) serving ``design``: (process, url)."""
+def serve(tmp: Path, design: str, live: bool = False, fps: float | None = None):
+    """The designer (or live --preview, its source at ``fps``: the test pattern's
+    30 by default) serving ``design``: (process, url)."""
     if design == "64ops":
         (tmp / "design64.json").write_text(json.dumps(design64()))
         design = "design64.json"
@@ -71,7 +72,7 @@ def serve(tmp: Path, design: str, live: bool = False):
     cmd += (
         ["live", "test", "--size", "1280x720", "--preview"] if live else ["design", "--no-browser"]
     )
-    cmd += ["--ops", design, "--port", "0", "-q"]
+    cmd += ["--ops", design, "--port", "0", "-q"] + (["--fps", str(fps)] if fps else [])
     proc = subprocess.Popen(cmd, cwd=tmp, env=ENV, stdout=subprocess.PIPE, text=True)
     for line in proc.stdout:
         if "http://" in line:
@@ -260,13 +261,13 @@ def open_page(p, url: str, viewport: tuple[int, int], dpr: float, live: bool = F
 
 
 @contextlib.contextmanager
-def served_page(name: str, args, live: bool = False):
+def served_page(name: str, args, live: bool = False, fps: float | None = None):
     """``marblevideo design`` (or ``live test --preview``) on ``name`` in a
     temporary folder and its page in Chromium: yields (url, page)."""
     from playwright.sync_api import sync_playwright
 
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
-        proc, url = serve(Path(folder), name, live=live)
+        proc, url = serve(Path(folder), name, live=live, fps=fps)
         try:
             browser, page = open_page(p, url, args.viewport, args.dpr, live=live)
             yield url, page

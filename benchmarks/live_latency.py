@@ -5,9 +5,14 @@ pointer), the page's preview PUTs and JPEG fetches timed in the page.
 Prints the live frames that answered inputs and their latency median (a pointer
 move to the first live frame showing the preview made after it: X-Preview-Serial),
 the PUTs' round trip and spacing, the JPEGs' spacing, and from a JPEG's arrival
-to its drawing.
+to its drawing, and the session's figures (frames rendered, source frames
+dropped, frames marbled again for a preview: ``redrawn``).
 
-    python -m benchmarks.live_latency [--seconds 2]
+    python -m benchmarks.live_latency [--seconds 2] [--fps 30] [--no-page]
+
+``--no-page``: no browser; 40 previews (a drop moved) PUT over HTTP one after
+another, each timed from its PUT to the first JPEG tagged with its serial (the
+session's part alone, on a machine where Chromium takes no cores).
 
 Not a test: numbers depend on the machine (see BENCHMARKS.md).
 """
@@ -15,11 +20,15 @@ Not a test: numbers depend on the machine (see BENCHMARKS.md).
 from __future__ import annotations
 
 import argparse
+import json
 import os
 import statistics
+import tempfile
 import time
+import urllib.request
+from pathlib import Path
 
-from .designer_realtime import Pointer, path_of, served_page
+from .designer_realtime import LIVE_RECIPE, Pointer, path_of, serve, served_page
 
 WRAP = """() => { window.__timed = []; const f = window.fetch;
   window.fetch = (u, o) => { const s = performance.now(), p = f(u, o), url = String(u);
@@ -35,8 +44,12 @@ def median(values) -> float:
 def main() -> None:
     p = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     p.add_argument("--seconds", type=float, default=2.0, help="length of the drag (2)")
+    p.add_argument("--fps", type=float, default=None, help="the test source's rate (30)")
+    p.add_argument("--no-page", action="store_true", help="previews PUT over HTTP, no browser")
     args = argparse.Namespace(viewport=(1280, 860), dpr=1, **vars(p.parse_args()))
-    with served_page("live", args, live=True) as (_, page):
+    if args.no_page:
+        return without_page(args.fps)
+    with served_page("live", args, live=True, fps=args.fps) as (_, page):
         page.evaluate(WRAP)
         page.evaluate("designer.setTool('comb')")
         first = page.evaluate("window.marbleFrames.length")
@@ -46,6 +59,7 @@ def main() -> None:
         time.sleep(1.5)
         frames = page.evaluate("window.marbleFrames")[first:]
         timed = page.evaluate("window.__timed")
+        stats = page.evaluate("fetch('/stats').then((r) => r.json())")
     answered = [f for f in frames if f["kind"] == "live" and f["input"] is not None]
     puts = [t for t in timed if t["kind"] == "put"]
     jpgs = [t for t in timed if t["kind"] == "jpg"]
@@ -60,6 +74,51 @@ def main() -> None:
           f"{median(gaps(puts, 's'))} ms")  # fmt: skip
     print(f"JPEGs: one every {median(gaps(jpgs, 'e'))} ms; arrival to drawn median "
           f"{median(drawn)} ms")  # fmt: skip
+    print(f"session: {stats['frames']} frames rendered, {stats['dropped']} source frames "
+          f"dropped, {stats.get('redrawn', 'no')} redrawn for a preview; render median "
+          f"{stats['render_ms']} ms, capture to JPEG median {stats['latency_ms']} ms")  # fmt: skip
+
+
+def without_page(fps: float | None, count: int = 40) -> None:
+    """``count`` previews PUT one after another, each timed to the first JPEG that shows it."""
+    with tempfile.TemporaryDirectory() as folder:
+        proc, url = serve(Path(folder), "live", live=True, fps=fps)
+
+        def ask(method: str, path: str, body=None):
+            data = None if body is None else json.dumps(body).encode()
+            request = urllib.request.Request(url.rstrip("/") + path, data, method=method)
+            request.add_header("Content-Type", "application/json")
+            with urllib.request.urlopen(request, timeout=10) as answer:
+                return answer.read(), answer.headers
+
+        try:
+            time.sleep(2.0)  # built, frames coming
+            version, took = json.loads(ask("GET", "/api/info")[0])["version"], []
+            for k in range(count):
+                drop = {"type": "drop", "center": [200 + 10 * k, 300], "radius": 80}
+                doc = {**LIVE_RECIPE, "ops": [*LIVE_RECIPE["ops"], {**drop, "color": "#e63946"}]}
+                start = time.perf_counter()
+                put = ask("PUT", "/api/preview", {"recipe": doc, "version": version})[0]
+                serial, seq = (
+                    json.loads(put)["serial"],
+                    json.loads(ask("GET", "/stats")[0])["jpeg_seq"],
+                )
+                while True:
+                    _, head = ask("GET", f"/frame.jpg?after={seq}")
+                    seq = int(head["X-Frame-Seq"])
+                    if int(head.get("X-Preview-Serial") or 0) >= serial:
+                        break
+                took.append((time.perf_counter() - start) * 1000)
+                time.sleep(0.02)
+            stats = json.loads(ask("GET", "/stats")[0])
+        finally:
+            proc.terminate()
+            proc.wait(30)
+    print(f"load average {os.getloadavg()[0]:.2f}")
+    print(f"previews: {count}, PUT to the JPEG showing it: median {median(took)} ms, "
+          f"p90 {round(sorted(took)[int(0.9 * count)], 1)} ms")  # fmt: skip
+    print(f"session: {stats['frames']} frames rendered, {stats.get('redrawn', 'no')} redrawn "
+          f"for a preview; render median {stats['render_ms']} ms")  # fmt: skip
 
 
 if __name__ == "__main__":

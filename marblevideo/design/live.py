@@ -96,7 +96,7 @@ class LiveDesign:
     def _preview(self, request) -> dict:
         if not isinstance(request, dict) or set(request) != {"recipe", "version"}:
             raise ValueError('preview: expected {"recipe": ..., "version": V}')
-        serial = self.live.drawing.put(request["recipe"], request["version"])
+        serial = self.live.show_preview(request["recipe"], request["version"])
         return {"version": self.live.file.snapshot()[2], "serial": serial}
 
     # the live session's own routes

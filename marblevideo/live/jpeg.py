@@ -40,9 +40,9 @@ class JpegPreview:
         """Frames shown that the encoder never took (it was behind)."""
         return self.shown.dropped
 
-    def put(self, rgba: np.ndarray, ts: float, tag: int = 0) -> None:
-        """Offer a frame shown (RGBA), captured at ``ts`` (``time.monotonic()``),
-        with its ``tag``."""
+    def put(self, rgba: np.ndarray, ts: float | None, tag: int = 0) -> None:
+        """Offer a frame shown (RGBA), captured at ``ts`` (``time.monotonic()``;
+        None: a captured frame marbled again, not in the latency), with its ``tag``."""
         self.shown.put((rgba, ts, tag))
 
     def run(self, stop: threading.Event, latency: RateWindow) -> None:
@@ -60,7 +60,8 @@ class JpegPreview:
             if not ok:
                 continue
             done = time.monotonic()
-            latency.add(done, done - ts)
+            if ts is not None:
+                latency.add(done, done - ts)
             with self._cond:
                 self._data, self._tag = buf.tobytes(), tag
                 self.seq += 1

@@ -52,3 +52,12 @@ class LivePreview:
             if self._recipe is None or self._base != version or not fresh:
                 return None
             return self._recipe, self.serial
+
+    def shown(self, recipe: Recipe, version: int) -> tuple[Recipe, object, int]:
+        """(the recipe to render, a key for it, the preview's serial or 0) while the
+        file's is ``recipe`` at ``version``: the preview's when :meth:`current` has
+        one (key ("preview", serial)), else the file's (key ``version``, serial 0)."""
+        drawing = self.current(version)
+        if drawing is None:
+            return recipe, version, 0
+        return drawing[0], ("preview", drawing[1]), drawing[1]

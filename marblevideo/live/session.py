@@ -8,6 +8,11 @@ bounded)::
                                                 -> [bounded, drops when full] -> recording
                                                 -> [latest] -> virtual camera
 
+- A new recipe to show (the designer's preview, a save) marbles the last
+  captured frame again at once, for the preview's JPEG only, when that costs
+  no captured frame (:mod:`marblevideo.live.redraw`); the outputs and the
+  motion see each captured frame once.
+
 - A recipe with ``motion`` renders each frame with the motion strokes its
   frames make (:class:`~marblevideo.live.stirring.LiveMotion`, one tracker for
   the session, kept across edits).
@@ -35,6 +40,8 @@ from marblevideo.live.jpeg import JpegPreview
 from marblevideo.live.meters import Meters
 from marblevideo.live.playback import Playback
 from marblevideo.live.preview import LivePreview
+from marblevideo.live.redraw import LastFrame, redrawn
+from marblevideo.live.report import session_stats, session_summary
 from marblevideo.live.sources import Source
 from marblevideo.live.stirring import LiveMotion
 from marblevideo.serve.recipefile import RecipeFile
@@ -85,6 +92,7 @@ class LiveSession:
         #: the stroke being drawn on the designer's page, shown until a save
         self.drawing = LivePreview(str(self.recipe_path))
         self.motion = LiveMotion(source.fps)  # the recipe's motion, when it has one
+        self.last = LastFrame(source.fps)  # marbled again when the recipe changes
         # other signals (audio, marblevideo.signals.live), beside the controllers: by
         # the shown frame's time in its file when audio_by_frame
         self.media_t = 0.0
@@ -123,9 +131,18 @@ class LiveSession:
         return True
 
     def put(self, doc: object) -> int:
-        """Validate ``doc``, save it atomically and take it from the next frame; its
-        version. RecipeError, nothing saved, when invalid."""
-        return self.file.put(doc)
+        """Validate ``doc``, save it atomically and take it from now (:meth:`redraw`);
+        its version. RecipeError, nothing saved, when invalid."""
+        version = self.file.put(doc)
+        self.source.frames.wake()
+        return version
+
+    def show_preview(self, doc: object, version: object) -> int:
+        """Show the designer's unsaved recipe ``doc`` drawn on ``version`` from now
+        (:meth:`~marblevideo.live.preview.LivePreview.put`, :meth:`redraw`); its serial."""
+        serial = self.drawing.put(doc, version)
+        self.source.frames.wake()
+        return serial
 
     def _watch(self) -> None:
         while not self.stop_event.wait(RELOAD_POLL):
@@ -140,13 +157,13 @@ class LiveSession:
         """The animation clock (:class:`~marblevideo.live.playback.Clock`)."""
         return self.playback.clock
 
+    def _wanted(self):
+        """(the recipe to show now, its key, the designer's preview's serial or 0)."""
+        return self.drawing.shown(*self.file.snapshot()[1:])
+
     def _current(self):
         bypass, mirror = self.playback.snapshot()
-        _, recipe, version = self.file.snapshot()
-        drawing, key, serial = self.drawing.current(version), version, 0
-        if drawing is not None:  # the designer's preview, whose serial tags the JPEG
-            recipe, serial = drawing
-            key = ("preview", serial)
+        recipe, key, serial = self._wanted()
         with self._lock:
             if self._marbled_for != key:
                 self._marbler = self._Marbler(
@@ -177,25 +194,7 @@ class LiveSession:
 
     def stats(self) -> dict:
         """``GET /stats``: the counters, the meters' figures and the playback's state."""
-        now, recorder = time.monotonic(), self.recorder
-        return {
-            "frames": self.frames,
-            **self.meters.figures(now),
-            "dropped": self.source.frames.dropped,
-            "preview_skipped": self.preview.skipped,
-            "record_dropped": recorder.dropped if recorder else 0,
-            "recorded": recorder.frames if recorder else 0,
-            "jpeg_seq": self.preview.seq,
-            "size": list(self.source.size),
-            "source": self.source.name,
-            "recipe_version": self.file.snapshot()[2],
-            "recipe_error": self.file.error,
-            "uptime": round(now - self.started, 2),
-            "controllers": dict(self.controllers.counts),
-            "streams": [stream.figures() for stream in self.streams],
-            "ndi": self.ndi.figures() if self.ndi is not None else None,
-            **self.state(),
-        }
+        return session_stats(self)
 
     # -- threads ------------------------------------------------------------
     def _spawn(self, name: str, target) -> None:
@@ -227,7 +226,9 @@ class LiveSession:
             if deadline is not None and time.monotonic() >= deadline:
                 break
             wait = 0.1 if deadline is None else max(0.0, min(0.1, deadline - time.monotonic()))
-            cap = self.source.frames.get(timeout=wait)
+            cap = self.source.frames.get(timeout=wait)  # or None, woken by a new recipe
+            if cap is None and self.redraw():
+                continue
             if cap is None:
                 if self.source.error is not None:
                     raise self.source.error
@@ -246,6 +247,7 @@ class LiveSession:
         time for the motion (default: ``ts`` from the session's start); ``luma``:
         its decoded luma plane, which the motion sees (default: the RGBA's luma)."""
         marbler, bypass, mirror, serial = self._current()
+        captured = rgba
         if mirror:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
             luma = None if luma is None else luma[:, ::-1]
@@ -256,6 +258,7 @@ class LiveSession:
         out = rgba if bypass else marbler.render(rgba, shown, animated=True)
         now = time.monotonic()
         self.meters.frame(now, now - start)
+        self.last.captured(captured, ts, self.meters.render.median() or now - start)
         self.frames += 1
         if self.jpeg:
             self.preview.put(out, ts, 0 if bypass else serial)
@@ -269,6 +272,21 @@ class LiveSession:
             self.ndi.send(out)
         return out
 
+    def redraw(self) -> bool:
+        """Marble the last captured frame again for the preview's JPEG only, when the
+        recipe to show is not the one it was marbled with and that costs no captured
+        frame (:mod:`marblevideo.live.redraw`); whether the recipe was taken."""
+        stale = self.jpeg and self._wanted()[1] != self._marbled_for
+        if not (stale and self.last.allows(time.monotonic(), self.source.frames.waiting)):
+            return False
+        marbler, bypass, mirror, serial = self._current()
+        if not bypass:  # (bypassed, the frame shown is the captured one: as it is)
+            rgba = self.last.rgba[:, ::-1] if mirror else self.last.rgba
+            out = redrawn(marbler, self.motion, np.ascontiguousarray(rgba), self.clock.now())
+            self.last.count += 1
+            self.preview.put(out, None, serial)
+        return True
+
     def close(self) -> None:
         self.stop_event.set()
         self.source.stop()
@@ -277,18 +295,5 @@ class LiveSession:
             thread.join(5.0)
 
     def summary(self) -> str:
-        s = self.stats()
-        elapsed = max(time.monotonic() - self.started, 1e-9)
-        text = (
-            f"live: {self.frames} frames in {elapsed:.1f} s ({self.frames / elapsed:.1f} fps), "
-            f"{s['dropped']} source frames dropped"
-        )
-        if s["latency_ms"] is not None:
-            text += f", latency median {s['latency_ms']} ms (p95 {s['latency_p95_ms']} ms)"
-        if self.recorder is not None:
-            text += f", recorded {self.recorder.frames} ({self.recorder.dropped} dropped)"
-        for stream in self.streams:
-            text += f", {stream.summary()}"
-        if self.ndi is not None:
-            text += f", NDI {self.ndi.sent} sent as {self.ndi.full_name}"
-        return text
+        """The line said at the end: frames, rate, drops, latency, outputs."""
+        return session_summary(self)

@@ -50,6 +50,7 @@ class Latest:
         self._taken = 0  # seq of the last get
         self.dropped = 0  # items replaced before anyone took them
         self.closed = False
+        self._woken = False
 
     def put(self, item) -> None:
         with self._cond:
@@ -60,16 +61,25 @@ class Latest:
             self._cond.notify_all()
 
     def get(self, timeout: float | None = None):
-        """The newest item not yet taken, or None on timeout or when closed and empty."""
+        """The newest item not yet taken, or None on timeout, when closed and empty,
+        or when woken (:meth:`wake`) with nothing new."""
         with self._cond:
             if not self._cond.wait_for(
-                lambda: self._seq > self._taken or self.closed, timeout=timeout
+                lambda: self._seq > self._taken or self.closed or self._woken, timeout=timeout
             ):
                 return None
+            self._woken = False
             if self._seq <= self._taken:
                 return None
             self._taken = self._seq
             return self._item
+
+    def wake(self) -> None:
+        """Make the ``get`` waiting now (or the next) return at once, with None
+        when nothing new came (the live loop: a new recipe to show)."""
+        with self._cond:
+            self._woken = True
+            self._cond.notify_all()
 
     def close(self) -> None:
         with self._cond:

@@ -186,11 +186,21 @@ function note(kind, answer, shown) {
   if (kind === "warp") sheet.dataset.draft = "1";
   recordFrame(kind, answer, sheet.width, sheet.height, shown);
 }
-// Live mode: the newest marbled frame, once one newer than the last shown has come.
+// Live mode: the newest marbled frame, once one newer than the last shown has
+// come. The next is asked for as soon as one comes (the session answers it when
+// a newer JPEG is made), so it is on its way while this one is decoded and drawn.
+let liveNext = null;  // {after, reply}: the request for the frame after liveSeq
+function liveReply(after) {
+  const next = liveNext && liveNext.after === after ? liveNext.reply : api.liveFrame(after);
+  liveNext = null;
+  return next;
+}
 async function liveFrame(o) {
-  const r = await api.liveFrame(liveSeq);
+  const r = await liveReply(liveSeq);
   if (!r.ok) return;  // none yet (503 after 2 s): ask again
   liveSeq = Number(r.headers.get("X-Frame-Seq"));
+  liveNext = {after: liveSeq, reply: api.liveFrame(liveSeq)};
+  liveNext.reply.catch(() => {});  // (a failure is met when it is awaited)
   // A frame showing a preview answers the input the preview was made after (once);
   // mid-gesture, one without shows the saved recipe: no input. Each input once.
   const serial = Number(r.headers.get("X-Preview-Serial") || 0);
