@@ -28,10 +28,20 @@ depend on its thread count (see :mod:`marblevideo.motion.flow`).
 from __future__ import annotations
 
 import math
+import statistics
 
 import numpy as np
 
-from marblevideo.motion.flow import Flow, Region, luma, moving, reduce, reduction, regions
+from marblevideo.motion.flow import (
+    Flow,
+    Region,
+    luma,
+    moving,
+    reach,
+    reduce,
+    reduction,
+    regions,
+)
 from marblevideo.motion.spec import MotionSpec
 from marblevideo.ops.stroke import MAX_POINTS, MAX_STEPS
 from marblevideo.ops.stylus import step_total
@@ -172,14 +182,16 @@ class MotionTracker:
             self.flow.reset()
         previous, self._t = self._t, float(t)
         self._heal_live(float(t))
-        motion = self.flow.step(reduce(gray, k))
+        a, b = abs(self.to_canvas[0]), abs(self.to_canvas[1])
+        dt = t - previous if previous is not None else 0.0
+        scale = (k * a / dt, k * b / dt) if dt > 0 else (0.0, 0.0)
+        threshold = self.spec.threshold
+        motion = self.flow.step(reduce(gray, k), reach(scale, threshold) if dt > 0 else 1.0)
         if motion is None or previous is None or not t > previous:
             self._regions, self._level = [], 0.0
             return
-        a, b = abs(self.to_canvas[0]), abs(self.to_canvas[1])
-        dt = t - previous
-        speed = moving(motion, (k * a / dt, k * b / dt), self.spec.threshold)
-        self._level = min(1.0, float(np.count_nonzero(speed)) / speed.size / FULL_LEVEL)
+        speed = moving(motion, scale, threshold)
+        self._level = min(1.0, len(speed.points) / speed.speed.size / FULL_LEVEL)
         speck = self.spec.width[0] ** 2 * math.pi / 4 / (a * b)  # frame pixels
         found = [r for r in regions(speed, k) if r.area >= speck]
         found.sort(key=lambda r: -r.area * r.speed)
@@ -243,7 +255,7 @@ class MotionTracker:
             made = follow.seen[-FRAMES:] if follow.settled else follow.seen[1:]
             if len(made) == FRAMES and made[-2][0] != made[-1][0]:
                 low, high = self.spec.width
-                width = min(high, max(low, float(np.median([s[2] for s in made]))))
+                width = min(high, max(low, statistics.median(s[2] for s in made)))
                 points = [p for p, _, _ in made[1:]]  # at the 2nd frame its stylus is
                 times = [float(s[1]) for s in made[1:]]  # at rest: a take replays it
                 self._begin(follow, _Stroke(points, times, round(width, DECIMALS), self.spec))
