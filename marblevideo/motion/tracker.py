@@ -191,7 +191,7 @@ class MotionTracker:
             self._regions, self._level = [], 0.0
             return
         speed = moving(motion, scale, threshold)
-        self._level = min(1.0, len(speed.points) / speed.speed.size / FULL_LEVEL)
+        self._level = min(1.0, len(speed.points) / math.prod(speed.shape) / FULL_LEVEL)
         speck = self.spec.width[0] ** 2 * math.pi / 4 / (a * b)  # frame pixels
         found = [r for r in regions(speed, k) if r.area >= speck]
         found.sort(key=lambda r: -r.area * r.speed)
