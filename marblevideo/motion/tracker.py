@@ -102,7 +102,6 @@ class _Follow:
         self.seen = [(point, t, diameter)]
         self.stroke: int | None = None
         self.step = 0.0  # how far it moved between its last two frames (canvas units)
-        self.settled = True  # False once its centre and its flow disagreed
 
     @property
     def point(self) -> tuple[float, float]:
@@ -235,12 +234,14 @@ class MotionTracker:
         self._follows += [f for f in free if f.stroke is not None]
 
     def _extend(self, follow: _Follow, point, t: float, diameter: float, speed: float) -> None:
-        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames in
-        which its centre moved as fast as the flow says (within a factor
-        :data:`AGREE`, or ``threshold``), none of them one where it did not (where the
-        flow has not caught up with a fast small object yet, its centre lags and
-        jumps). A step under an eighth of the region's diameter always agrees: there
-        the outline's noise is the centre's motion."""
+        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames,
+        its centre moving between them as fast as the flow says (within a factor
+        :data:`AGREE`, or ``threshold``). A frame it jumped to (where the flow has
+        not caught up with a fast small object yet, its centre lags, then jumps)
+        starts the count again, as the first of the 3, as a new region's first
+        frame does: the stroke's points (from the 2nd) are never a lagging centre's
+        or the jump's. A step under an eighth of the region's diameter always
+        agrees: there the outline's noise is the centre's motion."""
         step, follow.step = math.dist(follow.point, point), math.dist(follow.point, point)
         moved = step / (t - follow.last)
         agree = (
@@ -250,9 +251,9 @@ class MotionTracker:
         )
         follow.seen = [*follow.seen[-FRAMES:], (point, t, diameter)]
         if follow.stroke is None:
-            if not agree:  # it starts again after this frame
-                follow.seen, follow.settled = follow.seen[-1:], False
-            made = follow.seen[-FRAMES:] if follow.settled else follow.seen[1:]
+            if not agree:  # it starts again from this frame
+                follow.seen = follow.seen[-1:]
+            made = follow.seen[-FRAMES:]
             if len(made) == FRAMES and made[-2][0] != made[-1][0]:
                 low, high = self.spec.width
                 width = min(high, max(low, statistics.median(s[2] for s in made)))
