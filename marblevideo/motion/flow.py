@@ -91,8 +91,8 @@ def reduce(gray: np.ndarray, k: int) -> np.ndarray:
     (rounded at each halving: OpenCV's fast path, a third of the time of one
     4 x 4 average)."""
     h, w = gray.shape
-    if k == 1:
-        return gray
+    if k == 1:  # DIS takes contiguous rows only (a decoder's plane has padded ones)
+        return np.ascontiguousarray(gray)
     gray = gray[: h - h % k, : w - w % k]
     while k % 2 == 0 and k > 2:
         h, w = gray.shape
