@@ -239,8 +239,8 @@ class MotionTracker:
         :data:`AGREE`, or ``threshold``). A frame it jumped to (where the flow has
         not caught up with a fast small object yet, its centre lags, then jumps)
         starts the count again, as the first of the 3, as a new region's first
-        frame does: the stroke's points (from the 2nd) are never a lagging centre's
-        or the jump's. A step under an eighth of the region's diameter always
+        frame does (the stroke's points are from the 2nd: the centre it jumped to
+        is not one of them). A step under an eighth of the region's diameter always
         agrees: there the outline's noise is the centre's motion."""
         step, follow.step = math.dist(follow.point, point), math.dist(follow.point, point)
         moved = step / (t - follow.last)
