@@ -7,7 +7,9 @@ textured discs moving over a textured background, then, in ROUNDS rounds,
 decodes it to RGB frames (timing each decode) and feeds them to a fresh tracker
 (timing each ``see``; the first frame, which has no flow, left out), feeds the
 frames' decoded luma planes (:func:`~marblevideo.media.decode.frame_luma`, what a
-file render's transform stage hands the analysis) to another, and times the
+file render's transform stage hands the analysis) to another, copied and all
+decoded first, and as they are decoded (the decoder's own plane, rows padded,
+still in the cache: what a render hands over), and times the
 analysis' parts on the RGB frames. Prints medians and 95th percentiles in ms, the
 machine, the CPU's flags and the load average. THREADS, where given, is set as
 OpenCV's thread count first (default: OpenCV's own, one per core). Run from the
@@ -29,7 +31,7 @@ import numpy as np
 
 from marblevideo.media.decode import frame_luma
 from marblevideo.motion import MotionSpec, MotionTracker, luma
-from marblevideo.motion.flow import Flow, moving, reduce, reduction, regions
+from marblevideo.motion.flow import Flow, moving, reach, reduce, reduction, regions
 
 from .common import header
 
@@ -106,6 +108,8 @@ def analysed(images: list[np.ndarray]) -> tuple[list[float], list[float], list[f
 def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
     """The analysis' steps timed apart, ms per frame."""
     flow, k = Flow(), reduction(*SIZE)
+    scale = (k * FPS, k * FPS)
+    low = reach(scale, 60.0)
     out: dict[str, list[float]] = {"luma": [], "reduce": [], "DIS + seed": [], "regions": []}
     for image in images:
         t0 = time.perf_counter()
@@ -113,15 +117,32 @@ def parts(images: list[np.ndarray]) -> dict[str, list[float]]:
         t1 = time.perf_counter()
         small = reduce(gray, k)
         t2 = time.perf_counter()
-        motion = flow.step(small)
+        motion = flow.step(small, low)
         t3 = time.perf_counter()
         if motion is None:
             continue
-        regions(moving(motion, (k * FPS, k * FPS), 60.0), k)
+        regions(moving(motion, scale, 60.0), k)
         t4 = time.perf_counter()
         for name, a, b in zip(out, (t0, t1, t2, t3), (t1, t2, t3, t4), strict=True):
             out[name].append((b - a) * 1000)
     return out
+
+
+def as_decoded(path: Path) -> list[float]:
+    """CPU time in ms of each ``see`` (the first left out) of each frame's luma
+    plane as the decoder wrote it (a view, rows padded), handed over as soon as
+    decoded, as a file render's transform stage takes it."""
+    tracker = MotionTracker(MotionSpec(), (1.0, 1.0, 0.0, 0.0))
+    cpu = []
+    with av.open(str(path)) as container:
+        stream = container.streams.video[0]
+        stream.thread_type = "NONE"
+        for n, frame in enumerate(container.decode(stream)):
+            plane = frame_luma(frame)
+            used = time.process_time()
+            tracker.see(plane, n / FPS)
+            cpu.append((time.process_time() - used) * 1000)
+    return cpu[1:]
 
 
 def _row(name: str, times: list[float]) -> str:
@@ -138,12 +159,14 @@ def main() -> None:
     print(f"# OpenCV {cv2.__version__}, {cv2.getNumThreads()} threads; load average before: "
           + " ".join(f"{x:.2f}" for x in os.getloadavg()))  # fmt: skip
     decode, see, cpu, see_y, cpu_y, own_y, steps, strokes = [], [], [], [], [], [], {}, 0
+    fresh: list[float] = []
     with tempfile.TemporaryDirectory() as folder:
         path = Path(folder) / "clip.mp4"
         write_clip(path, seconds)
         for _ in range(rounds):
             images, planes, took = decoded(path)
             decode += took
+            fresh += as_decoded(path)
             took, used, own, strokes = analysed(planes)
             see_y, cpu_y, own_y = see_y + took, cpu_y + used, own_y + own
             took, used, _, _ = analysed(images)
@@ -158,6 +181,7 @@ def main() -> None:
     print(_row("MotionTracker.see, luma plane (a file render's)", see_y))
     print(_row("MotionTracker.see, luma plane, CPU time (all threads)", cpu_y))
     print(_row("MotionTracker.see, luma plane, CPU time (calling thread)", own_y))
+    print(_row("MotionTracker.see, luma plane as decoded, CPU time (all threads)", fresh))
     print(_row("MotionTracker.see, RGB", see))
     print(_row("MotionTracker.see, RGB, CPU time (all threads)", cpu))
     for name, values in steps.items():

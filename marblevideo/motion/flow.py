@@ -24,11 +24,16 @@ propagation off, fewer descent iterations or no patch mean normalization each
 lose a contract case (tests/test_motion.py).
 The dominant motion (a pan, a shaken camera) is the per-axis median of the flow
 (:func:`dominant`), subtracted; what remains, at least ``threshold`` canvas units
-per second, is moving.
+per second, is moving. What follows DIS is computed only at the points that may
+move apart from the dominant motion (outside a square around it, found by one
+``cv2.inRange``; :class:`Motion`), with the same float32 operations as over the
+whole grid, so it gives the whole grid's results bit for bit at a fraction of
+its cost.
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import cv2
@@ -57,11 +62,14 @@ _OPEN = np.ones((3, 3), np.uint8)
 def luma(frame: np.ndarray) -> np.ndarray:
     """The 8-bit luma of an HxWx3 RGB, HxWx4 RGBA or HxW luma uint8 frame: OpenCV's
     fixed-point BT.601 weights (0.299 R + 0.587 G + 0.114 B, rounded), alpha
-    ignored; a luma frame is returned as it is. The one definition every caller
+    ignored; a luma frame is returned as it is (a view, not copied, where its
+    rows are contiguous). The one definition every caller
     uses, so that a file and a live session see the same luma: feed it the same
     kind of frame everywhere (an I420 frame's Y plane is not the luma of its RGB
     conversion: its range and matrix differ)."""
-    if frame.ndim == 2:
+    if frame.ndim == 2:  # a decoder's Y plane is read where it lies (rows padded)
+        if frame.dtype == np.uint8 and frame.strides[1] == 1 and frame.strides[0] > 0:
+            return frame
         return np.ascontiguousarray(frame, dtype=np.uint8)
     if frame.ndim != 3 or frame.shape[2] not in (3, 4):
         raise ValueError(f"expected an HxW, HxWx3 or HxWx4 frame, got shape {frame.shape}")
@@ -83,8 +91,8 @@ def reduce(gray: np.ndarray, k: int) -> np.ndarray:
     (rounded at each halving: OpenCV's fast path, a third of the time of one
     4 x 4 average)."""
     h, w = gray.shape
-    if k == 1:
-        return gray
+    if k == 1:  # DIS takes contiguous rows only (a decoder's plane has padded ones)
+        return np.ascontiguousarray(gray)
     gray = gray[: h - h % k, : w - w % k]
     while k % 2 == 0 and k > 2:
         h, w = gray.shape
@@ -122,11 +130,12 @@ class Flow:
     def reset(self) -> None:
         self.previous, self.flow = None, None
 
-    def step(self, small: np.ndarray) -> tuple[np.ndarray, np.ndarray] | None:
-        """The remaining motion (dx, dy) per reduced point from the previous luma to
-        ``small``, at the points of ``small`` (two HxW float32 arrays, reduced points
-        per frame), the dominant motion (:attr:`shift`) taken out; None for the
-        first frame (and for a luma smaller than :data:`MIN_SIDE`)."""
+    def step(self, small: np.ndarray, low: float = 0.0) -> Motion | None:
+        """The remaining motion from the previous luma to ``small`` (reduced points
+        per frame), the dominant motion (:attr:`shift`) taken out, at the points of
+        ``small`` where it may be at least ``low`` long, squared (:func:`reach`), or
+        :data:`CARRY`; None for the first frame (and for a luma smaller than
+        :data:`MIN_SIDE`)."""
         previous, self.previous = self.previous, small
         if min(small.shape) < MIN_SIDE:
             self.previous = None  # too small to analyse
@@ -138,105 +147,176 @@ class Flow:
         seed = self.flow if SEED else None
         flow = self.dis.calc(small, previous, seed)
         mx, my = dominant(flow)
+        low = min(low, CARRY * CARRY)
+        at = _apart(flow, mx, my, low)
+        pairs = flow.reshape(-1).view(np.int64)[at]  # each point's (x, y) as one item
         # the backward flow's remaining motion, turned forward
-        dx = np.float32(mx) - flow[..., 0]
-        dy = np.float32(my) - flow[..., 1]
-        self.flow, self.shift = carried(flow, dx, dy), (-mx, -my)
-        return dx, dy
+        dx = np.float32(mx) - pairs.view(np.float32)[0::2]
+        dy = np.float32(my) - pairs.view(np.float32)[1::2]
+        apart = dx * dx  # squared
+        apart += dy * dy
+        self.flow, self.shift = carried(flow, at, pairs, apart), (-mx, -my)
+        return Motion(small.shape, at, dx, dy, apart, low)
+
+
+@dataclass(frozen=True)
+class Motion:
+    """One frame's remaining motion (reduced points per frame) on a ``shape``
+    (H, W) grid, at the points ``at`` (flat indices, increasing): ``dx``, ``dy``
+    and ``apart``, dx * dx + dy * dy (float32, each operation rounded, as over the
+    whole grid). The points left out are those where ``apart`` is surely under
+    ``low``."""
+
+    shape: tuple[int, int]
+    at: np.ndarray
+    dx: np.ndarray
+    dy: np.ndarray
+    apart: np.ndarray
+    low: float
+
+
+def _apart(flow: np.ndarray, mx: float, my: float, low: float) -> np.ndarray:
+    """The flat indices of the points of ``flow`` outside a square around (mx, my)
+    (increasing): all of those where the squared distance may be ``low`` or more
+    (the square's half side is 0.9 sqrt(low / 2), far from float32's rounding)."""
+    h, w = flow.shape[:2]
+    r = 0.9 * math.sqrt(max(low, 0.0) / 2)
+    if not r > 1e-4 * (1 + abs(mx) + abs(my)):
+        return np.arange(h * w)
+    near = cv2.inRange(flow, (mx - r, my - r), (mx + r, my + r))
+    return np.flatnonzero(near.ravel() == 0)
+
+
+def reach(scale: tuple[float, float], threshold: float) -> float:
+    """The squared remaining motion (reduced points per frame) under which a
+    point's speed, at ``scale`` (:func:`moving`), is surely under ``threshold``:
+    what :meth:`Flow.step` needs for :func:`moving` (0 where any may reach it)."""
+    top = max(abs(float(np.float32(scale[0]))), abs(float(np.float32(scale[1]))))
+    low = (float(np.float32(threshold)) / top) ** 2 * 0.999 if top > 0 else 0.0
+    return low if math.isfinite(low) else 0.0
 
 
 def dominant(flow: np.ndarray) -> tuple[float, float]:
     """The frame's dominant motion: the per-axis median of the flow at every other
-    point of every other row (a pan or a shake moves them all)."""
-    sample = flow[::2, ::2]
-    return _median(sample[..., 0]), _median(sample[..., 1])
+    point of every other row (a pan or a shake moves them all), as ``np.median``
+    (the mean of the middle two of an even count, a float32 sum halved)."""
+    a = flow[::2, ::2].transpose(2, 0, 1).reshape(2, -1)  # a copy: not contiguous
+    if np.may_share_memory(a, flow):
+        a = a.copy()
+    a.sort(axis=1)  # NumPy's SIMD sort: faster here than a partition
+    half = a.shape[1] // 2
+    if a.shape[1] % 2:
+        return float(a[0, half]), float(a[1, half])
+    mid = (a[:, half - 1] + a[:, half]) / np.float32(2)  # np.mean's float32 sum, halved
+    return float(mid[0]), float(mid[1])
 
 
-def _median(values: np.ndarray) -> float:
-    """``np.median`` of float32 ``values`` (the mean of the middle two of an even
-    count), by one partition of a copy."""
-    a = np.array(values, dtype=np.float32).ravel()
-    half = a.size // 2
-    if a.size % 2:
-        a.partition(half)
-        return float(a[half])
-    a.partition((half - 1, half))
-    return float((a[half - 1] + a[half]) / np.float32(2))  # np.mean's float32 sum, halved
-
-
-def carried(flow: np.ndarray, dx: np.ndarray, dy: np.ndarray) -> np.ndarray:
+def carried(flow: np.ndarray, at: np.ndarray, pairs: np.ndarray, apart: np.ndarray) -> np.ndarray:
     """The seed of the next frame's (backward) flow: each point that moves apart
     from the dominant motion carried on by one more frame of its own motion (where
     a fast object will be, its flow already), the fastest winning where several
     land on one point (of equal speeds, the first in row-major order); the other
-    points keep their flow. ``dx``, ``dy``: its :func:`dominant` motion less the
-    flow (or the flow less it). Written over ``flow``, returned."""
+    points keep their flow. ``at``, ``apart``: :class:`Motion`'s (every point whose
+    ``apart`` may pass :data:`CARRY` squared), ``pairs``: the flow there, (x, y)
+    as one int64 item. Written over ``flow``, returned."""
     h, w = flow.shape[:2]
-    apart = dx * dx  # squared
-    apart += dy * dy
-    at = np.flatnonzero(apart > CARRY * CARRY)
-    if len(at) == 0:
+    go = np.flatnonzero(apart > CARRY * CARRY)
+    if len(go) == 0:
         return flow
-    b = flow.reshape(-1, 2)[at]
+    at, b, apart = at[go], pairs[go], apart[go]
     vs, us = np.divmod(at, w)
-    x = np.rint(us - b[:, 0]).astype(np.int64)
-    y = np.rint(vs - b[:, 1]).astype(np.int64)
-    inside = np.flatnonzero((x >= 0) & (x < w) & (y >= 0) & (y < h))
+    x = np.rint(us - b.view(np.float32)[0::2]).astype(np.int64)
+    y = np.rint(vs - b.view(np.float32)[1::2]).astype(np.int64)
+    # inside: 0 <= x < w and 0 <= y < h (a negative one, unsigned, is huge)
+    inside = np.flatnonzero((x.view(np.uint64) < w) & (y.view(np.uint64) < h))
     # one stable sort by (target point, speed down): a speed's float32 bits, as
     # an integer, order as it does (it is >= 0)
-    bits = apart.ravel()[at[inside]].view(np.int32).astype(np.int64)
+    bits = apart[inside].view(np.int32).astype(np.int64)
     key = (y[inside] * w + x[inside]) << 31 | (np.int64(0x7FFFFFFF) - bits)
     order = np.argsort(key, kind="stable")
     where = key[order] >> 31
     first = np.ones(len(where), bool)
     first[1:] = where[1:] != where[:-1]
-    flow.reshape(-1, 2)[where[first]] = b[inside[order[first]]]
+    flow.reshape(-1).view(np.int64)[where[first]] = b[inside[order[first]]]
     return flow
 
 
-def moving(
-    motion: tuple[np.ndarray, np.ndarray], scale: tuple[float, float], threshold: float
-) -> np.ndarray:
-    """The remaining speed per point of ``motion`` (:meth:`Flow.step`'s; ``scale``:
-    reduced points per frame -> canvas units per second, per axis), zero where it
-    is under ``threshold`` or in the margin."""
-    dx = motion[0] * np.float32(scale[0])
-    dy = motion[1] * np.float32(scale[1])
+@dataclass(frozen=True)
+class Speed:
+    """The remaining speed of one frame's moving points on a ``shape`` (H, W) grid:
+    ``points``, their flat indices (increasing), and ``speed`` there (float32,
+    canvas units per second); every other point is under the threshold, in the
+    margin or still."""
+
+    shape: tuple[int, int]
+    points: np.ndarray
+    speed: np.ndarray
+
+
+def moving(motion: Motion, scale: tuple[float, float], threshold: float) -> Speed:
+    """The remaining speed of ``motion`` (:meth:`Flow.step`'s, for at least this
+    :func:`reach`; ``scale``: reduced points per frame -> canvas units per second,
+    per axis): sqrt((dx sx)^2 + (dy sy)^2) in float32, each operation rounded,
+    where it is at least ``threshold`` and not zero, outside the margin."""
+    low = reach(scale, threshold)
+    if low < motion.low:
+        raise ValueError(f"the motion leaves out points under {motion.low}, not {low}")
+    h, w = motion.shape
+    sx, sy = np.float32(scale[0]), np.float32(scale[1])
+    pick = np.flatnonzero(motion.apart >= np.float32(low)) if low > 0 else slice(None)
+    at = motion.at[pick]
+    vs, us = np.divmod(at, w)
+    m = MARGIN
+    keep = (vs >= m) & (vs < h - m) & (us >= m) & (us < w - m)
+    at = at[keep]
+    dx = motion.dx[pick][keep] * sx
+    dy = motion.dy[pick][keep] * sy
     np.multiply(dx, dx, out=dx)
     np.multiply(dy, dy, out=dy)
     np.add(dx, dy, out=dx)
-    speed = np.sqrt(dx, out=dx)
-    speed[speed < threshold] = 0.0
-    m = MARGIN
-    speed[:m], speed[-m:], speed[:, :m], speed[:, -m:] = 0.0, 0.0, 0.0, 0.0
-    return speed
+    fast = np.sqrt(dx, out=dx)
+    keep = np.flatnonzero((fast >= threshold) & (fast > 0))
+    return Speed(motion.shape, at[keep], fast[keep])
 
 
-def regions(speed: np.ndarray, k: int) -> list[Region]:
-    """The moving regions of ``speed`` (> 0 where moving): connected components of
-    the mask after a 3x3 opening, those of at least :data:`MIN_POINTS` points.
+def regions(found: Speed, k: int) -> list[Region]:
+    """The moving regions of ``found``: connected components of its points after
+    a 3x3 opening, those of at least :data:`MIN_POINTS` points.
     Each region's speed is its points' 90th-percentile speed, its own extent its
     points at least half that
     (the flow's smear past an object's edge, slower, is left out); its centre is
-    their centroid in frame coordinates, its area their frame pixels."""
-    mask = cv2.morphologyEx((speed > 0).astype(np.uint8), cv2.MORPH_OPEN, _OPEN)
+    their centroid in frame coordinates, its area their frame pixels. The
+    components are labelled in the box around the points (its corner at even
+    rows and columns, so labelled in the same order as over the whole frame)."""
+    if len(found.points) == 0:
+        return []
+    h, w = found.shape
+    rows, cols = np.divmod(found.points, w)  # rows in increasing order
+    y0, y1 = max(0, (int(rows[0]) - 2) // 2 * 2), min(h, int(rows[-1]) + 3)
+    x0, x1 = max(0, (int(cols.min()) - 2) // 2 * 2), min(w, int(cols.max()) + 3)
+    inside = (rows - y0) * (x1 - x0) + (cols - x0)
+    speed = np.zeros((y1 - y0, x1 - x0), np.float32)
+    speed.ravel()[inside] = found.speed
+    mask = np.zeros(speed.shape, np.uint8)
+    mask.ravel()[inside] = 1
+    mask = cv2.morphologyEx(mask, cv2.MORPH_OPEN, _OPEN)
     # 16-bit labels where they suffice (after the opening each region holds a 3x3
     # block: at most a ninth of the points are regions): twice as fast
     ltype = cv2.CV_16U if mask.size // 9 < 65535 else cv2.CV_32S
     count, labels, stats, _ = cv2.connectedComponentsWithStats(mask, connectivity=8, ltype=ltype)
-    found = []
+    result = []
     for label in range(1, count):
         if stats[label, cv2.CC_STAT_AREA] < MIN_POINTS:
             continue
-        x, y, w, h = (int(stats[label, c]) for c in range(4))
-        box = labels[y : y + h, x : x + w] == label
-        values = speed[y : y + h, x : x + w]
+        x, y, bw, bh = (int(stats[label, c]) for c in range(4))
+        box = labels[y : y + bh, x : x + bw] == label
+        values = speed[y : y + bh, x : x + bw]
         top = _top(values[box])
-        vs, us = np.nonzero(box & (values >= CORE * top))
-        n = len(us)
-        center = (k * (x + float(us.sum()) / n + 0.5), k * (y + float(vs.sum()) / n + 0.5))
-        found.append(Region(center, float(n * k * k), top))
-    return found
+        ys, xs = np.nonzero(box & (values >= CORE * top))
+        n = len(xs)
+        cx, cy = x0 + x + float(xs.sum()) / n + 0.5, y0 + y + float(ys.sum()) / n + 0.5
+        result.append(Region((k * cx, k * cy), float(n * k * k), top))
+    return result
 
 
 def _top(values: np.ndarray) -> float:

@@ -28,10 +28,20 @@ depend on its thread count (see :mod:`marblevideo.motion.flow`).
 from __future__ import annotations
 
 import math
+import statistics
 
 import numpy as np
 
-from marblevideo.motion.flow import Flow, Region, luma, moving, reduce, reduction, regions
+from marblevideo.motion.flow import (
+    Flow,
+    Region,
+    luma,
+    moving,
+    reach,
+    reduce,
+    reduction,
+    regions,
+)
 from marblevideo.motion.spec import MotionSpec
 from marblevideo.ops.stroke import MAX_POINTS, MAX_STEPS
 from marblevideo.ops.stylus import step_total
@@ -92,7 +102,6 @@ class _Follow:
         self.seen = [(point, t, diameter)]
         self.stroke: int | None = None
         self.step = 0.0  # how far it moved between its last two frames (canvas units)
-        self.settled = True  # False once its centre and its flow disagreed
 
     @property
     def point(self) -> tuple[float, float]:
@@ -172,14 +181,16 @@ class MotionTracker:
             self.flow.reset()
         previous, self._t = self._t, float(t)
         self._heal_live(float(t))
-        motion = self.flow.step(reduce(gray, k))
+        a, b = abs(self.to_canvas[0]), abs(self.to_canvas[1])
+        dt = t - previous if previous is not None else 0.0
+        scale = (k * a / dt, k * b / dt) if dt > 0 else (0.0, 0.0)
+        threshold = self.spec.threshold
+        motion = self.flow.step(reduce(gray, k), reach(scale, threshold) if dt > 0 else 1.0)
         if motion is None or previous is None or not t > previous:
             self._regions, self._level = [], 0.0
             return
-        a, b = abs(self.to_canvas[0]), abs(self.to_canvas[1])
-        dt = t - previous
-        speed = moving(motion, (k * a / dt, k * b / dt), self.spec.threshold)
-        self._level = min(1.0, float(np.count_nonzero(speed)) / speed.size / FULL_LEVEL)
+        speed = moving(motion, scale, threshold)
+        self._level = min(1.0, len(speed.points) / math.prod(speed.shape) / FULL_LEVEL)
         speck = self.spec.width[0] ** 2 * math.pi / 4 / (a * b)  # frame pixels
         found = [r for r in regions(speed, k) if r.area >= speck]
         found.sort(key=lambda r: -r.area * r.speed)
@@ -223,12 +234,14 @@ class MotionTracker:
         self._follows += [f for f in free if f.stroke is not None]
 
     def _extend(self, follow: _Follow, point, t: float, diameter: float, speed: float) -> None:
-        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames in
-        which its centre moved as fast as the flow says (within a factor
-        :data:`AGREE`, or ``threshold``), none of them one where it did not (where the
-        flow has not caught up with a fast small object yet, its centre lags and
-        jumps). A step under an eighth of the region's diameter always agrees: there
-        the outline's noise is the centre's motion."""
+        """``follow`` seen again at ``point``: a stroke after 3 consecutive frames,
+        its centre moving between them as fast as the flow says (within a factor
+        :data:`AGREE`, or ``threshold``). A frame it jumped to (where the flow has
+        not caught up with a fast small object yet, its centre lags, then jumps)
+        starts the count again, as the first of the 3, as a new region's first
+        frame does (the stroke's points are from the 2nd: the centre it jumped to
+        is not one of them). A step under an eighth of the region's diameter always
+        agrees: there the outline's noise is the centre's motion."""
         step, follow.step = math.dist(follow.point, point), math.dist(follow.point, point)
         moved = step / (t - follow.last)
         agree = (
@@ -238,12 +251,12 @@ class MotionTracker:
         )
         follow.seen = [*follow.seen[-FRAMES:], (point, t, diameter)]
         if follow.stroke is None:
-            if not agree:  # it starts again after this frame
-                follow.seen, follow.settled = follow.seen[-1:], False
-            made = follow.seen[-FRAMES:] if follow.settled else follow.seen[1:]
+            if not agree:  # it starts again from this frame
+                follow.seen = follow.seen[-1:]
+            made = follow.seen[-FRAMES:]
             if len(made) == FRAMES and made[-2][0] != made[-1][0]:
                 low, high = self.spec.width
-                width = min(high, max(low, float(np.median([s[2] for s in made]))))
+                width = min(high, max(low, statistics.median(s[2] for s in made)))
                 points = [p for p, _, _ in made[1:]]  # at the 2nd frame its stylus is
                 times = [float(s[1]) for s in made[1:]]  # at rest: a take replays it
                 self._begin(follow, _Stroke(points, times, round(width, DECIMALS), self.spec))
