@@ -95,16 +95,34 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
       // draws the newest input then): a server frame meanwhile would only slow
       // them down on the same cores; it is asked for when they cannot come
       ask(doc, k, t, view, w, h, key);
-      return failed !== key && (loading === key || (wanted !== null && wanted.key === key));
+      if (failed === key || (loading !== key && (wanted === null || wanted.key !== key))) return false;
+      if (!meanwhile(s, k, exact, view, w, h, key)) return true;
     }
   }
   const op = doc.ops[k], edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
+  const before = ready === key ? null : s.doc.ops[k];
   draw(() => {
-    if (ready !== key) return null;
-    const ok = warp.draw(op, t, doc.background === undefined ? "#ffffff" : doc.background, edges);
+    if (ready !== key && (before === null || ready !== interimKey(key, before))) return null;
+    const ok = warp.draw(op, t, doc.background === undefined ? "#ffffff" : doc.background, edges, before);
     return ok ? {read: (all) => warp.read(all), shown: {doc, t: +t.toFixed(3), w, h, view, ops: null}} : null;
   }, answer);
   return true;
+}
+// While the layers of a handle or slider on the top op are on their way: the
+// page's exact frame of the saved recipe is a base too, with the op as it was
+// on top, which the warp takes off forward (warp.js ``before``: exact where the
+// op's forward is closed-form and its pull stays inside the view). True when
+// that base is set (uploaded once a gesture).
+const interimKey = (key, before) => `before|${key}|${JSON.stringify(before)}`;
+function meanwhile(s, k, exact, view, w, h, key) {
+  const doc = s.doc, before = doc.ops[k];
+  if (k !== doc.ops.length - 1 || s.preview.doc.ops.length !== doc.ops.length) return false;
+  if (before.hidden || doc.motion !== undefined || !lib.forwardable(s.preview.doc.ops[k], before, s.t)) return false;
+  const ikey = interimKey(key, before);
+  if (ready === ikey) return true;
+  const base = baseOf(s, exact, view, w, h, null);
+  if (base) setLayers(ikey, base, null, view, w, h);
+  return !!base;
 }
 // The pixels of ``f`` ({doc, t, view, image}: the page's exact frame, the
 // sheet's last warped one) when it shows the recipe of ``s`` at its time, view
@@ -161,4 +179,5 @@ export function prefetchLayers(s) {
   if (ready !== key) ask(doc, k, t, view, w, h, key);
 }
 // For tests and benchmarks: whether the page warps, and the layers it holds.
-export const warpState = () => ({broken, ready: ready !== null});
+// (``interim``: the base is the exact frame with the op as it was, the layers on their way)
+export const warpState = () => ({broken, ready: ready !== null, interim: !!ready && ready.startsWith("before|")});
