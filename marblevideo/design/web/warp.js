@@ -72,10 +72,32 @@ class Warp {
   }
 
   // The draw program of an op kind and edges mode (compiled once).
-  program(kind, edges, forward = false) {
-    const key = `${kind} ${edges} ${!!this.above} ${forward}`;
-    if (!this.programs.has(key)) this.programs.set(key, program(this.gl, drawSource(kind, edges, !!this.above, forward)));
+  program(kind, edges, forward = false, above = !!this.above) {
+    const key = `${kind} ${edges} ${above} ${forward}`;
+    if (!this.programs.has(key)) this.programs.set(key, program(this.gl, drawSource(kind, edges, above, forward)));
     return this.programs.get(key);
+  }
+
+  // Ahead of a gesture on ``op``: SwiftShader compiles a program at its first
+  // draw (70-120 ms on two busy cores), so the programs the gesture will draw
+  // with (``above``: with a map of the ops above; ``before``: forward, then
+  // plain) each draw one pixel now, once; the GPU process runs them while the
+  // page goes on. The next frame draws the whole canvas.
+  warm(op, t, edges = "clamp", above = false, before = null) {
+    try {
+      const plan = resolve(op, t);
+      if (!plan || plan.kind === "stroke" || !(edges in EDGES)) return;
+      const forward = before && forwardable(op, before, t) ? [true, false] : [false];
+      for (const fw of forward) {
+        const key = `${plan.kind} ${EDGES[edges]} ${above} ${fw}`;
+        if (this.warmed?.has(key)) continue;
+        (this.warmed = this.warmed || new Set()).add(key);
+        this.drawPlan(op, t, { ...plan, forward: fw ? plan.p : null }, [255, 255, 255], EDGES[edges], above);
+      }
+      this.lastStroke = null;
+    } catch (e) {
+      console.warn("warp:", e);
+    }
   }
 
   setBase(image, width, height) {
@@ -125,7 +147,8 @@ class Warp {
     }
   }
 
-  drawPlan(op, t, plan, bg, edges) {
+  // (``warm``: whether a map is above, for a one-pixel draw of that program; see warm)
+  drawPlan(op, t, plan, bg, edges, warm = null) {
     const gl = this.gl, { width, height } = this.canvas;
     let kind = plan.kind, p = plan.p, list = plan.list;
     let steps = { list, n: 0, rect: [1, 1, -1, -1] }, clip = null;
@@ -152,14 +175,17 @@ class Warp {
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, width, height);
     this.dirty = [0, 0, width, height];
-    if (clip) {
+    if (warm !== null) {
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(0, 0, 1, 1);
+    } else if (clip) {
       const [x0, y0, x1, y1] = deviceRect(clip, this.toCanvas, width, height);
       this.dirty = [x0, y0, Math.max(0, x1 - x0), Math.max(0, y1 - y0)];
       if (x1 <= x0 || y1 <= y0) return;
       gl.enable(gl.SCISSOR_TEST);
       gl.scissor(x0, y0, x1 - x0, y1 - y0);
     } else gl.disable(gl.SCISSOR_TEST);
-    const { prog, u } = this.program(kind, edges, !!plan.forward);
+    const { prog, u } = this.program(kind, edges, !!plan.forward, warm ?? !!this.above);
     gl.useProgram(prog);
     setSteps(gl, u, this.list, steps);
     gl.activeTexture(gl.TEXTURE0);

@@ -166,7 +166,7 @@ async function ask(doc, k, t, view, w, h, key) {
   }
 }
 // The layers of the selected op asked before a gesture needs them (its handles
-// and sliders are what the hand takes next), at the time shown, when no
+// and sliders are what the hand takes next), and its programs warmed, at the time shown, when no
 // gesture, play or solo is on (main.js runs this when the selection, the
 // recipe, the size or the view change, not the time).
 export function prefetchLayers(s) {
@@ -177,6 +177,9 @@ export function prefetchLayers(s) {
   if (!available(w, h)) return;
   const key = keyOf(doc, k, t, t >= settledFrom(doc, k), view, w, h);
   if (ready !== key) ask(doc, k, t, view, w, h, key);
+  // its programs compiled meanwhile (the top op's: also the one drawn before its layers come)
+  const top = k === doc.ops.length - 1, edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
+  warp.warm(doc.ops[k], t, edges, !top, top && ready !== key ? doc.ops[k] : null);
 }
 // For tests and benchmarks: whether the page warps, and the layers it holds.
 // (``interim``: the base is the exact frame with the op as it was, the layers on their way)
