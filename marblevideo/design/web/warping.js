@@ -100,9 +100,11 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
     }
   }
   const op = doc.ops[k], edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
-  const before = ready === key ? null : s.doc.ops[k];
+  const old = s.doc.ops[k];
   draw(() => {
-    if (ready !== key && (before === null || ready !== interimKey(key, before))) return null;
+    // (the layers may have come since: then they are the base, as they are asked)
+    const before = ready === key ? null : old;
+    if (before !== null && ready !== interimKey(key, before)) return null;
     const ok = warp.draw(op, t, doc.background === undefined ? "#ffffff" : doc.background, edges, before);
     return ok ? {read: (all) => warp.read(all), shown: {doc, t: +t.toFixed(3), w, h, view, ops: null}} : null;
   }, answer);
