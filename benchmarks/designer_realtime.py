@@ -202,12 +202,15 @@ READ = """() => { const B = benchProbe, s = B.snap;
           puts: B.puts, snap: s && {frame: s.frame, shown: s.shown}}; }"""
 
 
-def timed_gesture(page, url: str, gesture: str, seconds: float, rate: float, verify=False):
+def timed_gesture(page, url, gesture: str, seconds: float, rate: float, verify=False, pause=0.0):
     """One gesture, timed: its figures, agreement and up->exact (``verify``: and the
-    agreement of the sheet settled after it with the exact render of what it shows)."""
+    agreement of the sheet settled after it with the exact render of what it shows;
+    ``pause``: seconds from selecting the op to pressing, for a handle or slider)."""
     if gesture in ("drop", "comb", "stroke"):
         page.evaluate(f"designer.setTool({json.dumps(gesture)})")
     points = path_of(page, gesture, max(2, int(seconds * rate)))
+    if pause and gesture in ("handle", "slider"):
+        page.wait_for_timeout(pause * 1000)  # a hand's pause from selecting to pressing
     page.evaluate(RESET, "slider" if gesture == "slider" else "pointer")
     pointer, alt = Pointer(page), gesture == "handle"
     pointer.drag(points, rate, alt)
@@ -290,7 +293,10 @@ def bench_design(design: str, args) -> list[dict]:
         for run in range(args.repeat):
             for g in args.gestures:
                 row = {"design": design, "run": run + 1, "load": os.getloadavg()[0]}
-                row.update(timed_gesture(page, url, g, args.seconds, args.rate, args.verify))
+                row["pause_s"] = args.pause
+                row.update(
+                    timed_gesture(page, url, g, args.seconds, args.rate, args.verify, args.pause)
+                )
                 kept(rows, row)
     return rows
 
@@ -343,6 +349,7 @@ def main() -> None:
     p.add_argument("--live-tools", nargs="+", default=["comb", "stroke"], choices=GESTURES[:3])
     p.add_argument("--no-design", action="store_true", help="only --live")
     p.add_argument("--verify", action="store_true", help="also compare the settled sheet")
+    p.add_argument("--pause", type=float, default=0.0, help="select -> press, s (handle, slider)")
     p.add_argument("--json", metavar="FILE", help="write the rows as JSON")
     p.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"), help="two --json files")
     args = p.parse_args()

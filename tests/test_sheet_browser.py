@@ -2,7 +2,8 @@
 WebGL2): a canvas of its displayed size in device pixels (devicePixelRatio 1
 and 2), zoom and pan rendered exactly (the server's exact render of the view),
 a frame drawn mid-gesture (warped on the page, or the server's quick frame)
-against the exact render of the same recipe, a first frame soon and never a
+against the exact render of the same recipe (also a handle's before its layers
+come), a first frame soon and never a
 black sheet, and exports at the recipe's own sizes. The sheet is compared with
 the server's render of what the page says it shows (``window.marbleShown``).
 Skipped, with the reason, without Playwright or Chromium."""
@@ -259,6 +260,49 @@ def test_a_handle_dragged_mid_gesture_agrees_with_the_exact_render(webgl_browser
         assert what["doc"]["ops"][0]["center"] != DROPS["ops"][0]["center"]
         share = agreement(image, server_render(app, what), LEVELS)
         assert share >= SHARE, share
+        assert errors == []
+
+
+def test_a_handle_answered_before_its_layers_come(webgl_browser, tmp_path):
+    """The top op's handle dragged while its layers are held back (the server's
+    answer to POST /api/layers kept until the end): the page answers the moves
+    from its own exact frame, the tine as it was taken off forward, and that
+    frame agrees with the exact render of the recipe it shows."""
+    tine = {"type": "tine", "point": [150, 110], "angle": 30, "alpha": 20, "lambda": 10}
+    doc = {**DROPS, "ops": [*DROPS["ops"][:2], tine]}
+    recipe = tmp_path / "tine.json"
+    recipe.write_text(json.dumps(doc))
+    with sheet_page(webgl_browser, tmp_path, "--ops", recipe) as (page, app, errors):
+        held = []
+        page.route("**/api/layers**", lambda route: held.append(route))
+        page.click("#op-2 .name")
+        box = page.locator("#overlay").bounding_box()
+        px, py = page.evaluate("designer.toPixel(designer.handles(2)[0][1])")
+        scale = box["width"] / page.evaluate("document.getElementById('overlay').width")
+        x0, y0 = box["x"] + px * scale, box["y"] + py * scale
+        page.keyboard.down("Alt")
+        page.mouse.move(x0, y0)
+        page.mouse.down()
+        for i in range(1, 7):
+            page.mouse.move(x0 + 5 * i, y0 + 4 * i)
+        image, what, frame = shown_when(
+            page, "f.kind === 'warp' && f.input !== null && designer.state.gesture !== null"
+        )
+        interim = page.evaluate("designer.warp().interim")
+        for route in held:
+            route.continue_()
+        # then the layers: the next moves warp them, the op as it was no longer taken off
+        page.wait_for_function("designer.warp().ready && !designer.warp().interim")
+        page.mouse.move(x0 + 40, y0 + 20)
+        page.mouse.move(x0 + 44, y0 + 18)
+        later = shown_when(page, f"f.kind === 'warp' && f.n > {frame['n']} + 1")
+        page.mouse.up()
+        page.keyboard.up("Alt")
+        assert held and interim, (len(held), interim)
+        assert what["doc"]["ops"][2]["point"] != doc["ops"][2]["point"]
+        for pixels, shows in ((image, what), later[:2]):
+            share = agreement(pixels, server_render(app, shows), LEVELS)
+            assert share >= SHARE, share
         assert errors == []
 
 

@@ -8,7 +8,7 @@
 // pixel's centre is x = i + 0.5) is canvas point (x a + c, y b + d) for
 // toCanvas = [a, b, c, d]; canvas point Q is base pixel point
 // (Q.x a' + c', Q.y b' + d') for toBase = [a', b', c', d'].
-import { STEP, drawSource } from "./warp_shaders.js";
+import { FORWARD_KINDS, STEP, drawSource } from "./warp_shaders.js";
 import { at, resolve, rgb255 } from "./warp_ops.js";
 import { strokeAt } from "./warp_stroke.js";
 import { StrokeMap, deviceRect, setSteps, stepRows } from "./warp_map.js";
@@ -72,10 +72,32 @@ class Warp {
   }
 
   // The draw program of an op kind and edges mode (compiled once).
-  program(kind, edges) {
-    const key = `${kind} ${edges} ${!!this.above}`;
-    if (!this.programs.has(key)) this.programs.set(key, program(this.gl, drawSource(kind, edges, !!this.above)));
+  program(kind, edges, forward = false, above = !!this.above) {
+    const key = `${kind} ${edges} ${above} ${forward}`;
+    if (!this.programs.has(key)) this.programs.set(key, program(this.gl, drawSource(kind, edges, above, forward)));
     return this.programs.get(key);
+  }
+
+  // Ahead of a gesture on ``op``: SwiftShader compiles a program at its first
+  // draw (70-120 ms on two busy cores), so the programs the gesture will draw
+  // with (``above``: with a map of the ops above; ``before``: forward, then
+  // plain) each draw one pixel now, once; the GPU process runs them while the
+  // page goes on. The next frame draws the whole canvas.
+  warm(op, t, edges = "clamp", above = false, before = null) {
+    try {
+      const plan = resolve(op, t);
+      if (!plan || plan.kind === "stroke" || !(edges in EDGES)) return;
+      const forward = before && forwardable(op, before, t) ? [true, false] : [false];
+      for (const fw of forward) {
+        const key = `${plan.kind} ${EDGES[edges]} ${above} ${fw}`;
+        if (this.warmed?.has(key)) continue;
+        (this.warmed = this.warmed || new Set()).add(key);
+        this.drawPlan(op, t, { ...plan, forward: fw ? plan.p : null }, [255, 255, 255], EDGES[edges], above);
+      }
+      this.lastStroke = null;
+    } catch (e) {
+      console.warn("warp:", e);
+    }
   }
 
   setBase(image, width, height) {
@@ -106,10 +128,17 @@ class Warp {
   // Draw base(inv_op(q)) at time t over the recipe's background and edges (the
   // background shows where edges is "background"); false when the page cannot
   // (a signal, an unknown op, a WebGL failure): the caller asks the server.
-  draw(op, t, background = "#ffffff", edges = "clamp") {
+  // ``before``: the base is the exact frame with that op (the op as it was) on
+  // top, taken off forward: base(before(inv_op(q))) (only where forwardable).
+  draw(op, t, background = "#ffffff", edges = "clamp", before = null) {
     try {
       const plan = resolve(op, t), bg = rgb255(at(background, t, true));
       if (!plan || !(edges in EDGES)) return false;
+      if (before) {
+        const old = forwardPlan(before, t, plan);
+        if (!old || this.above) return false;
+        plan.forward = old.p;
+      }
       this.drawPlan(op, t, plan, bg, EDGES[edges]);
       return true;
     } catch (e) {
@@ -118,7 +147,8 @@ class Warp {
     }
   }
 
-  drawPlan(op, t, plan, bg, edges) {
+  // (``warm``: whether a map is above, for a one-pixel draw of that program; see warm)
+  drawPlan(op, t, plan, bg, edges, warm = null) {
     const gl = this.gl, { width, height } = this.canvas;
     let kind = plan.kind, p = plan.p, list = plan.list;
     let steps = { list, n: 0, rect: [1, 1, -1, -1] }, clip = null;
@@ -145,14 +175,17 @@ class Warp {
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     gl.viewport(0, 0, width, height);
     this.dirty = [0, 0, width, height];
-    if (clip) {
+    if (warm !== null) {
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(0, 0, 1, 1);
+    } else if (clip) {
       const [x0, y0, x1, y1] = deviceRect(clip, this.toCanvas, width, height);
       this.dirty = [x0, y0, Math.max(0, x1 - x0), Math.max(0, y1 - y0)];
       if (x1 <= x0 || y1 <= y0) return;
       gl.enable(gl.SCISSOR_TEST);
       gl.scissor(x0, y0, x1 - x0, y1 - y0);
     } else gl.disable(gl.SCISSOR_TEST);
-    const { prog, u } = this.program(kind, edges);
+    const { prog, u } = this.program(kind, edges, !!plan.forward, warm ?? !!this.above);
     gl.useProgram(prog);
     setSteps(gl, u, this.list, steps);
     gl.activeTexture(gl.TEXTURE0);
@@ -169,6 +202,11 @@ class Warp {
     const params = new Float32Array(16);
     params.set(p.slice(0, 16));
     for (let i = 0; i < 4; i++) gl.uniform4fv(u[`uQ${i}`], params.subarray(4 * i, 4 * i + 4));
+    if (plan.forward) {
+      const old = new Float32Array(16);
+      old.set(plan.forward.slice(0, 16));
+      for (let i = 0; i < 4; i++) gl.uniform4fv(u[`uF${i}`], old.subarray(4 * i, 4 * i + 4));
+    }
     gl.activeTexture(gl.TEXTURE2);
     gl.bindTexture(gl.TEXTURE_2D, this.above || this.list);
     gl.uniform1i(u.uAbove, 2);
@@ -229,6 +267,21 @@ class Warp {
     for (let y = 0; y < height; y++) flipped.set(out.subarray(y * row, (y + 1) * row), (height - 1 - y) * row);
     return flipped;
   }
+}
+
+// Whether a frame of ``op`` at t can take ``before`` (the op as it was) off
+// forward: the same kind, a forwardable one (not an oseen vortex, whose twist
+// packs the picture too tight to take off), and the same list (the pass has one).
+export function forwardable(op, before, t) {
+  const plan = resolve(op, t);
+  return !!plan && FORWARD_KINDS.includes(plan.kind) && !!forwardPlan(before, t, plan);
+}
+function forwardPlan(before, t, plan) {
+  const old = resolve(before, t);
+  if (!old || old.kind !== plan.kind || !FORWARD_KINDS.includes(old.kind)) return null;
+  if (old.kind === 6 && old.p[2] === 2) return null;  // oseen: its twist loses the picture
+  if (old.list.length !== plan.list.length || old.list.some((v, i) => v !== plan.list[i])) return null;
+  return old;
 }
 
 // The smallest canvas rect [x0, y0, x1, y1] holding both (each may be null).

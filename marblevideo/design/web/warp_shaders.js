@@ -116,11 +116,16 @@ void main() {
 // shader for every kind, switched by uniform ifs, took 695 ms a 1024x768 drop
 // frame on SwiftShader under load 17, this 90 ms under load 15 (and a uniform
 // array, even unindexed, cost a stroke frame 240 ms more: the shaders have none).
-export function drawSource(kind, edges, above) {
+// ``forward``: the base is the exact frame of the recipe with the op as it was
+// (its numbers uF0..uF3) on top, which the pass takes off forward (base(old(inv_op(q))));
+// for the kinds in FORWARD_KINDS, with no map above.
+export const FORWARD_KINDS = [2, 3, 4, 5, 6, 7, 9, 10];
+export function drawSource(kind, edges, above, forward = false) {
   return `#version 300 es
 #define KIND ${kind}
 #define EDGES ${edges}
 #define ABOVE ${above ? 1 : 0}
+#define FORWARD ${forward ? 1 : 0}
 ${COMMON}${DRAW}`;
 }
 
@@ -130,13 +135,18 @@ uniform sampler2D uBase;
 uniform vec2 uBaseSize;
 uniform vec3 uBg;
 uniform vec4 uQ0, uQ1, uQ2, uQ3; // the op's numbers (warp_ops.js' p), four a vector
+#if FORWARD
+uniform vec4 uF0, uF1, uF2, uF3; // the op's numbers before the gesture (the exact frame's)
+#endif
+// the numbers the op's functions read: uQ, then (FORWARD) uF
+vec4 Q0, Q1, Q2, Q3;
 uniform sampler2D uAbove;
 
 bool inkHit = false;
 vec3 inkColor = vec3(0.0);
 
 vec2 drops(vec2 P) {
-  for (int k = int(uQ0.x) - 1; k >= 0; k--) {
+  for (int k = int(Q0.x) - 1; k >= 0; k--) {
     vec4 a = L(2 * k);
     vec2 q = P - a.xy;
     float R = length(q);
@@ -148,36 +158,36 @@ vec2 drops(vec2 P) {
 
 // sum_k c_k e^(-|u - o_k| / L) over n evenly spaced terms in closed form, as
 // kernels/prelude.cl series_sum (two geometric series either side of u: four
-// exponentials for any n). uQ2, uQ3: o0, 1/s, s, s/L; 1/(1 - sigma q), c0,
+// exponentials for any n). Q2, Q3: o0, 1/s, s, s/L; 1/(1 - sigma q), c0,
 // sigma, sigma^(n-1) (warp_ops.js closedSeries).
 float seriesSum(float u, float invL, float n) {
-  float o0 = uQ2.x, step = uQ2.z, ratio = uQ2.w, sigma = uQ3.z;
-  float j = clamp(floor((u - o0) * uQ2.y), -1.0, n - 1.0);
+  float o0 = Q2.x, step = Q2.z, ratio = Q2.w, sigma = Q3.z;
+  float j = clamp(floor((u - o0) * Q2.y), -1.0, n - 1.0);
   float b = u - (o0 + j * step);
   float sj = 1.0 + (sigma - 1.0) * (j - 2.0 * floor(0.5 * j));
   float below = exp(-(j < 0.0 ? 0.0 : b) * invL);
   float above = exp(-(j >= n - 1.0 ? 0.0 : step - b) * invL);
   below *= 1.0 - sj * sigma * exp(-(j + 1.0) * ratio);
-  above *= sigma * (1.0 - uQ3.w * sj * exp(-(n - 1.0 - j) * ratio));
-  return uQ3.y * uQ3.x * sj * (below + above);
+  above *= sigma * (1.0 - Q3.w * sj * exp(-(n - 1.0 - j) * ratio));
+  return Q3.y * Q3.x * sj * (below + above);
 }
 
 vec2 shears(vec2 P) {
-  vec2 A = vec2(uQ0.x, uQ0.y), M = vec2(uQ0.z, uQ0.w), N = vec2(-M.y, M.x);
+  vec2 A = vec2(Q0.x, Q0.y), M = vec2(Q0.z, Q0.w), N = vec2(-M.y, M.x);
   float across = dot(P - A, N), shift;
 #if KIND == 2
   {
-    float d = abs(across), s = uQ1.z, lam = uQ1.y;
+    float d = abs(across), s = Q1.z, lam = Q1.y;
     if (s > 0.0) d = 0.5 * s - abs(d - s * floor(d / s) - 0.5 * s);
-    shift = uQ1.x * lam / (d + lam);
+    shift = Q1.x * lam / (d + lam);
   }
 #elif KIND == 9
-  shift = uQ1.x * seriesSum(across, uQ1.y, uQ1.z);
+  shift = Q1.x * seriesSum(across, Q1.y, Q1.z);
 #else
   {
     float sum = 0.0;
-    for (int k = 0; k < int(uQ1.z); k++) sum += exp(-abs(across - L(k).x) * uQ1.y);
-    shift = uQ1.x * sum;
+    for (int k = 0; k < int(Q1.z); k++) sum += exp(-abs(across - L(k).x) * Q1.y);
+    shift = Q1.x * sum;
   }
 #endif
   return P - shift * M;
@@ -186,15 +196,15 @@ vec2 shears(vec2 P) {
 #if KIND == 10
 // A stir whose rings are a closed-form series: theta = alpha sum(R) / R.
 vec2 rotations(vec2 P) {
-  vec2 C = vec2(uQ0.x, uQ0.y), q = P - C;
+  vec2 C = vec2(Q0.x, Q0.y), q = P - C;
   float R = length(q);
-  return C + rot(q, R > 0.0 ? -uQ0.w * seriesSum(R, uQ1.x, uQ1.z) / R : 0.0);
+  return C + rot(q, R > 0.0 ? -Q0.w * seriesSum(R, Q1.x, Q1.z) / R : 0.0);
 }
 #else
 vec2 rotations(vec2 P) {
-  vec2 C = vec2(uQ0.x, uQ0.y), q = P - C;
-  int sub = int(uQ0.z);
-  float R = length(q), a = uQ0.w, b = uQ1.x, c = uQ1.y, theta = 0.0;
+  vec2 C = vec2(Q0.x, Q0.y), q = P - C;
+  int sub = int(Q0.z);
+  float R = length(q), a = Q0.w, b = Q1.x, c = Q1.y, theta = 0.0;
   if (sub == 0) {
     float d = c < 0.0 ? R : abs(R - c);
     theta = R > 0.0 ? a * b / (d + b) / R : 0.0;
@@ -204,7 +214,7 @@ vec2 rotations(vec2 P) {
     theta = a * pow(b + c * R * sqrt(R), -4.0 / 3.0);
   } else {
     float sum = 0.0;
-    for (int k = 0; k < int(uQ1.z); k++) { vec4 r = L(k); sum += r.y * exp(-abs(R - r.x) * r.z); }
+    for (int k = 0; k < int(Q1.z); k++) { vec4 r = L(k); sum += r.y * exp(-abs(R - r.x) * r.z); }
     theta = sub == 4 ? a * sum : (R > 0.0 ? a * sum / R : 0.0);
   }
   return C + rot(q, -theta);
@@ -212,8 +222,8 @@ vec2 rotations(vec2 P) {
 #endif
 
 vec2 jiggle(vec2 P) {
-  vec2 M = vec2(uQ0.x, uQ0.y), N = vec2(-M.y, M.x);
-  float inv = uQ0.z, ph = uQ0.w, A = uQ1.x, B = uQ1.y, ka = TAU * inv * A;
+  vec2 M = vec2(Q0.x, Q0.y), N = vec2(-M.y, M.x);
+  float inv = Q0.z, ph = Q0.w, A = Q1.x, B = Q1.y, ka = TAU * inv * A;
   float so = dot(P, M), s = so, lo = so - abs(A), hi = so + abs(A);
   for (int k = 0; k < 12; k++) {
     float tau = TAU * fract(s * inv + ph);
@@ -227,9 +237,9 @@ vec2 jiggle(vec2 P) {
 }
 
 vec2 wave(vec2 P) {
-  vec2 M = vec2(uQ0.x, uQ0.y);
+  vec2 M = vec2(Q0.x, Q0.y);
   float across = P.x * M.y - P.y * M.x;
-  return P - uQ0.z * sin(TAU * fract(across * uQ0.w + uQ1.x)) * M;
+  return P - Q0.z * sin(TAU * fract(across * Q0.w + Q1.x)) * M;
 }
 
 vec2 inverseOp(vec2 P) {
@@ -240,7 +250,7 @@ vec2 inverseOp(vec2 P) {
 #elif KIND == 3
   return wave(P);
 #elif KIND == 4
-  return P - vec2(uQ0.x, uQ0.y);
+  return P - vec2(Q0.x, Q0.y);
 #elif KIND == 6 || KIND == 10
   return rotations(P);
 #elif KIND == 7
@@ -275,7 +285,33 @@ vec4 sampleBase(vec2 P) {
 #endif
 }
 
+#if FORWARD
+// The op before the gesture, forward (the kinds whose inverse moves a point along
+// a line or circle it does not leave: forward is the same step the other way).
+vec2 forwardOp(vec2 P) {
+#if KIND == 2 || KIND == 5 || KIND == 9
+  return 2.0 * P - shears(P);
+#elif KIND == 3
+  return 2.0 * P - wave(P);
+#elif KIND == 4
+  return P + vec2(Q0.x, Q0.y);
+#elif KIND == 6 || KIND == 10
+  // rot(q, theta) = 2 cos(theta) q - rot(q, -theta), cos(theta) = q.rot(q, -theta) / |q|^2
+  vec2 C = vec2(Q0.x, Q0.y), q = P - C, back = rotations(P) - C;
+  float r2 = dot(q, q);
+  return r2 > 0.0 ? C + (2.0 * dot(q, back) / r2) * q - back : P;
+#elif KIND == 7
+  vec2 M = vec2(Q0.x, Q0.y), N = vec2(-M.y, M.x);
+  float tau = TAU * fract(dot(P, M) * Q0.z + Q0.w);
+  return P + Q1.x * sin(tau) * M + Q1.y * cos(tau) * N;
+#else
+  return P;
+#endif
+}
+#endif
+
 void main() {
+  Q0 = uQ0; Q1 = uQ1; Q2 = uQ2; Q3 = uQ3;
   vec2 P = devicePoint() * uToCanvas.xy + uToCanvas.zw;
 #if ABOVE
   vec4 a = texelFetch(uAbove, ivec2(int(gl_FragCoord.x), int(uSize.y - gl_FragCoord.y)), 0);
@@ -283,5 +319,24 @@ void main() {
   P = a.xy;
 #endif
   P = inverseOp(P);
+#if FORWARD
+  // the base is the exact frame, the op before the gesture on top: taken off
+  // forward from where the layers' base would be sampled (the edges mode taken
+  // first, in base pixels, as the texture unit does)
+  vec2 f = P * uToBase.xy + uToBase.zw, n = uBaseSize;
+#if EDGES == 0
+  f = clamp(f, vec2(0.5), n - 0.5);
+#elif EDGES == 1
+  f = mod(f, n);
+#elif EDGES == 2
+  f = mod(f, 2.0 * n);
+  f = mix(f, 2.0 * n - f, step(n, f));
+#else
+  if (!inkHit && (any(lessThan(f, vec2(0.0))) || any(greaterThanEqual(f, n)))) { outColor = vec4(uBg, 1.0); return; }
+#endif
+  P = (f - uToBase.zw) / uToBase.xy;
+  Q0 = uF0; Q1 = uF1; Q2 = uF2; Q3 = uF3;
+  P = forwardOp(P);
+#endif
   outColor = inkHit ? vec4(inkColor, 1.0) : sampleBase(P);
 }`;

@@ -95,16 +95,36 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
       // draws the newest input then): a server frame meanwhile would only slow
       // them down on the same cores; it is asked for when they cannot come
       ask(doc, k, t, view, w, h, key);
-      return failed !== key && (loading === key || (wanted !== null && wanted.key === key));
+      if (failed === key || (loading !== key && (wanted === null || wanted.key !== key))) return false;
+      if (!meanwhile(s, k, exact, view, w, h, key)) return true;
     }
   }
   const op = doc.ops[k], edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
+  const old = s.doc.ops[k];
   draw(() => {
-    if (ready !== key) return null;
-    const ok = warp.draw(op, t, doc.background === undefined ? "#ffffff" : doc.background, edges);
+    // (the layers may have come since: then they are the base, as they are asked)
+    const before = ready === key ? null : old;
+    if (before !== null && ready !== interimKey(key, before)) return null;
+    const ok = warp.draw(op, t, doc.background === undefined ? "#ffffff" : doc.background, edges, before);
     return ok ? {read: (all) => warp.read(all), shown: {doc, t: +t.toFixed(3), w, h, view, ops: null}} : null;
   }, answer);
   return true;
+}
+// While the layers of a handle or slider on the top op are on their way: the
+// page's exact frame of the saved recipe is a base too, with the op as it was
+// on top, which the warp takes off forward (warp.js ``before``: exact where the
+// op's forward is closed-form and its pull stays inside the view). True when
+// that base is set (uploaded once a gesture).
+const interimKey = (key, before) => `before|${key}|${JSON.stringify(before)}`;
+function meanwhile(s, k, exact, view, w, h, key) {
+  const doc = s.doc, before = doc.ops[k];
+  if (k !== doc.ops.length - 1 || s.preview.doc.ops.length !== doc.ops.length) return false;
+  if (before.hidden || doc.motion !== undefined || !lib.forwardable(s.preview.doc.ops[k], before, s.t)) return false;
+  const ikey = interimKey(key, before);
+  if (ready === ikey) return true;
+  const base = baseOf(s, exact, view, w, h, null);
+  if (base) setLayers(ikey, base, null, view, w, h);
+  return !!base;
 }
 // The pixels of ``f`` ({doc, t, view, image}: the page's exact frame, the
 // sheet's last warped one) when it shows the recipe of ``s`` at its time, view
@@ -148,7 +168,7 @@ async function ask(doc, k, t, view, w, h, key) {
   }
 }
 // The layers of the selected op asked before a gesture needs them (its handles
-// and sliders are what the hand takes next), at the time shown, when no
+// and sliders are what the hand takes next), and its programs warmed, at the time shown, when no
 // gesture, play or solo is on (main.js runs this when the selection, the
 // recipe, the size or the view change, not the time).
 export function prefetchLayers(s) {
@@ -159,6 +179,10 @@ export function prefetchLayers(s) {
   if (!available(w, h)) return;
   const key = keyOf(doc, k, t, t >= settledFrom(doc, k), view, w, h);
   if (ready !== key) ask(doc, k, t, view, w, h, key);
+  // its programs compiled meanwhile (the top op's: also the one drawn before its layers come)
+  const top = k === doc.ops.length - 1, edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
+  warp.warm(doc.ops[k], t, edges, !top, top && ready !== key ? doc.ops[k] : null);
 }
 // For tests and benchmarks: whether the page warps, and the layers it holds.
-export const warpState = () => ({broken, ready: ready !== null});
+// (``interim``: the base is the exact frame with the op as it was, the layers on their way)
+export const warpState = () => ({broken, ready: ready !== null, interim: !!ready && ready.startsWith("before|")});
