@@ -197,7 +197,7 @@ class Pointer:
 RESET = """(mode) => { const B = benchProbe; B.inputs = []; B.frames = []; B.pageFrames = [];
   B.snap = null; B.armSeq = null; B.armNext = false; B.puts = []; B.mode = mode;
   B.source = Array.isArray(window.marbleFrames) ? 'page' : 'counter'; }"""
-READ = """() => { const B = benchProbe, s = B.snap;
+READ = """() => { const B = benchProbe, s = B.snap; B.fresh();
   return {inputs: B.inputs, frames: B.frames, pageFrames: B.pageFrames, source: B.source,
           puts: B.puts, snap: s && {frame: s.frame, shown: s.shown}}; }"""
 
@@ -212,6 +212,7 @@ def timed_gesture(page, url, gesture: str, seconds: float, rate: float, verify=F
     if pause and gesture in ("handle", "slider"):
         page.wait_for_timeout(pause * 1000)  # a hand's pause from selecting to pressing
     page.evaluate(RESET, "slider" if gesture == "slider" else "pointer")
+    began = page.evaluate("performance.now()")
     pointer, alt = Pointer(page), gesture == "handle"
     pointer.drag(points, rate, alt)
     with contextlib.suppress(Exception):
@@ -229,6 +230,7 @@ def timed_gesture(page, url, gesture: str, seconds: float, rate: float, verify=F
         "gesture": gesture,
         **figures(probe),
         "up_to_exact_ms": round(exact[0]) if exact else None,
+        "stages_ms": stages(page, began, up),
     }
     result.update(agree(url, probe["snap"], pixels))
     if verify:  # the comparison itself: the settled sheet against the exact render
@@ -239,6 +241,19 @@ def timed_gesture(page, url, gesture: str, seconds: float, rate: float, verify=F
     page.keyboard.press("Control+z")  # the design as it was for the next gesture
     settle(page)
     return result
+
+
+def stages(page, began: float, up: float) -> list[float] | None:
+    """Median ms of the warp frames' stages in the page between ``began`` and ``up``
+    (``marbleFrames`` ``ms``: draw issued, read back, put on the sheet), or None."""
+    ms = page.evaluate(
+        "([a, b]) => (window.marbleFrames || []).filter((f) => f.ms && f.drawnAt > a"
+        " && f.drawnAt < b).map((f) => f.ms)",
+        [began, up],
+    )
+    if not ms:
+        return None
+    return [round(sorted(m[i] for m in ms)[len(ms) // 2], 1) for i in range(len(ms[0]))]
 
 
 def open_page(p, url: str, viewport: tuple[int, int], dpr: float, live: bool = False):
@@ -272,7 +287,9 @@ def served_page(name: str, args, live: bool = False, fps: float | None = None):
     with tempfile.TemporaryDirectory() as folder, sync_playwright() as p:
         proc, url = serve(Path(folder), name, live=live, fps=fps)
         try:
-            browser, page = open_page(p, url, args.viewport, args.dpr, live=live)
+            query = getattr(args, "query", None)
+            page_url = url + ("?" + query if query else "")
+            browser, page = open_page(p, page_url, args.viewport, args.dpr, live=live)
             yield url, page
             browser.close()
         finally:
@@ -350,6 +367,7 @@ def main() -> None:
     p.add_argument("--no-design", action="store_true", help="only --live")
     p.add_argument("--verify", action="store_true", help="also compare the settled sheet")
     p.add_argument("--pause", type=float, default=0.0, help="select -> press, s (handle, slider)")
+    p.add_argument("--query", help="the page's address query, e.g. glsheet=0 (sheetgl.js)")
     p.add_argument("--json", metavar="FILE", help="write the rows as JSON")
     p.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"), help="two --json files")
     args = p.parse_args()

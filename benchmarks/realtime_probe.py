@@ -50,6 +50,10 @@ PROBE = r"""(() => {
   }, true);
   function readSheet() {
     const c = document.getElementById('sheet');
+    if (window.designer && designer.sheetPixels) {  // whichever canvas shows the sheet
+      const d = designer.sheetPixels();
+      return {w: d.width, h: d.height, data: d.data};
+    }
     const c2 = c.getContext('2d');
     if (c2) return {w: c.width, h: c.height, data: c2.getImageData(0, 0, c.width, c.height).data};
     const gl = c.getContext('webgl2') || c.getContext('webgl');
@@ -81,6 +85,8 @@ PROBE = r"""(() => {
       for (const it of items) {
         const f = {drawnAt: it.drawnAt, inputAt: it.input === null ? null : it.inputAt,
           kind: it.kind, w: it.w, h: it.h};
+        // (a frame on the WebGL canvas gets its drawnAt once its draw is done: B.fresh)
+        Object.defineProperty(f, 'src', {value: it, enumerable: false});
         B.pageFrames.push(f);
         maybeSnap(f);
       }
@@ -120,6 +126,7 @@ PROBE = r"""(() => {
   else observe();
   // what the benchmark reads: the snapshot's pixels as base64
   // (``now``: the sheet as it is, e.g. settled on the exact frame, and what it shows)
+  B.fresh = () => { for (const f of B.pageFrames) if (f.src) f.drawnAt = f.src.drawnAt; };
   B.snapPixels = (now = false) => {
     if (now) B.snap = {frame: {kind: 'now'}, pixels: readSheet(), shown: shown()};
     const p = B.snap && B.snap.pixels;

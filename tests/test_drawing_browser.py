@@ -29,11 +29,10 @@ MID = """() => { const s = designer.state, op = s.preview && s.preview.doc.ops.a
 
 
 def _sheet(page) -> np.ndarray:
-    """The sheet's pixels (RGB), as its canvas holds them."""
+    """The sheet's pixels (RGB), as it shows them."""
     w, h, data = page.evaluate(
-        """() => { const c = document.getElementById('sheet');
-            return [c.width, c.height,
-                Array.from(c.getContext('2d').getImageData(0, 0, c.width, c.height).data)]; }"""
+        """() => { const d = designer.sheetPixels();  // whichever canvas shows the sheet
+            return [d.width, d.height, Array.from(d.data)]; }"""
     )
     return np.asarray(data, np.uint8).reshape(h, w, 4)[..., :3]
 

@@ -10,116 +10,31 @@ Skipped, with the reason, without Playwright or Chromium."""
 
 from __future__ import annotations
 
-import base64
 import json
 import shutil
-import struct
 import time
 import urllib.request
-from contextlib import contextmanager
 
 import cv2
 import numpy as np
 import pytest
 from helpers import ROOT
 from live_helpers import LiveProcess
+from sheet_support import (
+    DROPS,
+    EXACT_SHARE,
+    LEVELS,
+    SHARE,
+    exact,
+    server_render,
+    sheet_page,
+    shown,
+    shown_when,
+)
 
 from benchmarks.realtime_probe import agreement
 
 pytestmark = pytest.mark.tier("integration")
-
-#: A mid-gesture frame against the exact render: share of pixels within LEVELS.
-LEVELS, SHARE = 8, 0.98
-#: The sheet's exact frame against another exact render of the same view: the
-#: renderer is adaptive on blank sheets, and after a busy frame takes the full
-#: pattern for a while (marblevideo.opencl.renderer), so two renders of one
-#: recipe may differ on a few ink edges.
-EXACT_SHARE = 0.995
-
-
-@contextmanager
-def sheet_page(browser, folder, *args, dpr=1, size=(760, 520), query=""):
-    """``marblevideo design ARGS`` and its page (``dpr``: device_scale_factor),
-    once it shows an exact frame: yields (page, app, errors)."""
-    app = LiveProcess(
-        *args, "--no-browser", "--port", "0", "--duration", "150", cwd=folder, command="design"
-    )
-    errors: list[str] = []
-    try:
-        viewport = {"width": size[0], "height": size[1]}
-        page = browser.new_page(viewport=viewport, device_scale_factor=dpr)
-        page.on("pageerror", lambda e: errors.append(f"pageerror: {e}"))
-        page.goto(app.url + query)
-        page.wait_for_selector("body[data-ready='1']")
-        exact(page)
-        yield page, app, errors
-        page.close()
-    finally:
-        assert app.stop() == 0
-
-
-def exact(page, after: int = 0) -> None:
-    """Wait for an exact frame of the saved recipe and of the view the page now
-    holds, drawn after frame ``after`` (a frame asked for an earlier view, e.g.
-    between two keys, may land after a later key's press under load)."""
-    page.wait_for_function(
-        """(n) => { const f = window.marbleFrames.at(-1), s = window.marbleShown;
-            const d = document.getElementById('sheet').dataset, v = designer.state.view;
-            return f && f.n > n && f.kind === 'exact'
-                && d.version === String(designer.state.version)
-                && (!v || (s && s.view.every((a, i) => Math.abs(a - v[i]) < 1e-9))); }""",
-        arg=after,
-        timeout=60000,
-    )
-
-
-def shown(page) -> tuple[np.ndarray, dict, dict]:
-    """The sheet's pixels (RGB), what the page says they show, and its last frame's record."""
-    got = page.evaluate(
-        """() => ({png: document.getElementById('sheet').toDataURL('image/png'),
-                   shown: window.marbleShown, frame: window.marbleFrames.at(-1)})"""
-    )
-    data = base64.b64decode(got["png"].split(",", 1)[1])
-    image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)[:, :, ::-1]
-    return image, got["shown"], got["frame"]
-
-
-def shown_when(page, condition: str) -> tuple[np.ndarray, dict, dict]:
-    """:func:`shown`, read in the same task as ``condition`` (JS, of the last
-    frame record ``f``) is first seen true, so no later frame comes between."""
-    got = page.evaluate(
-        f"""() => new Promise((resolve, reject) => {{
-            const until = performance.now() + 60000;
-            const look = () => {{
-                const f = window.marbleFrames.at(-1);
-                if (performance.now() > until) {{
-                    reject(new Error(`no frame where {condition} in 60 s: ${{JSON.stringify(f)}}`));
-                    return;
-                }}
-                if (!({condition})) {{ requestAnimationFrame(look); return; }}
-                resolve({{png: document.getElementById('sheet').toDataURL('image/png'),
-                          shown: window.marbleShown, frame: f}});
-            }};
-            look();
-        }})"""
-    )
-    data = base64.b64decode(got["png"].split(",", 1)[1])
-    image = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)[:, :, ::-1]
-    return image, got["shown"], got["frame"]
-
-
-def server_render(app, shown: dict) -> np.ndarray:
-    """The server's exact render (RGB) of what ``shown`` describes."""
-    view = ",".join(repr(v) for v in shown["view"])
-    query = f"t={shown['t']}&w={shown['w']}&h={shown['h']}&view={view}"
-    request = urllib.request.Request(
-        f"{app.url}api/frame.rgba?{query}",
-        data=json.dumps(shown["doc"]).encode(),
-        headers={"Content-Type": "application/json"},
-    )
-    raw = urllib.request.urlopen(request, timeout=60).read()
-    w, h = struct.unpack("<II", raw[:8])
-    return np.frombuffer(raw[8:], np.uint8).reshape(h, w, 4)[:, :, :3]
 
 
 def under(shown: dict, fx: float, fy: float) -> tuple[float, float]:
@@ -188,22 +103,6 @@ def test_zoom_and_pan_render_the_view_exactly(webgl_browser, tmp_path):
         exact(page, n)
         assert np.allclose(shown(page)[1]["view"], full)
         assert errors == []
-
-
-#: A design whose detail a pixel resolves (the mid-gesture agreement is of such
-#: designs: on a nonpareil at the screen's size the exact render's own
-#: antialiasing is at the pixel's scale, and no picture resampled agrees with it
-#: within 8 levels; see docs/architecture.md).
-DROPS = {
-    "marblevideo": 1,
-    "canvas": [320, 240],
-    "background": "#f4f1de",
-    "ops": [
-        {"type": "drop", "center": [160, 120], "radius": 60, "color": "#1d3557"},
-        {"type": "drop", "center": [100, 90], "radius": 30, "color": "#e63946"},
-        {"type": "wave", "angle": 0, "amplitude": 8, "wavelength": 90, "phase": 0},
-    ],
-}
 
 
 @pytest.mark.parametrize("query", ["", "?warp=0"])

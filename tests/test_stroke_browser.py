@@ -25,13 +25,14 @@ def ink_near(page, points) -> int:
     show the ink colour."""
     return page.evaluate(
         """([pts, ink]) => {
-            const sheet = document.getElementById('sheet'), c = sheet.getContext('2d');
-            const sc = sheet.width / designer.state.info.size[0], r = Math.round(5 * sc);
+            const img = designer.sheetPixels();  // whichever canvas shows the sheet
+            const sc = img.width / designer.state.info.size[0], r = Math.round(5 * sc);
             let n = 0;
             for (const [x, y] of pts) {  // the sheet has device pixels: the frame scaled by sc
                 const x0 = Math.round(x * sc) - r, y0 = Math.round(y * sc) - r;
-                const d = c.getImageData(x0, y0, 2 * r + 1, 2 * r + 1).data;
-                for (let k = 0; k < d.length; k += 4) {
+                for (let y = Math.max(0, y0); y <= Math.min(img.height - 1, y0 + 2 * r); y++)
+                for (let x = Math.max(0, x0); x <= Math.min(img.width - 1, x0 + 2 * r); x++) {
+                    const d = img.data, k = 4 * (y * img.width + x);
                     const hex = '#' + [d[k], d[k + 1], d[k + 2]]
                         .map((v) => v.toString(16).padStart(2, '0')).join('');
                     if (hex === ink) n++;

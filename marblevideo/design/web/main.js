@@ -27,6 +27,7 @@ import { buildToolbar } from "./toolbar.js";
 import { buildTools } from "./tools.js";
 import { initSize, initView, panBy, resetView, toCanvas, toPixel, zoomAt } from "./view.js";
 import { prefetchLayers, warpState } from "./warping.js";
+import { shownPixels, warpShown } from "./sheetgl.js";
 
 // The views that need the recipe and /api/info, in the order they first run
 // (the canvas sized before the sheet renders).
@@ -85,6 +86,8 @@ window.designer = {
   handles: (i) => pointsOf(i),  // op i's handles: [name, point]
   setTool: (name) => update(() => ({tool: name})),
   warp: warpState,  // whether the page warps during gestures (warp.js loaded, WebGL2), layers held
+  sheetPixels: shownPixels,  // the pixels the sheet shows now (ImageData), whichever canvas shows them
+  glShown: warpShown,  // whether the warp's WebGL canvas shows the sheet now (a gesture's frames)
   rendering: isRendering,  // whether a server frame is on its way (benchmarks settle on it)
   zoomAt, panBy, resetView,  // the view (zoom about a device pixel, pan by device pixels)
   toCanvas, toPixel,  // the sheet's device pixels <-> canvas points, through the view

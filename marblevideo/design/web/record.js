@@ -2,7 +2,9 @@
 // sheet (and every move of a parameter's slider) gets a sequence number and its
 // time (the event's timeStamp, performance.now()'s clock); every frame drawn on
 // the sheet appends to ``window.marbleFrames`` (the last LIMIT kept):
-//   {n, input, inputAt, drawnAt, kind, w, h}
+//   {n, input, inputAt, drawnAt, kind, w, h, ms}
+// (a warped frame shown on the WebGL canvas: drawnAt is when its draw was seen
+// done, at an animation frame, sheetgl.js; ``ms``: the page's time of its stages)
 // ``input``: the newest input the frame answers (null: none, e.g. a reload);
 // ``kind``: "warp" (drawn on the page), "server-draft" (not antialiased),
 // "exact" (the server's exact render) or "live" (a live session's frame).
@@ -34,9 +36,11 @@ export const newestInput = () => (seq ? {input: seq, inputAt: lastAt} : {input: 
 export function recordFrame(kind, answer, w, h, shown) {
   drawn += 1;
   const frames = window.marbleFrames;
-  frames.push({n: drawn, input: answer.input, inputAt: answer.inputAt, drawnAt: performance.now(), kind, w, h});
+  const entry = {n: drawn, input: answer.input, inputAt: answer.inputAt, drawnAt: performance.now(), kind, w, h, ms: answer.ms};
+  frames.push(entry);
   if (frames.length > LIMIT) frames.splice(0, frames.length - LIMIT);
   if (shown) window.marbleShown = shown;
+  return entry;
 }
 
 export function initRecord() {

@@ -11,6 +11,7 @@ import * as api from "./api.js";
 import { hexColor } from "./dom.js";
 import { claimInput, newestInput, recordFrame } from "./record.js";
 import { previewAnswer } from "./livepreview.js";
+import { enabled as glSheet, hideWarp, settleWarp, shownPixels, showWarp, whenDrawn } from "./sheetgl.js";
 import { get, update, isLive } from "./store.js";
 import { eventPixel, fitSheet, overlay, sheet, sizeOf, toCanvas, toCanvasMap, toPixel, viewOf } from "./view.js";
 import { changedOp, warpFrame, whenLayers } from "./warping.js";
@@ -25,6 +26,7 @@ export function resize(s) {
   if (!s.screen) return;
   const [w, h] = s.screen;
   if (sheet.width === w && sheet.height === h) return;
+  settleWarp();
   const keep = frames ? copyOf(sheet) : null;
   sheet.width = overlay.width = w;
   sheet.height = overlay.height = h;
@@ -126,7 +128,7 @@ let lastKind = null, lastExact = null, lastWarp = null, waiting = null, warpJob 
 // The sheet's picture when its last frame was warped ({doc, t, w, h, view, image}), else null:
 // the next gesture's base while the exact frame of a heavy design is on its way.
 const shownWarp = () => (lastKind === "warp" && lastWarp
-  ? {...lastWarp, image: ctx.getImageData(0, 0, sheet.width, sheet.height)} : null);
+  ? {...lastWarp, image: shownPixels()} : null);
 function schedule() { if (!raf) raf = requestAnimationFrame(paint); }
 // A server frame, drawn at the next animation frame (resolves once drawn).
 function drawn(frame) {
@@ -148,12 +150,20 @@ function paint() {
   raf = 0;
   if (warpJob) {
     const job = warpJob; warpJob = null;
+    const t0 = performance.now();
     const done = job.answer.stamp >= drawnStamp ? job() : undefined;  // undefined: stale
     if (done) {
       // only what changed since the warp's last frame, when that is what the sheet shows
-      const {image, rect} = done.read(lastKind !== "warp");
-      if (rect[2] > 0 && rect[3] > 0) ctx.putImageData(image, 0, 0, ...rect);
-      note("warp", job.answer, done.shown);
+      const t1 = performance.now();
+      const gpu = glSheet && done.canvas;
+      if (gpu) showWarp(done.canvas, done.read);  // shown as it is: no readback
+      else {
+        const {image, rect} = done.read(lastKind !== "warp");
+        if (rect[2] > 0 && rect[3] > 0) ctx.putImageData(image, 0, 0, ...rect);
+      }
+      job.answer.ms = [t1 - t0, performance.now() - t1];
+      const entry = note("warp", job.answer, done.shown);
+      if (gpu) whenDrawn(entry);
       lastWarp = done.shown;
     }
     else if (done === null) show({draft: true, doc: get().preview ? get().preview.doc : null}, job.answer);
@@ -169,6 +179,7 @@ function paint() {
       return;
     }
     ctx.putImageData(image, 0, 0);
+    hideWarp();
     sheet.dataset.draft = frame.kind === "exact" ? "0" : "1";
     sheet.dataset.version = frame.version;  // what the sheet shows
     sheet.dataset.shown = frame.only === null ? "all" : frame.only.join(",");
@@ -184,7 +195,7 @@ function note(kind, answer, shown) {
   sheet.dataset.frames = frames;
   sheet.dataset.kind = kind;
   if (kind === "warp") sheet.dataset.draft = "1";
-  recordFrame(kind, answer, sheet.width, sheet.height, shown);
+  return recordFrame(kind, answer, sheet.width, sheet.height, shown);
 }
 // Live mode: the newest marbled frame, once one newer than the last shown has
 // come. The next is asked for as soon as one comes (the session answers it when

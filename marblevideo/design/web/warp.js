@@ -88,12 +88,21 @@ class Warp {
       const plan = resolve(op, t);
       if (!plan || plan.kind === "stroke" || !(edges in EDGES)) return;
       const forward = before && forwardable(op, before, t) ? [true, false] : [false];
-      for (const fw of forward) {
-        const key = `${plan.kind} ${EDGES[edges]} ${above} ${fw}`;
-        if (this.warmed?.has(key)) continue;
+      const keys = forward.map((fw) => [fw, `${plan.kind} ${EDGES[edges]} ${above} ${fw}`]).filter(([, key]) => !this.warmed?.has(key));
+      if (!keys.length) return;
+      // the pixel drawn on is put back after (the canvas may be what the sheet shows)
+      const gl = this.gl, kept = new Uint8Array(4);
+      gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+      gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, kept);
+      for (const [fw, key] of keys) {
         (this.warmed = this.warmed || new Set()).add(key);
         this.drawPlan(op, t, { ...plan, forward: fw ? plan.p : null }, [255, 255, 255], EDGES[edges], above);
       }
+      gl.enable(gl.SCISSOR_TEST);
+      gl.scissor(0, 0, 1, 1);
+      gl.clearColor(...[...kept].map((v) => v / 255));
+      gl.clear(gl.COLOR_BUFFER_BIT);
+      gl.disable(gl.SCISSOR_TEST);
       this.lastStroke = null;
     } catch (e) {
       console.warn("warp:", e);

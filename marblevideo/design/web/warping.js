@@ -74,7 +74,7 @@ function keyOf(doc, k, t, settled, view, w, h) {
 
 // Draw the preview of ``s`` (op k changed) by warping, through ``draw(job)``
 // (job() draws into a canvas of the sheet's size at the next animation frame and
-// returns {read, shown}, or null: it could not; read(all) gives the pixels,
+// returns {read, canvas, shown}, or null: it could not; read(all) gives the pixels,
 // {image, rect}: all, or only those changed since the warp's frame before; ``answer``: the inputs it
 // answers, given back with it); false when the page
 // cannot warp it now (the caller asks the server). ``exact``: the page's last
@@ -106,7 +106,7 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
     const before = ready === key ? null : old;
     if (before !== null && ready !== interimKey(key, before)) return null;
     const ok = warp.draw(op, t, doc.background === undefined ? "#ffffff" : doc.background, edges, before);
-    return ok ? {read: (all) => warp.read(all), shown: {doc, t: +t.toFixed(3), w, h, view, ops: null}} : null;
+    return ok ? {read: (all) => warp.read(all), canvas, shown: {doc, t: +t.toFixed(3), w, h, view, ops: null}} : null;
   }, answer);
   return true;
 }
