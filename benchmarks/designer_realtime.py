@@ -18,7 +18,13 @@ op swept. Each gesture is undone after it. What is measured (benchmarks/realtime
   pixels within 8 levels of the server's exact render of what that frame shows
   (``POST /api/frame.rgba`` at its size, view and time; --verify: also the
   settled sheet's, which should be ~100%);
-- up->exact: from letting go to the first exact frame after it.
+- up->exact: from letting go to the first exact frame after it;
+- stages_ms (in --json): the median page time of a warped frame's stages
+  (``marbleFrames`` ``ms``: the draw issued; then read back and put on the 2D
+  sheet, or with the WebGL canvas shown, sheetgl.js, only shown).
+
+A frame shown on the WebGL canvas counts as drawn when a fence says its draw is
+done (at an animation frame), so fps and latency include SwiftShader's work.
 
 Where the page records the frames and the inputs they answer
 (``window.marbleFrames``), those are read; else the sheet's frame counter stands in (the frame
@@ -32,6 +38,7 @@ asked for after the save (the first may have been marbled before it).
 
     python -m benchmarks.designer_realtime [--design nonpareil bouquet 64ops]
         [--repeat 1] [--dpr 1] [--viewport 1280x860] [--live] [--json out.json]
+        [--query glsheet=0]
 
 Not a test: numbers depend on the machine (see BENCHMARKS.md).
 """
