@@ -65,6 +65,10 @@ def test_a_preview_is_shown_on_the_last_captured_frame_before_the_next(tmp_path,
         # no frame was captured since: this JPEG is the first frame marbled again
         assert (stats["frames"], stats["redrawn"]) == (1, 1)
         assert np.abs(shown.astype(int) - before.astype(int)).max() > 100  # the red drop
+        # its way through the session, in order (wall-clock ms): GET /stats
+        times = stats["preview_times"][str(serial)]
+        steps = [times[k] for k in ("received", "start", "rendered", "ready")]
+        assert steps == sorted(steps) and steps[-1] - steps[0] < 20000, times
         red = shown[32, 48]
         assert red[0] > 180 and red[1] < 110 and red[2] < 110, red
         # a save of the same recipe: shown at once too, no preview tag

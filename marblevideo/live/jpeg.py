@@ -45,8 +45,9 @@ class JpegPreview:
         None: a captured frame marbled again, not in the latency), with its ``tag``."""
         self.shown.put((rgba, ts, tag))
 
-    def run(self, stop: threading.Event, latency: RateWindow) -> None:
-        """Encode until ``stop``; each JPEG's capture-to-ready seconds go to ``latency``."""
+    def run(self, stop: threading.Event, latency: RateWindow, mark=None) -> None:
+        """Encode until ``stop``; each JPEG's capture-to-ready seconds go to ``latency``;
+        ``mark(tag, "ready")`` is called as each is ready (the preview's times)."""
         params = [cv2.IMWRITE_JPEG_QUALITY, int(self.quality)]
         while not stop.is_set():
             item = self.shown.get(timeout=0.2)
@@ -62,6 +63,8 @@ class JpegPreview:
             done = time.monotonic()
             if ts is not None:
                 latency.add(done, done - ts)
+            if mark is not None:
+                mark(tag, "ready")
             with self._cond:
                 self._data, self._tag = buf.tobytes(), tag
                 self.seq += 1

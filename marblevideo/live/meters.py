@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import statistics
 import threading
+import time
 from collections import deque
 
 
@@ -89,3 +90,29 @@ class Meters:
             "latency_p95_ms": _ms(self.latency.quantile(0.95), 1),
             "render_ms": _ms(self.render.median(), 2),
         }
+
+
+class PreviewTimes:
+    """When each of the designer's last previews (by serial) went through the
+    session, for ``/stats`` (``preview_times``: serial -> {step: wall-clock ms},
+    ``time.time()``'s clock, so a page's ``performance.timeOrigin + now()``
+    compares): ``received`` (PUT taken), ``start`` and ``rendered`` (its first
+    render), ``ready`` (its first JPEG). Each step is kept the first time only."""
+
+    def __init__(self, keep: int = 256):
+        self.keep = keep
+        self._times: dict[int, dict[str, float]] = {}
+        self._lock = threading.Lock()
+
+    def mark(self, serial: int, step: str, wall: float | None = None) -> None:
+        if not serial:
+            return
+        with self._lock:
+            times = self._times.setdefault(serial, {})
+            times.setdefault(step, round(1000 * (time.time() if wall is None else wall), 2))
+            while len(self._times) > self.keep:
+                del self._times[next(iter(self._times))]
+
+    def figures(self) -> dict[str, dict[str, float]]:
+        with self._lock:
+            return {str(k): dict(v) for k, v in self._times.items()}

@@ -37,7 +37,7 @@ import numpy as np
 
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
 from marblevideo.live.jpeg import JpegPreview
-from marblevideo.live.meters import Meters
+from marblevideo.live.meters import Meters, PreviewTimes
 from marblevideo.live.playback import Playback
 from marblevideo.live.preview import LivePreview
 from marblevideo.live.redraw import LastFrame, redrawn
@@ -108,6 +108,7 @@ class LiveSession:
         self.frames = 0
         self.started = time.monotonic()
         self.meters = Meters()
+        self.times = PreviewTimes()  # each preview's way through (GET /stats)
         self._threads: list[threading.Thread] = []
         self.stop_event = threading.Event()
 
@@ -141,6 +142,7 @@ class LiveSession:
         """Show the designer's unsaved recipe ``doc`` drawn on ``version`` from now
         (:meth:`~marblevideo.live.preview.LivePreview.put`, :meth:`redraw`); its serial."""
         serial = self.drawing.put(doc, version)
+        self.times.mark(serial, "received")
         self.source.frames.wake()
         return serial
 
@@ -216,7 +218,10 @@ class LiveSession:
             self._current()[0].render(np.zeros((h, w, 4), np.uint8), 0.0)
         self._spawn("watch", self._watch)
         if self.jpeg:
-            self._spawn("jpeg", lambda: self.preview.run(self.stop_event, self.meters.latency))
+            self._spawn(
+                "jpeg",
+                lambda: self.preview.run(self.stop_event, self.meters.latency, self.times.mark),
+            )
         self.source.start()
         self.started = time.monotonic()
         self.clock.restart()
@@ -252,11 +257,13 @@ class LiveSession:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
             luma = None if luma is None else luma[:, ::-1]
         start = time.monotonic()
+        self.times.mark(serial, "start")
         frame_t = ts - self.started if frame_t is None else frame_t
         seen, shown = (rgba if luma is None else luma), self.clock.now()
         marbler = self.motion.marbler(marbler, seen, frame_t, shown)  # on while bypassed
         out = rgba if bypass else marbler.render(rgba, shown, animated=True)
         now = time.monotonic()
+        self.times.mark(serial, "rendered")
         self.meters.frame(now, now - start)
         self.last.captured(captured, ts, self.meters.render.median() or now - start)
         self.frames += 1
@@ -282,7 +289,9 @@ class LiveSession:
         marbler, bypass, mirror, serial = self._current()
         if not bypass:  # (bypassed, the frame shown is the captured one: as it is)
             rgba = self.last.rgba[:, ::-1] if mirror else self.last.rgba
+            self.times.mark(serial, "start")
             out = redrawn(marbler, self.motion, np.ascontiguousarray(rgba), self.clock.now())
+            self.times.mark(serial, "rendered")
             self.last.count += 1
             self.preview.put(out, None, serial)
         return True
