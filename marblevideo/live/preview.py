@@ -7,18 +7,10 @@ version is the file's (a save, the page's own on release or any other, makes it
 stale), and only for :data:`TTL` seconds after it was last sent (the page sends
 it again while the hand holds still), so a page that goes away mid-drag leaves
 nothing behind. Each new preview replaces the one before: the newest wins.
-
-A preview is rendered as a draft, without antialiasing (``antialias: "none"``),
-like the designer's own frames while a hand moves: each one is a new recipe, so
-each frame walks every op afresh (no table of a recipe that stays), and the
-recipe's subsamples made that walk 3-4x longer than the rest of the frame's way
-to the page (BENCHMARKS.md). The save that ends the gesture shows the recipe as
-it is. (The outputs show the drafts too, for the gesture's length.)
 """
 
 from __future__ import annotations
 
-import dataclasses
 import threading
 import time
 
@@ -41,15 +33,12 @@ class LivePreview:
         self.serial = 0  # counts previews taken: a key for the marbler built for each
 
     def put(self, doc: object, version: object) -> int:
-        """Show ``doc`` (validated: RecipeError, one line, when not a recipe), as a
-        draft, while
+        """Show ``doc`` (validated: RecipeError, one line, when not a recipe) while
         the file is at ``version``; ``doc`` None clears the preview. Its serial (the
         live frames that show it are tagged with it)."""
         if not isinstance(version, int) or isinstance(version, bool):
             raise ValueError(f"preview: version must be the recipe's version, got {version!r}")
         recipe = None if doc is None else parse_recipe(doc, f"{self.source} (preview)")
-        if recipe is not None:
-            recipe = dataclasses.replace(recipe, antialias="none")  # a draft
         with self._lock:
             self._recipe, self._base, self._sent = recipe, version, time.monotonic()
             self.serial += 1
