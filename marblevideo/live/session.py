@@ -138,10 +138,13 @@ class LiveSession:
         self.source.frames.wake()
         return version
 
-    def show_preview(self, doc: object, version: object) -> int:
-        """Show the designer's unsaved recipe ``doc`` drawn on ``version`` from now
-        (:meth:`~marblevideo.live.preview.LivePreview.put`, :meth:`redraw`); its serial."""
-        serial = self.drawing.put(doc, version)
+    def show_preview(self, doc: object, version: object, sent: object = None) -> int:
+        """Show the designer's unsaved recipe ``doc`` drawn on ``version`` (sent at the
+        page's ``sent`` ms) from now (:meth:`~marblevideo.live.preview.LivePreview.put`,
+        :meth:`redraw`); its serial (0: overtaken by a newer send)."""
+        serial = self.drawing.put(doc, version, sent)
+        if not serial:
+            return 0
         self.times.mark(serial, "received")
         self.source.frames.wake()
         return serial
