@@ -23,11 +23,13 @@ from marblevideo.live.sources import Latest
 
 class JpegPreview:
     """JPEGs of the frames shown, ``width`` pixels wide at most (None: as shown),
-    at JPEG ``quality`` (1..100)."""
+    at JPEG ``quality`` (1..100); ``mark(tag, "ready")`` is called as each is
+    ready (:class:`~marblevideo.live.meters.PreviewTimes`)."""
 
-    def __init__(self, width: int | None = None, quality: int = 80):
+    def __init__(self, width: int | None = None, quality: int = 80, mark=None):
         self.width = width
         self.quality = quality
+        self.mark = mark
         self.shown = Latest()  # frames for the encoder: (RGBA, capture time, tag)
         self.seq = 0
         self._data: bytes | None = None
@@ -45,9 +47,8 @@ class JpegPreview:
         None: a captured frame marbled again, not in the latency), with its ``tag``."""
         self.shown.put((rgba, ts, tag))
 
-    def run(self, stop: threading.Event, latency: RateWindow, mark=None) -> None:
-        """Encode until ``stop``; each JPEG's capture-to-ready seconds go to ``latency``;
-        ``mark(tag, "ready")`` is called as each is ready (the preview's times)."""
+    def run(self, stop: threading.Event, latency: RateWindow) -> None:
+        """Encode until ``stop``; each JPEG's capture-to-ready seconds go to ``latency``."""
         params = [cv2.IMWRITE_JPEG_QUALITY, int(self.quality)]
         while not stop.is_set():
             item = self.shown.get(timeout=0.2)
@@ -63,8 +64,8 @@ class JpegPreview:
             done = time.monotonic()
             if ts is not None:
                 latency.add(done, done - ts)
-            if mark is not None:
-                mark(tag, "ready")
+            if self.mark is not None:
+                self.mark(tag, "ready")
             with self._cond:
                 self._data, self._tag = buf.tobytes(), tag
                 self.seq += 1

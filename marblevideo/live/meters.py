@@ -7,6 +7,7 @@ Times are ``time.monotonic()`` seconds; the rounded figures of
 
 from __future__ import annotations
 
+import contextlib
 import statistics
 import threading
 import time
@@ -112,6 +113,19 @@ class PreviewTimes:
             times.setdefault(step, round(1000 * (time.time() if wall is None else wall), 2))
             while len(self._times) > self.keep:
                 del self._times[next(iter(self._times))]
+
+    def rendered(self, serial: int, seconds: float) -> None:
+        """``serial``'s render ended now and took ``seconds``: its start and end."""
+        now = time.time()
+        self.mark(serial, "start", now - seconds)
+        self.mark(serial, "rendered", now)
+
+    @contextlib.contextmanager
+    def rendering(self, serial: int):
+        """Marks ``serial``'s render: the ``with`` block's start and end."""
+        start = time.monotonic()
+        yield
+        self.rendered(serial, time.monotonic() - start)
 
     def figures(self) -> dict[str, dict[str, float]]:
         with self._lock:

@@ -99,7 +99,8 @@ class LiveSession:
         self.signals = FrameTimed(audio, lambda: self.media_t) if audio_by_frame else audio
         # outputs
         self.jpeg = jpeg  # whether frames shown go to the preview
-        self.preview = JpegPreview(preview_width, jpeg_quality)
+        self.times = PreviewTimes()  # each preview's way through (GET /stats)
+        self.preview = JpegPreview(preview_width, jpeg_quality, self.times.mark)
         self.recorder = None
         self.vcam = None
         self.streams: list = []  # marblevideo.live.stream.Streamer, one per server
@@ -108,7 +109,6 @@ class LiveSession:
         self.frames = 0
         self.started = time.monotonic()
         self.meters = Meters()
-        self.times = PreviewTimes()  # each preview's way through (GET /stats)
         self._threads: list[threading.Thread] = []
         self.stop_event = threading.Event()
 
@@ -139,12 +139,8 @@ class LiveSession:
         return version
 
     def show_preview(self, doc: object, version: object, sent: object = None) -> int:
-        """Show the designer's unsaved recipe ``doc`` drawn on ``version`` (sent at the
-        page's ``sent`` ms) from now (:meth:`~marblevideo.live.preview.LivePreview.put`,
-        :meth:`redraw`); its serial (0: overtaken by a newer send)."""
+        """Take the designer's preview (:meth:`~marblevideo.live.preview.LivePreview.put`)."""
         serial = self.drawing.put(doc, version, sent)
-        if not serial:
-            return 0
         self.times.mark(serial, "received")
         self.source.frames.wake()
         return serial
@@ -221,10 +217,7 @@ class LiveSession:
             self._current()[0].render(np.zeros((h, w, 4), np.uint8), 0.0)
         self._spawn("watch", self._watch)
         if self.jpeg:
-            self._spawn(
-                "jpeg",
-                lambda: self.preview.run(self.stop_event, self.meters.latency, self.times.mark),
-            )
+            self._spawn("jpeg", lambda: self.preview.run(self.stop_event, self.meters.latency))
         self.source.start()
         self.started = time.monotonic()
         self.clock.restart()
@@ -260,13 +253,12 @@ class LiveSession:
             rgba = np.ascontiguousarray(rgba[:, ::-1])
             luma = None if luma is None else luma[:, ::-1]
         start = time.monotonic()
-        self.times.mark(serial, "start")
         frame_t = ts - self.started if frame_t is None else frame_t
         seen, shown = (rgba if luma is None else luma), self.clock.now()
         marbler = self.motion.marbler(marbler, seen, frame_t, shown)  # on while bypassed
         out = rgba if bypass else marbler.render(rgba, shown, animated=True)
         now = time.monotonic()
-        self.times.mark(serial, "rendered")
+        self.times.rendered(serial, now - start)
         self.meters.frame(now, now - start)
         self.last.captured(captured, ts, self.meters.render.median() or now - start)
         self.frames += 1
@@ -292,9 +284,8 @@ class LiveSession:
         marbler, bypass, mirror, serial = self._current()
         if not bypass:  # (bypassed, the frame shown is the captured one: as it is)
             rgba = self.last.rgba[:, ::-1] if mirror else self.last.rgba
-            self.times.mark(serial, "start")
-            out = redrawn(marbler, self.motion, np.ascontiguousarray(rgba), self.clock.now())
-            self.times.mark(serial, "rendered")
+            with self.times.rendering(serial):
+                out = redrawn(marbler, self.motion, np.ascontiguousarray(rgba), self.clock.now())
             self.last.count += 1
             self.preview.put(out, None, serial)
         return True
