@@ -6,7 +6,10 @@ Prints the live frames that answered inputs and their latency median (a pointer
 move to the first live frame showing the preview made after it: X-Preview-Serial),
 the PUTs' round trip and spacing, the JPEGs' spacing, and from a JPEG's arrival
 to its drawing, and the session's figures (frames rendered, source frames
-dropped, frames marbled again for a preview: ``redrawn``).
+dropped, frames marbled again for a preview: ``redrawn``), and the answered
+frames' timeline: pointer move, PUT sent, the session's times for the preview
+(``/stats`` ``preview_times``: taken, render started and done, JPEG ready),
+JPEG fetched, drawn (wall-clock ms on the one machine).
 
     python -m benchmarks.live_latency [--seconds 2] [--fps 30] [--no-page]
 
@@ -30,11 +33,17 @@ from pathlib import Path
 
 from .designer_realtime import LIVE_RECIPE, Pointer, path_of, serve, served_page
 
-WRAP = """() => { window.__timed = []; const f = window.fetch;
+WRAP = """() => { window.__timed = []; const f = window.fetch, T = performance.timeOrigin;
   window.fetch = (u, o) => { const s = performance.now(), p = f(u, o), url = String(u);
     const kind = url.includes('/api/preview') ? 'put' : url.includes('/frame.jpg') ? 'jpg' : null;
-    if (kind) p.then(() => window.__timed.push({kind, s, e: performance.now()}));
+    if (kind === 'jpg') p.then((r) => window.__timed.push({kind, s, e: performance.now(), T,
+      serial: Number(r.headers.get('X-Preview-Serial') || 0)}));
+    if (kind === 'put') p.then((r) => { const e = performance.now();
+      r.clone().json().then((j) => window.__timed.push({kind, s, e, T, serial: j.serial || 0})); });
     return p; }; }"""
+
+#: the steps of one live frame's way from the pointer move it answers to its drawing
+STEPS = ("input", "put", "received", "start", "rendered", "ready", "fetched", "drawn")
 
 
 def median(values) -> float:
@@ -64,6 +73,7 @@ def main() -> None:
     puts = [t for t in timed if t["kind"] == "put"]
     jpgs = [t for t in timed if t["kind"] == "jpg"]
     got = [max((j["e"] for j in jpgs if j["e"] <= f["drawnAt"]), default=None) for f in answered]
+    steps = timeline(answered, puts, jpgs, stats.get("preview_times", {}))
     gaps = lambda xs, k: [b[k] - a[k] for a, b in zip(xs, xs[1:], strict=False)]  # noqa: E731
     drawn = [f["drawnAt"] - g for f, g in zip(answered, got, strict=True) if g is not None]
     print(f"load average {os.getloadavg()[0]:.2f}")
@@ -77,6 +87,28 @@ def main() -> None:
     print(f"session: {stats['frames']} frames rendered, {stats['dropped']} source frames "
           f"dropped, {stats.get('redrawn', 'no')} redrawn for a preview; render median "
           f"{stats['render_ms']} ms, capture to JPEG median {stats['latency_ms']} ms")  # fmt: skip
+    if steps:
+        print(f"timeline of {len(steps)} answered frames, median ms per step (mean in brackets):")
+        for a, b in zip(STEPS, STEPS[1:], strict=False):
+            part = [t[b] - t[a] for t in steps]
+            print(f"  {a:>8} -> {b:<8} {median(part):7.1f} ({statistics.fmean(part):.1f})")
+
+
+def timeline(answered, puts, jpgs, times) -> list[dict]:
+    """Each answered frame's steps (:data:`STEPS`, wall-clock ms): the page's
+    input, its preview's PUT sent, the session's times for that preview
+    (``/stats`` ``preview_times``), its JPEG's fetch resolved, drawn."""
+    rows = []
+    for f in answered:
+        jpg = max((j for j in jpgs if j["e"] <= f["drawnAt"]), key=lambda j: j["e"], default=None)
+        put = next((p for p in puts if jpg and p["serial"] == jpg["serial"]), None)
+        server = times.get(str(jpg["serial"])) if jpg else None
+        if put is None or not server or len(server) < 4:
+            continue
+        row = {"input": f["inputAt"] + put["T"], "put": put["s"] + put["T"]}
+        row |= {k: server[k] for k in ("received", "start", "rendered", "ready")}
+        rows.append(row | {"fetched": jpg["e"] + jpg["T"], "drawn": f["drawnAt"] + put["T"]})
+    return rows
 
 
 def without_page(fps: float | None, count: int = 40) -> None:

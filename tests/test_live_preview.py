@@ -47,3 +47,19 @@ def test_an_invalid_preview_is_refused_and_the_one_before_kept():
     with pytest.raises(ValueError, match="version"):
         p.put(doc(STROKE), "1")
     assert p.current(1) is not None
+
+
+def test_a_send_overtaken_by_a_newer_one_is_not_shown():
+    """Two sends on their way: the older, taken after the newer, is refused
+    (serial 0); a clear refuses the older sends still on their way too."""
+    p = LivePreview("live.json")
+    newer = p.put(doc(STROKE, STROKE), 1, sent=2000.5)
+    assert newer and p.put(doc(STROKE), 1, sent=1999.0) == 0
+    recipe, serial = p.current(1)
+    assert len(recipe.ops) == 2 and serial == newer
+    assert p.put(doc(STROKE), 1, sent=2100.0) > newer  # a later send is taken
+    assert p.put(doc(STROKE, STROKE), 1) > 0  # unstamped: taken as it comes
+    p.put(None, 1, sent=2300.0)
+    assert p.put(doc(STROKE), 1, sent=2200.0) == 0 and p.current(1) is None
+    with pytest.raises(ValueError, match="sent"):
+        p.put(doc(STROKE), 1, sent="soon")

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import json
 import threading
+import time
 
 import cv2
 import numpy as np
@@ -65,6 +66,10 @@ def test_a_preview_is_shown_on_the_last_captured_frame_before_the_next(tmp_path,
         # no frame was captured since: this JPEG is the first frame marbled again
         assert (stats["frames"], stats["redrawn"]) == (1, 1)
         assert np.abs(shown.astype(int) - before.astype(int)).max() > 100  # the red drop
+        # its way through the session, in order (wall-clock ms): GET /stats
+        times = stats["preview_times"][str(serial)]
+        steps = [times[k] for k in ("received", "start", "rendered", "ready")]
+        assert steps == sorted(steps) and steps[-1] - steps[0] < 20000, times
         red = shown[32, 48]
         assert red[0] > 180 and red[1] < 110 and red[2] < 110, red
         # a save of the same recipe: shown at once too, no preview tag
@@ -99,11 +104,37 @@ def test_a_redraw_waits_where_it_would_cost_a_captured_frame():
     last = LastFrame(30.0)
     assert not last.allows(0.0, waiting=False)  # nothing captured yet
     last.captured(np.zeros((4, 4, 4), np.uint8), 10.0, 0.010)
-    assert last.allows(10.011, waiting=False)  # 2 renders fit before 10.0667
+    assert last.allows(10.011, waiting=False)  # idle: the next frame comes at 10.033
     assert not last.allows(10.011, waiting=True)  # a captured frame first
-    assert not last.allows(10.050, waiting=False)  # would push the next frames late
-    last.captured(last.rgba, 10.0, 0.030)  # renders fill the period: the next frame shows it
-    assert not last.allows(10.031, waiting=False)  # (once its render is done)
+    assert last.allows(10.050, waiting=False)  # the next frame (come) right after it
+    assert not last.allows(10.060, waiting=False)  # would end after the frame after it came
+    last.captured(last.rgba, 10.0, 0.030)  # slow renders: still while the loop idles
+    assert last.allows(10.031, waiting=False)  # ends at 10.061, before 10.0667
+    assert not last.allows(10.040, waiting=False)
     slow = LastFrame(2.0)
     slow.captured(last.rgba, 10.0, 0.030)
     assert slow.allows(10.4, waiting=False)
+
+
+def test_previews_during_a_running_source_are_redrawn_and_no_frame_is_lost(tmp_path, renderer):
+    """A source at 20 fps, a preview every 30 ms for 2 s (a drag): the idle loop
+    redraws for them, and each captured frame is shown once: the frames shown and
+    those the source dropped add up to those it captured, none twice."""
+    (tmp_path / "r.json").write_text(json.dumps(RECIPE))
+    source = TestPattern((96, 64), 20.0)
+    session = LiveSession(tmp_path / "r.json", source, renderer=renderer, jpeg=True, quiet=True)
+    runner = threading.Thread(target=session.run, kwargs={"duration": 30}, daemon=True)
+    runner.start()
+    try:
+        _jpeg(session, 0)
+        for k in range(66):
+            _preview(session, {**RECIPE, "ops": [{**DROP, "center": [20 + k % 60, 32]}]})
+            time.sleep(0.03)
+        session.stop_event.set()
+        runner.join(10)
+        stats = session.stats()
+        assert stats["redrawn"] > 0
+        assert session.frames + stats["dropped"] == source._seq, (session.frames, stats)
+    finally:
+        session.close()
+        runner.join(10)

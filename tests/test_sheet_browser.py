@@ -134,6 +134,24 @@ def test_a_frame_mid_gesture_agrees_with_the_exact_render(webgl_browser, tmp_pat
         assert errors == []
 
 
+def _alt_drag(page, k: int, step: tuple[float, float]):
+    """Op ``k`` selected, its first handle pressed with Alt held and moved six
+    times by ``step`` (CSS px), the button and Alt left down: (the handle's page
+    point, :func:`shown_when` the first warp frame of the gesture answers a move)."""
+    page.click(f"#op-{k} .name")
+    box = page.locator("#overlay").bounding_box()
+    px, py = page.evaluate(f"designer.toPixel(designer.handles({k})[0][1])")
+    scale = box["width"] / page.evaluate("document.getElementById('overlay').width")
+    x0, y0 = box["x"] + px * scale, box["y"] + py * scale
+    page.keyboard.down("Alt")
+    page.mouse.move(x0, y0)
+    page.mouse.down()
+    for i in range(1, 7):
+        page.mouse.move(x0 + step[0] * i, y0 + step[1] * i)
+    first = "f.kind === 'warp' && f.input !== null && designer.state.gesture !== null"
+    return (x0, y0), shown_when(page, first)
+
+
 def test_a_handle_dragged_mid_gesture_agrees_with_the_exact_render(webgl_browser, tmp_path):
     """The first drop's centre dragged (Alt): the page warps the server's layers of
     op 0 (nothing below it, the second drop and the wave above it as a map), and
@@ -141,19 +159,7 @@ def test_a_handle_dragged_mid_gesture_agrees_with_the_exact_render(webgl_browser
     recipe = tmp_path / "drops.json"
     recipe.write_text(json.dumps(DROPS))
     with sheet_page(webgl_browser, tmp_path, "--ops", recipe) as (page, app, errors):
-        page.click("#op-0 .name")
-        box = page.locator("#overlay").bounding_box()
-        px, py = page.evaluate("designer.toPixel(designer.handles(0)[0][1])")
-        scale = box["width"] / page.evaluate("document.getElementById('overlay').width")
-        x0, y0 = box["x"] + px * scale, box["y"] + py * scale
-        page.keyboard.down("Alt")
-        page.mouse.move(x0, y0)
-        page.mouse.down()
-        for i in range(1, 7):
-            page.mouse.move(x0 + 6 * i, y0 + 3 * i)
-        image, what, frame = shown_when(
-            page, "f.kind === 'warp' && f.input !== null && designer.state.gesture !== null"
-        )
+        _, (image, what, _) = _alt_drag(page, 0, (6, 3))
         page.mouse.up()
         page.keyboard.up("Alt")
         assert what["doc"]["ops"][0]["center"] != DROPS["ops"][0]["center"]
@@ -174,19 +180,7 @@ def test_a_handle_answered_before_its_layers_come(webgl_browser, tmp_path):
     with sheet_page(webgl_browser, tmp_path, "--ops", recipe) as (page, app, errors):
         held = []
         page.route("**/api/layers**", lambda route: held.append(route))
-        page.click("#op-2 .name")
-        box = page.locator("#overlay").bounding_box()
-        px, py = page.evaluate("designer.toPixel(designer.handles(2)[0][1])")
-        scale = box["width"] / page.evaluate("document.getElementById('overlay').width")
-        x0, y0 = box["x"] + px * scale, box["y"] + py * scale
-        page.keyboard.down("Alt")
-        page.mouse.move(x0, y0)
-        page.mouse.down()
-        for i in range(1, 7):
-            page.mouse.move(x0 + 5 * i, y0 + 4 * i)
-        image, what, frame = shown_when(
-            page, "f.kind === 'warp' && f.input !== null && designer.state.gesture !== null"
-        )
+        (x0, y0), (image, what, frame) = _alt_drag(page, 2, (5, 4))
         interim = page.evaluate("designer.warp().interim")
         for route in held:
             route.continue_()

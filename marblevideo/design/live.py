@@ -16,12 +16,14 @@ edit the live recipe file:
 - ``PUT /api/recipe``: validated, saved atomically, taken from the next frame;
   400 with the one-line JSON-path error and nothing saved when invalid. It
   answers ``/api/info`` with the new ``version``.
-- ``PUT /api/preview``: ``{"recipe": ..., "version": V}``, an unsaved recipe
+- ``PUT /api/preview``: ``{"recipe": ..., "version": V, "sent": MS}``, an unsaved recipe
   the live frames show instead of the saved one while the file is at version V
   (the stroke being drawn; ``recipe`` null clears it), for a few seconds after
   each send (:mod:`marblevideo.live.preview`); 400 when invalid. It answers
   the file's ``version`` and the preview's ``serial``: the live frames that
-  show it come with ``X-Preview-Serial: serial`` (``/frame.jpg``).
+  show it come with ``X-Preview-Serial: serial`` (``/frame.jpg``). ``sent``
+  (optional): when the page sent it (its clock, ms); a send that comes after a
+  newer one was taken is not shown, ``serial`` 0 (a page may have two on their way).
 - ``GET /api/signals``, ``POST /api/learn``: the controllers' meters and learn
   (:mod:`marblevideo.controllers.api`).
 - ``GET /api/motion``: the recipe's motion as of the last frame: ``active``,
@@ -94,9 +96,10 @@ class LiveDesign:
         return json_answer({"error": f"{method} {path}: no such route"}, 404)
 
     def _preview(self, request) -> dict:
-        if not isinstance(request, dict) or set(request) != {"recipe", "version"}:
-            raise ValueError('preview: expected {"recipe": ..., "version": V}')
-        serial = self.live.show_preview(request["recipe"], request["version"])
+        keys = set(request) if isinstance(request, dict) else set()
+        if not {"recipe", "version"} <= keys <= {"recipe", "version", "sent"}:
+            raise ValueError('preview: expected {"recipe": ..., "version": V[, "sent": MS]}')
+        serial = self.live.show_preview(request["recipe"], request["version"], request.get("sent"))
         return {"version": self.live.file.snapshot()[2], "serial": serial}
 
     # the live session's own routes

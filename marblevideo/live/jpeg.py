@@ -23,11 +23,13 @@ from marblevideo.live.sources import Latest
 
 class JpegPreview:
     """JPEGs of the frames shown, ``width`` pixels wide at most (None: as shown),
-    at JPEG ``quality`` (1..100)."""
+    at JPEG ``quality`` (1..100); ``mark(tag, "ready")`` is called as each is
+    ready (:class:`~marblevideo.live.meters.PreviewTimes`)."""
 
-    def __init__(self, width: int | None = None, quality: int = 80):
+    def __init__(self, width: int | None = None, quality: int = 80, mark=None):
         self.width = width
         self.quality = quality
+        self.mark = mark
         self.shown = Latest()  # frames for the encoder: (RGBA, capture time, tag)
         self.seq = 0
         self._data: bytes | None = None
@@ -62,6 +64,8 @@ class JpegPreview:
             done = time.monotonic()
             if ts is not None:
                 latency.add(done, done - ts)
+            if self.mark is not None:
+                self.mark(tag, "ready")
             with self._cond:
                 self._data, self._tag = buf.tobytes(), tag
                 self.seq += 1

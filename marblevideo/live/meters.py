@@ -7,8 +7,10 @@ Times are ``time.monotonic()`` seconds; the rounded figures of
 
 from __future__ import annotations
 
+import contextlib
 import statistics
 import threading
+import time
 from collections import deque
 
 
@@ -89,3 +91,42 @@ class Meters:
             "latency_p95_ms": _ms(self.latency.quantile(0.95), 1),
             "render_ms": _ms(self.render.median(), 2),
         }
+
+
+class PreviewTimes:
+    """When each of the designer's last previews (by serial) went through the
+    session, for ``/stats`` (``preview_times``: serial -> {step: wall-clock ms},
+    ``time.time()``'s clock, so a page's ``performance.timeOrigin + now()``
+    compares): ``received`` (PUT taken), ``start`` and ``rendered`` (its first
+    render), ``ready`` (its first JPEG). Each step is kept the first time only."""
+
+    def __init__(self, keep: int = 256):
+        self.keep = keep
+        self._times: dict[int, dict[str, float]] = {}
+        self._lock = threading.Lock()
+
+    def mark(self, serial: int, step: str, wall: float | None = None) -> None:
+        if not serial:
+            return
+        with self._lock:
+            times = self._times.setdefault(serial, {})
+            times.setdefault(step, round(1000 * (time.time() if wall is None else wall), 2))
+            while len(self._times) > self.keep:
+                del self._times[next(iter(self._times))]
+
+    def rendered(self, serial: int, seconds: float) -> None:
+        """``serial``'s render ended now and took ``seconds``: its start and end."""
+        now = time.time()
+        self.mark(serial, "start", now - seconds)
+        self.mark(serial, "rendered", now)
+
+    @contextlib.contextmanager
+    def rendering(self, serial: int):
+        """Marks ``serial``'s render: the ``with`` block's start and end."""
+        start = time.monotonic()
+        yield
+        self.rendered(serial, time.monotonic() - start)
+
+    def figures(self) -> dict[str, dict[str, float]]:
+        with self._lock:
+            return {str(k): dict(v) for k, v in self._times.items()}

@@ -9,12 +9,16 @@ only, so the page sees an edit without waiting for the source's next frame.
   strokes the last capture left
   (:meth:`~marblevideo.live.stirring.LiveMotion.over`), so the take
   (``--automation``: the saved recipe and the motion strokes) is as without it.
-- It never costs a captured frame: it is made only when no captured frame is
-  waiting and both it and the next frame's render end before the frame after
-  that is due (now + 2 renders <= the last capture's time + 2 periods; the
-  next frame may start up to one idle time late, none is dropped). A source
-  slower than that (a camera at 5 fps, a file) is redrawn at once; at a rate the
-  renders nearly fill, the change shows at the next captured frame as before.
+- It never costs a captured frame: it is made whenever the render loop is idle
+  (no captured frame waiting) and it ends before the frame after the next is
+  captured (now + a render <= the last capture's time + 2 periods): the next
+  captured frame, come meanwhile, is rendered right after it, up to a render
+  late, and taken before a newer one could replace it in the mailbox; the
+  renders being shorter than the period, the loop is back on time within a few
+  frames. (Before, the rule also wanted the next frame's render done by then:
+  now + 2 renders; with a preview's renders 20-60 ms at 30 fps that almost
+  never held, 0-5 redraws in a 2 s drag.) A source slower than that (a camera
+  at 5 fps, a file) is redrawn at once.
 """
 
 from __future__ import annotations
@@ -43,7 +47,7 @@ class LastFrame:
         (``waiting``: one is waiting to be rendered)."""
         if self.rgba is None or waiting:
             return False
-        return self.period <= 0 or now + 2 * self.render_s <= self.ts + 2 * self.period
+        return self.period <= 0 or now + self.render_s <= self.ts + 2 * self.period
 
 
 def redrawn(marbler, motion, rgba: np.ndarray, shown: float) -> np.ndarray:

@@ -9,7 +9,9 @@ import time
 def session_stats(session) -> dict:
     """``GET /stats`` of :class:`~marblevideo.live.session.LiveSession` ``session``:
     the counters, the meters' figures and the playback's state; ``redrawn``: the
-    last captured frame marbled again for the preview (a new recipe between frames)."""
+    last captured frame marbled again for the preview (a new recipe between frames);
+    ``preview_times``: when each of the designer's last previews was taken, first
+    rendered and first in a JPEG (:class:`~marblevideo.live.meters.PreviewTimes`)."""
     now, recorder = time.monotonic(), session.recorder
     return {
         "frames": session.frames,
@@ -20,6 +22,7 @@ def session_stats(session) -> dict:
         "record_dropped": recorder.dropped if recorder else 0,
         "recorded": recorder.frames if recorder else 0,
         "jpeg_seq": session.preview.seq,
+        "preview_times": session.times.figures(),
         "size": list(session.source.size),
         "source": session.source.name,
         "recipe_version": session.file.snapshot()[2],

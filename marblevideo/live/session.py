@@ -37,7 +37,7 @@ import numpy as np
 
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
 from marblevideo.live.jpeg import JpegPreview
-from marblevideo.live.meters import Meters
+from marblevideo.live.meters import Meters, PreviewTimes
 from marblevideo.live.playback import Playback
 from marblevideo.live.preview import LivePreview
 from marblevideo.live.redraw import LastFrame, redrawn
@@ -99,7 +99,8 @@ class LiveSession:
         self.signals = FrameTimed(audio, lambda: self.media_t) if audio_by_frame else audio
         # outputs
         self.jpeg = jpeg  # whether frames shown go to the preview
-        self.preview = JpegPreview(preview_width, jpeg_quality)
+        self.times = PreviewTimes()  # each preview's way through (GET /stats)
+        self.preview = JpegPreview(preview_width, jpeg_quality, self.times.mark)
         self.recorder = None
         self.vcam = None
         self.streams: list = []  # marblevideo.live.stream.Streamer, one per server
@@ -137,10 +138,10 @@ class LiveSession:
         self.source.frames.wake()
         return version
 
-    def show_preview(self, doc: object, version: object) -> int:
-        """Show the designer's unsaved recipe ``doc`` drawn on ``version`` from now
-        (:meth:`~marblevideo.live.preview.LivePreview.put`, :meth:`redraw`); its serial."""
-        serial = self.drawing.put(doc, version)
+    def show_preview(self, doc: object, version: object, sent: object = None) -> int:
+        """Take the designer's preview (:meth:`~marblevideo.live.preview.LivePreview.put`)."""
+        serial = self.drawing.put(doc, version, sent)
+        self.times.mark(serial, "received")
         self.source.frames.wake()
         return serial
 
@@ -257,6 +258,7 @@ class LiveSession:
         marbler = self.motion.marbler(marbler, seen, frame_t, shown)  # on while bypassed
         out = rgba if bypass else marbler.render(rgba, shown, animated=True)
         now = time.monotonic()
+        self.times.rendered(serial, now - start)
         self.meters.frame(now, now - start)
         self.last.captured(captured, ts, self.meters.render.median() or now - start)
         self.frames += 1
@@ -282,7 +284,8 @@ class LiveSession:
         marbler, bypass, mirror, serial = self._current()
         if not bypass:  # (bypassed, the frame shown is the captured one: as it is)
             rgba = self.last.rgba[:, ::-1] if mirror else self.last.rgba
-            out = redrawn(marbler, self.motion, np.ascontiguousarray(rgba), self.clock.now())
+            with self.times.rendering(serial):
+                out = redrawn(marbler, self.motion, np.ascontiguousarray(rgba), self.clock.now())
             self.last.count += 1
             self.preview.put(out, None, serial)
         return True

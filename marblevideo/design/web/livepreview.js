@@ -1,8 +1,10 @@
 // Live mode: the stroke being drawn goes to the live session (PUT
 // /api/preview, marblevideo.design.live), which renders that unsaved recipe
-// instead of the saved one until the save that follows the release. One send
-// at a time, the newest next (a drag's moves coalesce: newest wins); while the
-// hand holds still the newest is sent again every KEEP ms (the session drops a
+// instead of the saved one until the save that follows the release. Up to
+// FLIGHT sends on their way, each move's sent at once while fewer are, else the
+// newest next (a drag's moves coalesce: newest wins); each names when it was
+// sent (``sent``, ms), so one overtaken on the way is not shown (serial 0);
+// while the hand holds still the newest is sent again every KEEP ms (the session drops a
 // preview it has not heard of for a few seconds, so a page that goes away
 // leaves none behind). A preview names the recipe version it was drawn on: once
 // a save has made a newer one, the session ignores it.
@@ -13,8 +15,8 @@
 import * as api from "./api.js";
 import { newestInput } from "./record.js";
 
-const KEEP = 1500;
-let newest = null, sending = false, kept = null, timer = null;
+const KEEP = 1500, FLIGHT = 2;
+let newest = null, flying = 0, kept = null, timer = null;
 const made = new Map();  // serial -> the input it shows (the newest at its making)
 
 // The live clock's time at the press of event time ``stamp`` (ms,
@@ -32,24 +34,24 @@ export async function clockAtPress(stamp) {
 // as drawn on recipe version ``version``.
 export function sendPreview(make, version, anchor = null) {
   newest = {make, version, anchor};
-  if (!sending) pump();
+  if (flying < FLIGHT) send();
 }
-async function pump() {
-  sending = true;
-  while (newest) {
-    const p = newest;
-    newest = null;
+async function send() {
+  const p = newest;
+  newest = null;
+  flying += 1;
+  try {
     if (p.anchor) await p.anchor;
     kept = {recipe: p.make(), version: p.version};
     const input = newestInput();
-    try {
-      const r = await api.putPreview(kept);
-      const serial = r.ok ? (await r.json()).serial : null;
-      if (serial) made.set(serial, input);
-      if (made.size > 256) made.delete(made.keys().next().value);
-    } catch (e) { /* the next move sends again */ }
-  }
-  sending = false;
+    const r = await api.putPreview({...kept, sent: performance.timeOrigin + performance.now()});
+    // (its serial read aside: the next send goes at once)
+    if (r.ok) r.json().then(({serial}) => { if (serial) made.set(serial, input); }).catch(() => {});
+    if (made.size > 256) made.delete(made.keys().next().value);
+  } catch (e) { /* the next move sends again */ }
+  flying -= 1;
+  if (newest) { send(); return; }
+  if (flying) return;
   clearTimeout(timer);
   if (kept) timer = setTimeout(() => { if (kept && !newest) sendPreview(() => kept.recipe, kept.version); }, KEEP);
 }
@@ -61,5 +63,5 @@ export const previewAnswer = (serial) => made.get(serial) || {input: null, input
 export function clearPreview(version) {
   newest = null; kept = null;
   clearTimeout(timer);
-  if (version !== null) api.putPreview({recipe: null, version}).catch(() => {});
+  if (version !== null) api.putPreview({recipe: null, version, sent: performance.timeOrigin + performance.now()}).catch(() => {});
 }
