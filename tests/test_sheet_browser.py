@@ -25,6 +25,7 @@ from sheet_support import (
     EXACT_SHARE,
     LEVELS,
     SHARE,
+    comb_pressed,
     exact,
     server_render,
     sheet_page,
@@ -113,13 +114,7 @@ def test_a_frame_mid_gesture_agrees_with_the_exact_render(webgl_browser, tmp_pat
     recipe = tmp_path / "drops.json"
     recipe.write_text(json.dumps(DROPS))
     with sheet_page(webgl_browser, tmp_path, "--ops", recipe, query=query) as (page, app, errors):
-        page.click("#tool-comb")
-        box = page.locator("#overlay").bounding_box()
-        x0, y0 = box["x"] + box["width"] * 0.3, box["y"] + box["height"] * 0.4
-        page.mouse.move(x0, y0)
-        page.mouse.down()
-        for i in range(1, 7):
-            page.mouse.move(x0 + 12 * i, y0 + 5 * i)
+        comb_pressed(page, 6)
         kind = "server-draft" if query else "warp"
         image, what, frame = shown_when(
             page,

@@ -18,6 +18,7 @@ from sheet_support import (
     LEVELS,
     SHARE,
     SHOWN_PNG,
+    comb_pressed,
     decode_png,
     exact,
     server_render,
@@ -74,13 +75,7 @@ def test_the_screen_shows_what_the_page_reports_mid_gesture(webgl_browser, tmp_p
     recipe = tmp_path / "drops.json"
     recipe.write_text(json.dumps(DROPS))
     with sheet_page(webgl_browser, tmp_path, "--ops", recipe, query=query) as (page, app, errors):
-        page.click("#tool-comb")
-        box = page.locator("#overlay").bounding_box()
-        x0, y0 = box["x"] + box["width"] * 0.3, box["y"] + box["height"] * 0.4
-        page.mouse.move(x0, y0)
-        page.mouse.down()
-        for i in range(1, 9):
-            page.mouse.move(x0 + 12 * i, y0 + 5 * i)
+        x0, y0 = comb_pressed(page, 8)
         for i in range(9, 15):  # (a frame may come while the screen is taken: then again)
             n0 = page.evaluate("window.marbleFrames.at(-1).n")
             page.mouse.move(x0 + 12 * i, y0 + 5 * i)

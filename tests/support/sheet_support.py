@@ -90,6 +90,19 @@ def exact(page, after: int = 0) -> None:
     )
 
 
+def comb_pressed(page, moves: int) -> tuple[float, float]:
+    """The comb tool pressed at 30% across and 40% down the sheet and moved
+    ``moves`` times by (12, 5) CSS px, the button left down: the press's page point."""
+    page.click("#tool-comb")
+    box = page.locator("#overlay").bounding_box()
+    x0, y0 = box["x"] + box["width"] * 0.3, box["y"] + box["height"] * 0.4
+    page.mouse.move(x0, y0)
+    page.mouse.down()
+    for i in range(1, moves + 1):
+        page.mouse.move(x0 + 12 * i, y0 + 5 * i)
+    return x0, y0
+
+
 def shown(page) -> tuple[np.ndarray, dict, dict]:
     """The sheet's pixels (RGB), what the page says they show, and its last frame's record."""
     got = page.evaluate(
