@@ -109,6 +109,11 @@ class Marbler:
             self.renderer.loop_walk = True
         self._geometry: dict[tuple, Geometry] = {}
 
+    def with_recipe(self, recipe: RecipeLike) -> Marbler:
+        """A marbler of ``recipe`` on this one's renderer, with its ``fit`` and
+        ``lattice`` (the live session's recipe with motion strokes added)."""
+        return type(self)(recipe, renderer=self.renderer, fit=self.fit, lattice=self.lattice)
+
     def geometry(
         self,
         out_size: tuple[int, int],

@@ -56,7 +56,5 @@ def redrawn(marbler, motion, rgba: np.ndarray, shown: float) -> np.ndarray:
     has now, moved to ``shown``, when its recipe has ``motion``."""
     recipe = motion.over(marbler.recipe, shown)
     if recipe is not marbler.recipe:
-        marbler = type(marbler)(
-            recipe, renderer=marbler.renderer, fit=marbler.fit, lattice=marbler.lattice
-        )
+        marbler = marbler.with_recipe(recipe)
     return marbler.render(rgba, shown, animated=True)

@@ -98,9 +98,7 @@ class LiveMotion:
         if shown is not None and abs(shown - t) > SHIFT:
             recipe = self._shifted(marbler.recipe, shown - t)
         if self._marbler is None or self._marbler.recipe is not recipe:
-            self._marbler = type(marbler)(
-                recipe, renderer=marbler.renderer, fit=marbler.fit, lattice=marbler.lattice
-            )
+            self._marbler = marbler.with_recipe(recipe)
         return self._marbler
 
     def over(self, base, shown: float):
