@@ -210,14 +210,8 @@ class Warp {
     }
     gl.uniform3f(u.uBg, ...bg.map((v) => v / 255));
     gl.uniform4f(u.uToBase, ...this.toBase);
-    const params = new Float32Array(16);
-    params.set(p.slice(0, 16));
-    for (let i = 0; i < 4; i++) gl.uniform4fv(u[`uQ${i}`], params.subarray(4 * i, 4 * i + 4));
-    if (plan.forward) {
-      const old = new Float32Array(16);
-      old.set(plan.forward.slice(0, 16));
-      for (let i = 0; i < 4; i++) gl.uniform4fv(u[`uF${i}`], old.subarray(4 * i, 4 * i + 4));
-    }
+    setParams(gl, u, "uQ", p);
+    if (plan.forward) setParams(gl, u, "uF", plan.forward);
     gl.activeTexture(gl.TEXTURE2);
     gl.bindTexture(gl.TEXTURE_2D, this.above || this.list);
     gl.uniform1i(u.uAbove, 2);
@@ -293,6 +287,13 @@ function forwardPlan(before, t, plan) {
   if (old.kind === 6 && old.p[2] === 2) return null;  // oseen: its twist loses the picture
   if (old.list.length !== plan.list.length || old.list.some((v, i) => v !== plan.list[i])) return null;
   return old;
+}
+
+// An op's first 16 parameters into the uniforms ``${name}0`` .. ``${name}3`` (vec4 each).
+function setParams(gl, u, name, p) {
+  const params = new Float32Array(16);
+  params.set(p.slice(0, 16));
+  for (let i = 0; i < 4; i++) gl.uniform4fv(u[`${name}${i}`], params.subarray(4 * i, 4 * i + 4));
 }
 
 // The smallest canvas rect [x0, y0, x1, y1] holding both (each may be null).

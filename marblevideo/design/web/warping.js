@@ -72,6 +72,10 @@ function keyOf(doc, k, t, settled, view, w, h) {
   return `${k}|${when}|${viewText(view)}|${w}x${h}|${JSON.stringify({...doc, ops})}`;
 }
 
+// How the warp samples outside the picture: a blank sheet clamps, an input
+// takes the recipe's ``edges``.
+const edgesOf = (s, doc) => (s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp");
+
 // Draw the preview of ``s`` (op k changed) by warping, through ``draw(job)``
 // (job() draws into a canvas of the sheet's size at the next animation frame and
 // returns {read, canvas, shown}, or null: it could not; read(all) gives the pixels,
@@ -99,7 +103,7 @@ export function warpFrame(s, k, answer, draw, exact, shown) {
       if (!meanwhile(s, k, exact, view, w, h, key)) return true;
     }
   }
-  const op = doc.ops[k], edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
+  const op = doc.ops[k], edges = edgesOf(s, doc);
   const old = s.doc.ops[k];
   draw(() => {
     // (the layers may have come since: then they are the base, as they are asked)
@@ -180,7 +184,7 @@ export function prefetchLayers(s) {
   const key = keyOf(doc, k, t, t >= settledFrom(doc, k), view, w, h);
   if (ready !== key) ask(doc, k, t, view, w, h, key);
   // its programs compiled meanwhile (the top op's: also the one drawn before its layers come)
-  const top = k === doc.ops.length - 1, edges = s.info.input.kind === "blank" ? "clamp" : doc.edges || "clamp";
+  const top = k === doc.ops.length - 1, edges = edgesOf(s, doc);
   warp.warm(doc.ops[k], t, edges, !top, top && ready !== key ? doc.ops[k] : null);
 }
 // For tests and benchmarks: whether the page warps, and the layers it holds.
