@@ -29,10 +29,12 @@ SWIRL = ROOT / "samples" / "swirl.json"
 
 
 def _frames(path):
+    """(the video stream's time base, [(pts, RGB)]): read while the file is open
+    (a stream's fields after its container is closed may be gone)."""
     with av.open(str(path)) as c:
         stream = c.streams.video[0]
         frames = [(f.pts, f.to_ndarray(format="rgb24")) for f in c.decode(stream)]
-        return stream, frames
+        return stream.time_base, frames
 
 
 def test_test_pattern_records_a_valid_file(cli, tmp_path):
@@ -43,13 +45,13 @@ def test_test_pattern_records_a_valid_file(cli, tmp_path):
     )  # fmt: skip
     assert r.returncode == 0, r.stderr
     assert "wrote" in r.stderr and "live:" in r.stderr
-    stream, frames = _frames(out)
-    assert stream.time_base == 1 / 1000 or stream.time_base.denominator % 1000 == 0
+    time_base, frames = _frames(out)
+    assert time_base == 1 / 1000 or time_base.denominator % 1000 == 0
     assert len(frames) >= 8
     assert frames[0][1].shape == (180, 320, 3)
     pts = [p for p, _ in frames]
     assert pts == sorted(pts) and len(set(pts)) == len(pts)
-    span = float((pts[-1] - pts[0]) * stream.time_base)
+    span = float((pts[-1] - pts[0]) * time_base)
     assert 1.5 < span < 3.5  # wall-clock timestamps
     diff = np.abs(frames[0][1].astype(int) - frames[-1][1].astype(int)).mean()
     assert diff > 5  # the pattern moves and the clock runs
@@ -132,14 +134,14 @@ def test_the_preview_encodes_the_newest_frame_at_its_width():
         rgba = np.zeros((60, 80, 4), np.uint8)
         rgba[..., 0], rgba[..., 3] = 200, 255  # red
         preview.put(rgba, time.monotonic())
-        seq, data, tag = preview.latest(0, timeout=5.0)
+        seq, data, tag, t = preview.latest(0, timeout=5.0)
         assert seq == 1 and tag == 0 and latency.median() is not None
         bgr = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)
         assert bgr.shape == (30, 40, 3) and abs(int(bgr[15, 20, 2]) - 200) <= 3
-        assert preview.latest(1, timeout=0.05) == (1, None, 0)
+        assert preview.latest(1, timeout=0.05) == (1, None, 0, None)
         preview.close()
         start = time.monotonic()
-        assert preview.latest(1, timeout=5.0) == (1, None, 0) and time.monotonic() - start < 1
+        assert preview.latest(1, timeout=5.0) == (1, None, 0, None) and time.monotonic() - start < 1
     finally:
         stop.set()
         encoder.join(5)
