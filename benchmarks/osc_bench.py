@@ -58,7 +58,7 @@ class StillSource(Source):
 
 
 def _jpeg_after(session, seq: int) -> tuple[int, np.ndarray, float]:
-    seq, data, _ = session.latest_jpeg(seq, 2.0)
+    seq, data, *_ = session.latest_jpeg(seq, 2.0)
     when = time.monotonic()
     if data is None:
         raise RuntimeError("no preview frame for 2 s")

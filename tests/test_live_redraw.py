@@ -39,7 +39,7 @@ def _running(tmp_path, renderer, recipe):
 def _jpeg(session, after: int, tag: int | None = None, timeout: float = 20.0):
     """The first JPEG newer than ``after`` (with ``tag``, when given): (seq, RGB, tag)."""
     while True:
-        seq, data, got = session.latest_jpeg(after, timeout)
+        seq, data, got, _ = session.latest_jpeg(after, timeout)
         assert data is not None, "no JPEG came"
         if tag is None or got == tag:
             rgb = cv2.imdecode(np.frombuffer(data, np.uint8), cv2.IMREAD_COLOR)[..., ::-1]

@@ -21,7 +21,8 @@ edit the live recipe file:
   (the stroke being drawn; ``recipe`` null clears it), for a few seconds after
   each send (:mod:`marblevideo.live.preview`); 400 when invalid. It answers
   the file's ``version`` and the preview's ``serial``: the live frames that
-  show it come with ``X-Preview-Serial: serial`` (``/frame.jpg``). ``sent``
+  show it come with ``X-Preview-Serial: serial`` (``/frame.jpg``; and
+  ``X-Frame-Time``, the clock time each frame was marbled at). ``sent``
   (optional): when the page sent it (its clock, ms); a send that comes after a
   newer one was taken is not shown, ``serial`` 0 (a page may have two on their way).
 - ``GET /api/signals``, ``POST /api/learn``: the controllers' meters and learn

@@ -203,8 +203,9 @@ class LiveSession:
         self._threads.append(thread)
         thread.start()
 
-    def latest_jpeg(self, after: int, timeout: float = 1.0) -> tuple[int, bytes | None, int]:
-        """A JPEG newer than ``after``: (seq, bytes, its preview's serial or 0)."""
+    def latest_jpeg(self, after: int, timeout: float = 1.0):
+        """A JPEG newer than ``after``: (seq, bytes, its preview's serial or 0, the
+        clock time it was marbled at or None: :meth:`JpegPreview.latest`)."""
         return self.preview.latest(after, timeout)
 
     # -- the loop -------------------------------------------------------------
@@ -263,7 +264,7 @@ class LiveSession:
         self.last.captured(captured, ts, self.meters.render.median() or now - start)
         self.frames += 1
         if self.jpeg:
-            self.preview.put(out, ts, 0 if bypass else serial)
+            self.preview.put(out, ts, 0 if bypass else serial, None if bypass else shown)
         if self.recorder is not None:
             self.recorder.add(out, ts)
         if self.vcam is not None:
@@ -284,10 +285,11 @@ class LiveSession:
         marbler, bypass, mirror, serial = self._current()
         if not bypass:  # (bypassed, the frame shown is the captured one: as it is)
             rgba = self.last.rgba[:, ::-1] if mirror else self.last.rgba
+            shown = self.clock.now()
             with self.times.rendering(serial):
-                out = redrawn(marbler, self.motion, np.ascontiguousarray(rgba), self.clock.now())
+                out = redrawn(marbler, self.motion, np.ascontiguousarray(rgba), shown)
             self.last.count += 1
-            self.preview.put(out, None, serial)
+            self.preview.put(out, None, serial, shown)
         return True
 
     def close(self) -> None:

@@ -9,7 +9,8 @@ Routes:
   each JPEG sent once, newest first: a slow client skips frames, it never queues them.
 - ``GET /frame.jpg``: the newest JPEG; ``?after=SEQ``: one newer than SEQ (the
   sequence number comes as the ``X-Frame-Seq`` header, and the serial of the
-  designer's preview it shows, if any, as ``X-Preview-Serial``).
+  designer's preview it shows, if any, as ``X-Preview-Serial``, and the
+  animation clock's time it was marbled at as ``X-Frame-Time``, seconds).
 - ``GET /web/NAME``: the page's static files (its ES modules), from the
   session's ``web`` folder when it has one (:func:`static_file`).
 - ``GET /stats``: JSON counters (fps, latency, dropped frames, recipe version and
@@ -209,7 +210,7 @@ class _Handler(BaseHTTPRequestHandler):
         except ValueError:
             self._send(400, b"after: expected a frame number\n", "text/plain")
             return
-        seq, data, serial = self.server.session.latest_jpeg(after, timeout=2.0)
+        seq, data, serial, shown = self.server.session.latest_jpeg(after, timeout=2.0)
         if data is None:
             self._send(503, b"no new frame yet\n", "text/plain")
             return
@@ -220,6 +221,8 @@ class _Handler(BaseHTTPRequestHandler):
         self.send_header("X-Frame-Seq", str(seq))
         if serial:
             self.send_header("X-Preview-Serial", str(serial))
+        if shown is not None:
+            self.send_header("X-Frame-Time", repr(float(shown)))
         self.end_headers()
         self.wfile.write(data)
 
@@ -234,7 +237,7 @@ class _Handler(BaseHTTPRequestHandler):
         seq = 0
         try:
             while not self.server.closing.is_set():
-                seq, data, _ = session.latest_jpeg(seq, timeout=0.5)
+                seq, data, *_ = session.latest_jpeg(seq, timeout=0.5)
                 if data is None:
                     continue
                 head = (
