@@ -2,8 +2,10 @@
 test --size 1280x720 --preview`` (the designer benchmark's server, page and
 pointer), the page's preview PUTs and JPEG fetches timed in the page.
 
-Prints the live frames that answered inputs and their latency median (a pointer
-move to the first live frame showing the preview made after it: X-Preview-Serial),
+Prints the live frames that answered inputs and their latency median and p95 (a
+pointer move to the first live frame showing it: the page's warp of the newest
+live frame, ``live-warp``, or the session's frame of the preview made after it,
+X-Preview-Serial; each alone too),
 the PUTs' round trip and spacing, the JPEGs' spacing, and from a JPEG's arrival
 to its drawing, and the session's figures (frames rendered, source frames
 dropped, frames marbled again for a preview: ``redrawn``), and the answered
@@ -69,7 +71,10 @@ def main() -> None:
         frames = page.evaluate("window.marbleFrames")[first:]
         timed = page.evaluate("window.__timed")
         stats = page.evaluate("fetch('/stats').then((r) => r.json())")
+    # a live frame answers an input once: the page's warp of the newest live frame
+    # ("live-warp", mid-gesture), or the session's own frame of its preview ("live")
     answered = [f for f in frames if f["kind"] == "live" and f["input"] is not None]
+    warped = [f for f in frames if f["kind"] == "live-warp" and f["input"] is not None]
     puts = [t for t in timed if t["kind"] == "put"]
     jpgs = [t for t in timed if t["kind"] == "jpg"]
     got = [max((j["e"] for j in jpgs if j["e"] <= f["drawnAt"]), default=None) for f in answered]
@@ -77,8 +82,13 @@ def main() -> None:
     gaps = lambda xs, k: [b[k] - a[k] for a, b in zip(xs, xs[1:], strict=False)]  # noqa: E731
     drawn = [f["drawnAt"] - g for f, g in zip(answered, got, strict=True) if g is not None]
     print(f"load average {os.getloadavg()[0]:.2f}")
-    lat = median([f["drawnAt"] - f["inputAt"] for f in answered])
-    print(f"live frames answering inputs: {len(answered)}, latency median {lat} ms")
+    late = lambda fs: [f["drawnAt"] - f["inputAt"] for f in fs]  # noqa: E731
+    both = sorted(late(answered + warped))
+    p95 = round(both[int(0.95 * (len(both) - 1))], 1) if both else float("nan")
+    print(f"live frames answering inputs: {len(both)}, latency median {median(both)} ms, "
+          f"p95 {p95} ms")  # fmt: skip
+    print(f"  warped on the page: {len(warped)}, median {median(late(warped))} ms; "
+          f"the session's: {len(answered)}, median {median(late(answered))} ms")  # fmt: skip
     trip = median([t["e"] - t["s"] for t in puts])
     print(f"preview PUTs: {len(puts)}, round trip median {trip} ms, one every "
           f"{median(gaps(puts, 's'))} ms")  # fmt: skip

@@ -92,12 +92,80 @@ def test_a_comb_shows_in_the_live_frames_while_dragged(browser, tmp_path):
         assert saved() == []
         assert np.abs(mid.astype(float) - before).mean() > 2  # the comb shows unsaved
         frames = page.evaluate("window.marbleFrames")[first:]
-        answering = [f for f in frames if f["kind"] == "live" and f["input"] is not None]
+        live = [f for f in frames if f["kind"] in ("live", "live-warp")]  # the session's, or warped
+        answering = [f for f in live if f["input"] is not None]
         assert answering, "no live frame answered a pointer input"
         assert all(f["drawnAt"] >= f["inputAt"] for f in answering)
         assert len({f["input"] for f in answering}) == len(answering)  # each answered once
         page.mouse.up()
         (comb,) = wait_for(saved, "the comb is saved")
         assert comb["type"] == "comb"
+        page.close()
+        assert errors == []
+
+
+#: The last frame the sheet drew, the newest input and what the sheet shows, at one moment.
+LAST_SHOWN = """(() => { const f = window.marbleFrames.at(-1), d = designer.sheetPixels();
+    const c = document.createElement('canvas'); c.width = d.width; c.height = d.height;
+    c.getContext('2d').putImageData(d, 0, 0);
+    return {kind: f.kind, input: f.input, png: c.toDataURL('image/png')}; })()"""
+
+
+def _warped_then_settled(page, live, move) -> tuple[dict, np.ndarray, np.ndarray]:
+    """After the session shows the gesture so far: ``move()``, the page's first
+    frame answering it (the newest live frame warped on the page: its kind,
+    input and pixels), then what the sheet shows once the session's own frames
+    show the gesture as moved (both RGB)."""
+    from sheet_support import decode_png
+
+    live_settled(page, live)
+    first = page.evaluate("window.marbleFrames.length")
+    move()
+    warped = "(f) => f.kind === 'live-warp' && f.input !== null"
+    page.wait_for_function(f"window.marbleFrames.slice({first}).some({warped})", timeout=20000)
+    warped = page.evaluate(LAST_SHOWN)
+    settled = live_settled(page, live)[:, :, ::-1]  # (BGR shot)
+    return warped, decode_png(warped["png"]), settled.astype(np.uint8)
+
+
+def _agree(a: np.ndarray, b: np.ndarray, levels: int = 16) -> float:
+    h, w = min(a.shape[0], b.shape[0]), min(a.shape[1], b.shape[1])
+    diff = np.abs(a[:h, :w].astype(int) - b[:h, :w].astype(int)).max(axis=2)
+    return float((diff <= levels).mean())
+
+
+@pytest.mark.parametrize("tool", ["comb", "stroke"])
+def test_the_page_warps_the_newest_live_frame_to_the_gesture_at_once(browser, tmp_path, tool):
+    """Mid-gesture the page answers a pointer move itself: the newest live frame
+    (which shows the gesture as it was) warped to the gesture as it is now, drawn
+    before the session's frame of it comes, and agreeing with that frame."""
+    with live_designer(browser, tmp_path, EMPTY) as (live, page, errors, saved):
+        box = page.locator("#overlay").bounding_box()
+
+        def client(px: float, py: float) -> tuple[float, float]:
+            return box["x"] + px * box["width"] / 600, box["y"] + py * box["height"] / 400
+
+        page.evaluate(f"designer.setTool('{tool}')")
+        page.mouse.move(*client(*PATH[0]))
+        page.mouse.down()
+        for p in PATH[1:12]:
+            page.mouse.move(*client(*p))
+            time.sleep(0.03)
+        before = live_settled(page, live)[:, :, ::-1].astype(np.uint8)
+
+        def move() -> None:
+            for p in PATH[12:24]:
+                page.mouse.move(*client(*p))
+
+        warped, image, settled = _warped_then_settled(page, live, move)
+        assert warped["kind"] == "live-warp"  # (the one answering the moves, or a newer warp)
+        moved = 1 - _agree(before, settled)
+        assert moved > 0.01, moved  # the moves changed the picture
+        agree = _agree(image, settled)
+        # the page's warp shows what the session renders, far closer than the frame it warped
+        assert agree > 0.97 and 1 - agree < moved / 4, (agree, moved)
+        page.mouse.up()
+        (op,) = wait_for(saved, f"the {tool} is saved")
+        assert op["type"] == tool
         page.close()
         assert errors == []

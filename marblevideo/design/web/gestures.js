@@ -18,6 +18,7 @@
 import { select } from "./edits.js";
 import { clockAtPress, clearPreview, sendPreview } from "./livepreview.js";
 import { handleAt, setHandle } from "./overlay.js";
+import { liveGesture } from "./sheet.js";
 import { inks } from "./palette.js";
 import { commit, serial } from "./recipe.js";
 import { get, update, isLive, side } from "./store.js";
@@ -134,6 +135,7 @@ function dragging(g) {
       if (!follow(g, at, ev)) return self;
       const draft = kind.doc(g, get().doc), live = isLive();
       if (live) sendPreview(() => kind.doc(g, get().doc), get().version, g.anchor);  // the live frames show the gesture
+      if (live && g.t0 !== null) liveGesture(draft);  // the newest live frame warped to it meanwhile
       update(() => ({gesture: kind.shown(g, draft), ...timedView(g), ...(live ? {} : {preview: {doc: draft, draft: true}})}));
       clearTimeout(stillTimer);  // the hand stopped: the exact render of the draft
       if (!live) stillTimer = setTimeout(() => { if (current === self) update(() => ({preview: {doc: draft, draft: false}})); }, 250);
@@ -145,6 +147,7 @@ function dragging(g) {
 }
 function cancelled(g) {
   clearTimeout(stillTimer);
+  liveGesture(null);
   if (isLive()) clearPreview(get().version);
   update(() => ({gesture: null, preview: null, ...(g.stylus && !isLive() ? g.before : {})}));
   return idle;
@@ -157,6 +160,7 @@ function done(g, at, ev) {
   follow(g, at, ev);
   if (!kind.saves(g)) return cancelled(g);
   clearTimeout(stillTimer);
+  liveGesture(null);
   const draft = isLive() ? null : {doc: kind.doc(g, get().doc), draft: true};
   update(() => ({gesture: null, preview: draft, ...timedView(g)}));
   serial(async () => {

@@ -43,10 +43,10 @@ async function send() {
   try {
     if (p.anchor) await p.anchor;
     kept = {recipe: p.make(), version: p.version};
-    const input = newestInput();
+    const input = newestInput(), doc = kept.recipe;
     const r = await api.putPreview({...kept, sent: performance.timeOrigin + performance.now()});
     // (its serial read aside: the next send goes at once)
-    if (r.ok) r.json().then(({serial}) => { if (serial) made.set(serial, input); }).catch(() => {});
+    if (r.ok) r.json().then(({serial}) => { if (serial) made.set(serial, {...input, doc}); }).catch(() => {});
     if (made.size > 256) made.delete(made.keys().next().value);
   } catch (e) { /* the next move sends again */ }
   flying -= 1;
@@ -57,7 +57,12 @@ async function send() {
 }
 // The input a live frame tagged with preview ``serial`` shows (none when unknown;
 // the sheet counts each input once).
-export const previewAnswer = (serial) => made.get(serial) || {input: null, inputAt: null};
+export function previewAnswer(serial) {
+  const m = made.get(serial);
+  return m ? {input: m.input, inputAt: m.inputAt} : {input: null, inputAt: null};
+}
+// The recipe of the preview ``serial`` (null when unknown).
+export const previewDoc = (serial) => (made.get(serial) || {doc: null}).doc;
 // The gesture is over: nothing more is sent; ``version`` (a cancel): the
 // session drops the preview now (null: a save is on its way and replaces it).
 export function clearPreview(version) {

@@ -7,7 +7,7 @@
 import * as api from "./api.js";
 import { actionsOf, initActions, showActions } from "./actions.js";
 import { valueAt } from "./ease.js";
-import { gesture, toolOp } from "./gestures.js";
+import { gesture, timedTool, toolOp } from "./gestures.js";
 import { groundOf, initGround, showGround } from "./ground.js";
 import { restoreHistory } from "./history.js";
 import { exportsOf, fileOf, messagesOf, showExports, showFile, showMessages } from "./header.js";
@@ -26,7 +26,7 @@ import { clockOf, initTimeline, liveStats, playOf, resume, setTime, showClock, s
 import { buildToolbar } from "./toolbar.js";
 import { buildTools } from "./tools.js";
 import { initSize, initView, panBy, resetView, toCanvas, toPixel, zoomAt } from "./view.js";
-import { prefetchLayers, warpState } from "./warping.js";
+import { prefetchLayers, warmLive, warpState } from "./warping.js";
 import { shownPixels, warpShown } from "./sheetgl.js";
 
 // The views that need the recipe and /api/info, in the order they first run
@@ -47,7 +47,16 @@ const VIEWS = [
   [motionLevelOf, showMotionLevel],
   [(s) => [s.gesture === null], resume],  // the clock goes on after a gesture
   [(s) => [s.selected, s.doc, s.preview, s.screen, s.view, s.playing, s.solo], prefetchLayers],
+  [(s) => [isLive(s) && s.tool, s.screen, s.view], warmTool],
 ];
+// Live mode: the chosen tool's programs compiled before its first gesture (an op of
+// it drawn across the middle of the canvas stands for what the gesture will make).
+function warmTool(s) {
+  if (!isLive(s) || !s.screen || !s.doc) return;
+  const [cw, ch] = s.info.canvas, a = [0.4 * cw, 0.5 * ch], b = [0.6 * cw, 0.5 * ch];
+  try { warmLive(s, toolOp(s.tool, a, b, [a, b], timedTool(s.tool, s) ? [s.t, s.t + 0.1] : null)); }
+  catch (e) { /* a tool whose op needs more: its first gesture compiles */ }
+}
 
 async function start() {
   const types = await api.ops(), tools = buildTools(types);

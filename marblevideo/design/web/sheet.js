@@ -10,11 +10,11 @@
 import * as api from "./api.js";
 import { hexColor } from "./dom.js";
 import { claimInput, newestInput, recordFrame } from "./record.js";
-import { previewAnswer } from "./livepreview.js";
-import { enabled as glSheet, hideWarp, settleWarp, shownPixels, showWarp, whenDrawn } from "./sheetgl.js";
+import { previewAnswer, previewDoc } from "./livepreview.js";
+import { enabled as glSheet, gpuBusy, hideWarp, settleWarp, shownPixels, showWarp, whenDrawn } from "./sheetgl.js";
 import { get, update, isLive } from "./store.js";
 import { eventPixel, fitSheet, overlay, sheet, sizeOf, toCanvas, toCanvasMap, toPixel, viewOf } from "./view.js";
-import { changedOp, warpFrame, whenLayers } from "./warping.js";
+import { changedOp, warpFrame, warpLive, whenLayers } from "./warping.js";
 
 export { eventPixel, fitSheet, overlay, sheet, sizeOf, toCanvas, toPixel };
 const ctx = sheet.getContext("2d");
@@ -148,7 +148,8 @@ function carried(older, answer) {
 }
 function paint() {
   raf = 0;
-  if (warpJob) {
+  if (warpJob && glSheet && gpuBusy()) schedule();  // the newest job waits for the GPU's last frame
+  else if (warpJob) {
     const job = warpJob; warpJob = null;
     const t0 = performance.now();
     const done = job.answer.stamp >= drawnStamp ? job() : undefined;  // undefined: stale
@@ -162,11 +163,11 @@ function paint() {
         if (rect[2] > 0 && rect[3] > 0) ctx.putImageData(image, 0, 0, ...rect);
       }
       job.answer.ms = [t1 - t0, performance.now() - t1];
-      const entry = note("warp", job.answer, done.shown);
+      const entry = note(isLive() ? "live-warp" : "warp", job.answer, done.shown);
       if (gpu) whenDrawn(entry);
       lastWarp = done.shown;
     }
-    else if (done === null) show({draft: true, doc: get().preview ? get().preview.doc : null}, job.answer);
+    else if (done === null && !isLive()) show({draft: true, doc: get().preview ? get().preview.doc : null}, job.answer);
   }
   if (waiting) {
     const {frame, resolve} = waiting; waiting = null;
@@ -214,19 +215,42 @@ async function liveFrame(o) {
   liveNext.reply.catch(() => {});  // (a failure is met when it is awaited)
   // A frame showing a preview answers the input the preview was made after (once);
   // mid-gesture, one without shows the saved recipe: no input. Each input once.
-  const serial = Number(r.headers.get("X-Preview-Serial") || 0);
+  const serial = Number(r.headers.get("X-Preview-Serial") || 0), time = r.headers.get("X-Frame-Time");
   if (serial) o = {...o, ...previewAnswer(serial)};
   else if (get().gesture) o = {...o, input: null, inputAt: null};
-  if (o.input !== null && o.input <= liveAnswered) o = {...o, input: null, inputAt: null};
-  if (o.input !== null) liveAnswered = o.input;
   const bitmap = await createImageBitmap(await r.blob());
+  const doc = serial ? previewDoc(serial) : get().doc;
+  if (liveBase) liveBase.bitmap.close();
+  liveBase = {bitmap, w: bitmap.width, h: bitmap.height, doc, t: time === null ? null : Number(time), key: liveSeq};
+  sheet.dataset.seq = liveSeq;
+  // mid-gesture, the frame warped to the gesture as it is now (it answers the newest input)
+  if (liveDraft && doc && warpLive(get(), liveDraft, liveBase, {...answered(newestInput()), stamp: ++stamp}, drawWarp)) return;
+  o = answered(o);
   await new Promise((resolve) => requestAnimationFrame(() => {
+    warpJob = null;  // (a warp of an older frame not drawn yet: this one is newer)
     ctx.drawImage(bitmap, 0, 0, sheet.width, sheet.height);
-    bitmap.close();
+    hideWarp();
     resolve();
   }));
-  sheet.dataset.seq = liveSeq;
   note("live", o, null);
+}
+// Live mode: the newest live frame ({bitmap, w, h, doc, t, key}: warping.js warpLive)
+// and the recipe of the gesture under way (null: none).
+let liveBase = null, liveDraft = null;
+// An answer of a live frame, counted once per input (a later frame showing an input
+// already answered answers none).
+function answered(o) {
+  if (o.input !== null && o.input <= liveAnswered) return {...o, input: null, inputAt: null};
+  if (o.input !== null) liveAnswered = o.input;
+  return o;
+}
+// Live mode, a gesture's recipe as it is now (``doc``; null: the gesture is over):
+// the newest live frame warped to it at once, where the page can (warping.js warpLive);
+// the frames the session marbles with it follow.
+export function liveGesture(doc) {
+  liveDraft = doc;
+  if (!doc) warpJob = null;
+  if (doc && liveBase && liveBase.doc) warpLive(get(), doc, liveBase, {...answered(claimInput()), stamp: ++stamp}, drawWarp);
 }
 // The geometry of the frame shown now: device pixel -> canvas ([sx, sy, ox, oy]).
 export const shownMap = () => toCanvasMap(viewOf(), sheet.width, sheet.height);

@@ -28,7 +28,7 @@ export function showWarp(canvas, read) {
 export function whenDrawn(entry) {
   const gl = shown && shown.getContext("webgl2");
   if (!gl) return;
-  fences.push({entry, sync: gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0), gl});
+  fences.push({entry, sync: gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0), gl, at: performance.now()});
   gl.flush();
   if (!polling) { polling = true; requestAnimationFrame(poll); }
 }
@@ -43,6 +43,14 @@ function poll() {
   polling = fences.length > 0;
   if (polling) requestAnimationFrame(poll);
 }
+// Whether the GPU has two frames shown still to draw (for at most BUSY ms: a
+// fence that never comes, a lost context, does not stop the frames): the next
+// draw waits, so at most one is queued behind the one being drawn. (Unbounded,
+// SwiftShader ran 3-4 queued draws at once on two busy cores: live --preview's
+// latency p95 146-309 ms; one at a time left its GPU idle between frames: median
+// 86-98 ms; two, 63-78 ms and p95 121-169 ms. BENCHMARKS.md.)
+const BUSY = 250;
+export const gpuBusy = () => fences.length > 1 && performance.now() - fences[0].at < BUSY;
 // The 2D sheet shown again (its caller has just drawn a frame there).
 export function hideWarp() {
   if (shown) shown.style.visibility = "hidden";

@@ -88,9 +88,10 @@ class Warp {
   warm(op, t, edges = "clamp", above = false, before = null) {
     try {
       const plan = resolve(op, t);
-      if (!plan || plan.kind === "stroke" || !(edges in EDGES)) return;
-      const forward = before && forwardable(op, before, t) ? [true, false] : [false];
-      const keys = forward.map((fw) => [fw, `${plan.kind} ${EDGES[edges]} ${above} ${fw}`]).filter(([, key]) => !this.warmed?.has(key));
+      if (!plan || !(edges in EDGES)) return;
+      const stroke = plan.kind === "stroke";  // (its steps' program: drawn with no steps)
+      const forward = !stroke && before && forwardable(op, before, t) ? [true, false] : [false];
+      const keys = forward.map((fw) => [fw, `${stroke ? 8 : plan.kind} ${EDGES[edges]} ${above} ${fw}`]).filter(([, key]) => !this.warmed?.has(key));
       if (!keys.length) return;
       // the pixel drawn on is put back after (the canvas may be what the sheet shows)
       const gl = this.gl, kept = new Uint8Array(4);
@@ -98,7 +99,8 @@ class Warp {
       gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, kept);
       for (const [fw, key] of keys) {
         (this.warmed = this.warmed || new Set()).add(key);
-        this.drawPlan(op, t, { ...plan, forward: fw ? plan.p : null }, [255, 255, 255], EDGES[edges], above);
+        const warmed = stroke ? { kind: 8, p: [], list: [], rows: { list: [], n: 0, rect: [1, 1, -1, -1] } } : { ...plan, forward: fw ? plan.p : null };
+        this.drawPlan(op, t, warmed, [255, 255, 255], EDGES[edges], above);
       }
       gl.enable(gl.SCISSOR_TEST);
       gl.scissor(0, 0, 1, 1);
@@ -158,12 +160,44 @@ class Warp {
     }
   }
 
+  // Live mode: the base is a live frame that shows ``before`` at time ``tb``, the
+  // same stroke drawn in time as ``op`` but less far (its points and times a
+  // prefix of op's; the same width, tines and drag). Draw it as ``op`` at ``t``:
+  // the steps laid since walked back (the newest first), then the frame's partial
+  // step taken off forward, so base(S_before(S_op^-1(q))) is the frame of ``op``
+  // with nothing resampled but the base. (A step forward is the step walked back
+  // with its half-vector negated: each turn keeps the distance to its centre.)
+  // False where that does not hold (the caller shows the frame as it is).
+  drawStrokeSince(op, t, before, tb, background = "#ffffff", edges = "clamp") {
+    try {
+      const plan = resolve(op, t), old = resolve(before, tb), bg = rgb255(at(background, t, true));
+      if (!plan || !old || plan.kind !== "stroke" || old.kind !== "stroke" || !(edges in EDGES)) return false;
+      if (!grownFrom(op, before) || plan.drag !== old.drag || this.above) return false;
+      const now = strokeAt(op, t, plan.drag), was = strokeAt(before, tb, old.drag), w = op.width ?? 24;
+      if (!(now.count <= MAX_STEPS) || now.count < was.count) return false;
+      const tines = (op.tines ?? [0]).length;
+      if (tines > 1 && was.count === 0) return false;  // N0 (the tines' offsets) not settled yet
+      const back = stepRows(now, was.count, now.count, w, now.partial);
+      const rows = was.partial ? undoneRows(was.partial, w) : { list: [], n: 0, rect: back.rect };
+      rows.list.push(...back.list);
+      rows.n += back.n;
+      rows.rect = union(rows.rect, back.rect) || [1, 1, -1, -1];
+      this.lastStroke = null;
+      this.drawPlan(op, t, { kind: 8, p: [], list: [], rows }, bg, EDGES[edges]);
+      return true;
+    } catch (e) {
+      console.warn("warp:", e);
+      return false;
+    }
+  }
+
   // (``warm``: whether a map is above, for a one-pixel draw of that program; see warm)
   drawPlan(op, t, plan, bg, edges, warm = null) {
     const gl = this.gl, { width, height } = this.canvas;
     let kind = plan.kind, p = plan.p, list = plan.list;
     let steps = { list, n: 0, rect: [1, 1, -1, -1] }, clip = null;
-    if (kind === "stroke") {
+    if (plan.rows) steps = plan.rows;  // a stroke's rows as given (drawStrokeSince): no map
+    else if (kind === "stroke") {
       const layout = strokeAt(op, t, plan.drag), builds = this.map.builds ?? 0;
       if (!(layout.count <= MAX_STEPS)) throw new Error(`stroke: ${layout.count} steps`);
       this.map.exact = !!this.exactSteps;
@@ -215,7 +249,7 @@ class Warp {
     gl.activeTexture(gl.TEXTURE2);
     gl.bindTexture(gl.TEXTURE_2D, this.above || this.list);
     gl.uniform1i(u.uAbove, 2);
-    this.map.bind(u, 3, kind === 8);
+    this.map.bind(u, 3, kind === 8 && !plan.rows);
     setCommon(gl, u, this.toCanvas, [width, height], op.width ?? 24);
     gl.bindVertexArray(this.vao);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
@@ -294,6 +328,28 @@ function setParams(gl, u, name, p) {
   const params = new Float32Array(16);
   params.set(p.slice(0, 16));
   for (let i = 0; i < 4; i++) gl.uniform4fv(u[`${name}${i}`], params.subarray(4 * i, 4 * i + 4));
+}
+
+// Whether stroke ``op`` is ``before`` drawn further: both drawn in time, the same
+// width and tines, before's points and times a prefix of op's.
+function grownFrom(op, before) {
+  const same = (a, b) => JSON.stringify(a) === JSON.stringify(b);
+  const prefix = (a, b) => Array.isArray(a) && Array.isArray(b) && a.length <= b.length && same(a, b.slice(0, a.length));
+  return (op.width ?? 24) === (before.width ?? 24) && same(op.tines ?? [0], before.tines ?? [0])
+    && prefix(before.times, op.times) && prefix(before.points, op.points);
+}
+// A step's rows (stepRows') that take it off forward when walked back: its tines
+// in the reverse order, each with its half-vector negated.
+function undoneRows(step, width) {
+  const rows = stepRows({ wholeStep: () => null }, 0, 0, width, step), out = [];
+  for (let i = rows.n - 1; i >= 0; i--) {
+    const r = rows.list.slice(8 * i, 8 * i + 8);
+    r[2] = -r[2];
+    r[3] = -r[3];
+    out.push(...r);
+  }
+  rows.list = out;
+  return rows;
 }
 
 // The smallest canvas rect [x0, y0, x1, y1] holding both (each may be null).

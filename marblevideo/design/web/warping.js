@@ -187,6 +187,54 @@ export function prefetchLayers(s) {
   const top = k === doc.ops.length - 1, edges = edgesOf(s, doc);
   warp.warm(doc.ops[k], t, edges, !top, top && ready !== key ? doc.ops[k] : null);
 }
+// Live mode: the newest live frame warped to the gesture's recipe ``now``, so the
+// sheet answers a pointer move at once instead of after the session's next frame
+// that shows it. ``frame``: {bitmap, w, h, doc, t, key}: the JPEG, the recipe it
+// shows (the preview it was marbled with, or the saved one), the clock time it
+// was marbled at and a key of its own. Where ``now`` differs from ``frame.doc``
+// in its top op only: a new op on top is walked back over the frame (the ops
+// below it are what the frame shows); an op the frame shows as it was is taken
+// off forward first (warp.js ``before``), and a stroke drawn further since is
+// walked back over its new steps only (warp.js drawStrokeSince). Draws through
+// ``draw(job, answer)`` as warpFrame does; false when it cannot (the caller
+// shows the frame as it is).
+export function warpLive(s, now, frame, answer, draw) {
+  if (s.view || !s.screen || !s.info || frame.t === null) return false;
+  const [w, h] = s.screen, doc = frame.doc, k = now.ops.length - 1;
+  if (k < 0 || changedOp(doc, now) !== k || !available(w, h)) return false;
+  const op = now.ops[k], before = k < doc.ops.length ? doc.ops[k] : null, t = frame.t;
+  const stroke = op.type === "stroke" && Array.isArray(op.times);
+  if (before && !(stroke || lib.forwardable(op, before, t))) return false;
+  const key = `live|${frame.key}|${w}x${h}`;
+  if (ready !== key) {
+    const {scale, offset, size} = s.info, sx = frame.w / size[0], sy = frame.h / size[1];
+    warp.setBase(frame.bitmap, frame.w, frame.h);
+    warp.setAbove(null);
+    warp.setGeometry(toCanvasMap(viewOf(s), w, h), [scale * sx, scale * sy, offset[0] * sx, offset[1] * sy]);
+    ready = key;
+  }
+  // a stroke drawn in time: as far as drawn (its newest point's time), the rest at the frame's
+  const tNow = stroke ? Math.max(t, op.times[op.times.length - 1]) : t;
+  const bg = doc.background === undefined ? "#ffffff" : doc.background, edges = edgesOf(s, doc);
+  draw(() => {
+    if (ready !== key) return null;  // a newer frame came: it is drawn instead
+    const ok = before && stroke ? warp.drawStrokeSince(op, tNow, before, t, bg, edges)
+      : warp.draw(op, tNow, bg, edges, before);
+    return ok ? {read: (all) => warp.read(all), canvas, shown: {doc: now, t: +tNow.toFixed(3), w, h, view: viewOf(s), ops: null}} : null;
+  }, answer);
+  return true;
+}
+
+// Live mode: the programs a gesture of the chosen tool draws with (its op ``op``, as
+// drawn over a frame without it and over one showing it as it was) compiled
+// before the first gesture: SwiftShader compiles a program at its first draw
+// (70-300 ms on two busy cores), which would be the gesture's first frame.
+export function warmLive(s, op) {
+  if (!s.screen || !s.doc || s.view) return;
+  const [w, h] = s.screen;
+  if (available(w, h)) warp.warm(op, s.t, edgesOf(s, s.doc), false, op);
+}
+
 // For tests and benchmarks: whether the page warps, and the layers it holds.
 // (``interim``: the base is the exact frame with the op as it was, the layers on their way)
 export const warpState = () => ({broken, ready: ready !== null, interim: !!ready && ready.startsWith("before|")});
