@@ -178,7 +178,7 @@ class Warp {
       const tines = (op.tines ?? [0]).length;
       if (tines > 1 && was.count === 0) return false;  // N0 (the tines' offsets) not settled yet
       const back = stepRows(now, was.count, now.count, w, now.partial);
-      const rows = was.partial ? undoneRows(was.partial, w) : { list: [], n: 0, rect: back.rect };
+      const rows = was.partial ? undoneRows(was.partial, w) : { list: [], n: 0, width: w, rect: back.rect };
       rows.list.push(...back.list);
       rows.n += back.n;
       rows.rect = union(rows.rect, back.rect) || [1, 1, -1, -1];

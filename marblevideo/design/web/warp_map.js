@@ -166,9 +166,27 @@ function addRows(rows, st, theta, width) {
   }
 }
 
-// The list texture, its count and reach for stepsBack.
+// Rows walked together in stepsBack's blocks (warp_shaders.js BLOCK).
+const BLOCK = 8;
+// ``list`` (rows of 8 numbers: cx, cy, hx, hy, theta, -, -, -) with each row's
+// numbers 5..7 the circle of its block (rows BLOCK k .. BLOCK k + BLOCK - 1): the
+// centres' mean and the square of a radius past every centre's reach (1.5 w)
+// by a canvas unit, so a point outside it is moved by none of the block's rows.
+function withBlocks(list, width) {
+  const out = Float32Array.from(list), n = list.length / 8, reach = 1.5 * width + 1;
+  for (let b = 0; b < n; b += BLOCK) {
+    const end = Math.min(n, b + BLOCK);
+    let mx = 0, my = 0, r = 0;
+    for (let i = b; i < end; i++) { mx += list[8 * i] / (end - b); my += list[8 * i + 1] / (end - b); }
+    for (let i = b; i < end; i++) r = Math.max(r, Math.hypot(list[8 * i] - mx, list[8 * i + 1] - my));
+    for (let i = b; i < end; i++) out.set([mx, my, (r + reach) ** 2], 8 * i + 5);
+  }
+  return out;
+}
+
+// The list texture (with its blocks' circles), its count and reach for stepsBack.
 export function setSteps(gl, u, tex, rows) {
-  uploadList(gl, tex, rows.list);
+  uploadList(gl, tex, rows.n ? withBlocks(rows.list, rows.width) : rows.list);
   gl.uniform1i(u.uList, 1);
   gl.uniform1i(u.uListN, rows.n);
   gl.uniform4f(u.uRect, ...(rows.n ? rows.rect : [1, 1, -1, -1]));

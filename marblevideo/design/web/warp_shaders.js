@@ -49,15 +49,24 @@ vec2 turnBack(vec2 P, vec4 s, float theta, float w2) {
 
 vec4 L(int i) { return texelFetch(uList, ivec2(i & 1023, i >> 10), 0); }
 
-// Whole stroke steps walked back one by one (list rows: cx, cy, hx, hy; theta),
-// none for a point outside uRect (their reach, canvas units).
+// Whole stroke steps walked back one by one (list rows: cx, cy, hx, hy; theta,
+// then the circle of the row's block of BLOCK rows: cx, cy, r^2), none for a
+// point outside uRect (their reach, canvas units), a block skipped at its top
+// row where the point is outside its circle (every point its rows can move:
+// exact, as the kernels' blocks), a row where it is beyond the row's reach.
+const int BLOCK = 8;
 vec2 stepsBack(vec2 P) {
   float w2 = uWidth * uWidth, reach = 2.25 * w2;
   bool inside = all(greaterThanEqual(P, uRect.xy)) && all(lessThanEqual(P, uRect.zw));
   for (int k = (inside ? uListN : 0) - 1; k >= 0; k--) {
+    vec4 t = L(2 * k + 1);
+    if (k % BLOCK == BLOCK - 1 || k == uListN - 1) {
+      vec2 b = P - t.yz;
+      if (dot(b, b) >= t.w) { k -= k % BLOCK; continue; }
+    }
     vec4 s = L(2 * k);
     vec2 q = P - s.xy;
-    for (int once = dot(q, q) < reach ? 1 : 0; once > 0; once--) P = turnBack(P, s, L(2 * k + 1).x, w2);
+    for (int once = dot(q, q) < reach ? 1 : 0; once > 0; once--) P = turnBack(P, s, t.x, w2);
   }
   return P;
 }
