@@ -104,26 +104,37 @@ def test_a_comb_shows_in_the_live_frames_while_dragged(browser, tmp_path):
         assert errors == []
 
 
-#: The last frame the sheet drew, the newest input and what the sheet shows, at one moment.
-LAST_SHOWN = """(() => { const f = window.marbleFrames.at(-1), d = designer.sheetPixels();
-    const c = document.createElement('canvas'); c.width = d.width; c.height = d.height;
-    c.getContext('2d').putImageData(d, 0, 0);
-    return {kind: f.kind, input: f.input, png: c.toDataURL('image/png')}; })()"""
+#: From now on, each frame drawn that is the page's warp of a live frame and
+#: answers an input is kept as ``window.__snap`` as it is recorded (the newest
+#: such): {input, png (what the sheet shows then)}, so no later frame can come
+#: in between.
+KEEP_WARPS = """() => { window.__snap = null; const a = window.marbleFrames, push = a.push.bind(a);
+  a.push = (f) => { const n = push(f);
+    if (f.kind === 'live-warp' && f.input !== null) {
+      const d = designer.sheetPixels(), c = document.createElement('canvas');
+      c.width = d.width; c.height = d.height; c.getContext('2d').putImageData(d, 0, 0);
+      window.__snap = {input: f.input, png: c.toDataURL('image/png')};
+    }
+    return n; }; }"""
 
 
 def _warped_then_settled(page, live, move) -> tuple[dict, np.ndarray, np.ndarray]:
-    """After the session shows the gesture so far: ``move()``, the page's first
-    frame answering it (the newest live frame warped on the page: its kind,
-    input and pixels), then what the sheet shows once the session's own frames
-    show the gesture as moved (both RGB)."""
+    """After the session shows the gesture so far: ``move()``, then the page's
+    frame that answered the last input of it (the newest live frame warped on
+    the page to the gesture as moved: {input}, and its pixels) and what the sheet
+    shows once the session's own frames show the gesture as moved (both RGB).
+    Fails when a frame of the session answered that input first."""
     from sheet_support import decode_png
 
     live_settled(page, live)
-    first = page.evaluate("window.marbleFrames.length")
+    page.evaluate(KEEP_WARPS)
     move()
-    warped = "(f) => f.kind === 'live-warp' && f.input !== null"
-    page.wait_for_function(f"window.marbleFrames.slice({first}).some({warped})", timeout=20000)
-    warped = page.evaluate(LAST_SHOWN)
+    last = page.evaluate("designer.newestInput().input")
+    page.wait_for_function(
+        f"window.marbleFrames.some((f) => f.input !== null && f.input >= {last})", timeout=20000
+    )
+    warped = page.evaluate("window.__snap")
+    assert warped is not None and warped["input"] >= last, (warped and warped["input"], last)
     settled = live_settled(page, live)[:, :, ::-1]  # (BGR shot)
     return warped, decode_png(warped["png"]), settled.astype(np.uint8)
 
@@ -158,7 +169,6 @@ def test_the_page_warps_the_newest_live_frame_to_the_gesture_at_once(browser, tm
                 page.mouse.move(*client(*p))
 
         warped, image, settled = _warped_then_settled(page, live, move)
-        assert warped["kind"] == "live-warp"  # (the one answering the moves, or a newer warp)
         moved = 1 - _agree(before, settled)
         assert moved > 0.01, moved  # the moves changed the picture
         agree = _agree(image, settled)
@@ -167,5 +177,32 @@ def test_the_page_warps_the_newest_live_frame_to_the_gesture_at_once(browser, tm
         page.mouse.up()
         (op,) = wait_for(saved, f"the {tool} is saved")
         assert op["type"] == tool
+        page.close()
+        assert errors == []
+
+
+def test_a_slider_of_the_top_op_is_warped_on_the_newest_live_frame(browser, tmp_path):
+    """A slider of the top op moved over the live frames: the page's frame of the
+    new value (the newest live frame, the op as it was taken off forward and the
+    new one walked back) comes first and agrees with the session's frame of it."""
+    comb = {"type": "comb", "point": [300, 200], "angle": 0, "alpha": 30, "lambda": 40,
+            "spacing": 60}  # fmt: skip
+    with live_designer(browser, tmp_path, {**EMPTY, "ops": [comb]}) as (live, page, errors, saved):
+        page.click("#op-0 .name")
+        slider = page.locator("#s-alpha")
+        before = live_settled(page, live)[:, :, ::-1].astype(np.uint8)
+
+        def move() -> None:  # the slider dragged to 90 (input events, not released)
+            slider.evaluate(
+                "(e) => { for (const v of [45, 60, 75, 90]) { e.value = v;"
+                " e.dispatchEvent(new Event('input', {bubbles: true})); } }"
+            )
+
+        warped, image, settled = _warped_then_settled(page, live, move)
+        moved = 1 - _agree(before, settled)
+        agree = _agree(image, settled)
+        assert moved > 0.01 and agree > 0.97 and 1 - agree < moved / 4, (agree, moved)
+        slider.evaluate("(e) => e.dispatchEvent(new Event('change', {bubbles: true}))")
+        wait_for(lambda: abs(saved()[0]["alpha"] - 90) < 0.5, "the slider's value is saved")
         page.close()
         assert errors == []

@@ -19,7 +19,7 @@ import { paramsOf, showParams } from "./params.js";
 import { initPointer, replayEarly } from "./pointer.js";
 import { initMotion, motionFieldsOf, motionLevelOf, showMotionFields, showMotionLevel } from "./motion.js";
 import { loadInfo, loadRecipe, poll } from "./recipe.js";
-import { initRecord } from "./record.js";
+import { initRecord, newestInput } from "./record.js";
 import { isRendering, resize, screenOf, sheetOf, showSheet, whenIdle } from "./sheet.js";
 import { get, isLive, subscribe, update } from "./store.js";
 import { clockOf, initTimeline, liveStats, playOf, resume, setTime, showClock, showPlay } from "./timeline.js";
@@ -98,6 +98,7 @@ window.designer = {
   sheetPixels: shownPixels,  // the pixels the sheet shows now (ImageData), whichever canvas shows them
   glShown: warpShown,  // whether the warp's WebGL canvas shows the sheet now (a gesture's frames)
   rendering: isRendering,  // whether a server frame is on its way (benchmarks settle on it)
+  newestInput,  // the newest pointer (or slider) input's number and time (record.js)
   zoomAt, panBy, resetView,  // the view (zoom about a device pixel, pan by device pixels)
   toCanvas, toPixel,  // the sheet's device pixels <-> canvas points, through the view
 };

@@ -7,6 +7,7 @@ import { $, button, hexColor, input } from "./dom.js";
 import { keyed, setParam } from "./edits.js";
 import { rangeOf, valueNow } from "./numbers.js";
 import { clearPreview, sendPreview } from "./livepreview.js";
+import { liveGesture } from "./sheet.js";
 import { bindRow, controlled } from "./signals.js";
 import { get, update, isLive } from "./store.js";
 import { isSignal, isTrack, clone } from "./values.js";
@@ -55,12 +56,17 @@ function slider(i, p, v, shown) {
   el.addEventListener("input", () => {
     const [value, d] = next(), field = $(`p-${p.name}`);
     if (field && field.type === "number") field.value = value;
-    if (isLive()) sendPreview(() => d, get().version);  // the live frames follow the slider
-    else update(() => ({preview: {doc: d, draft: true}}));
+    if (isLive()) {
+      sendPreview(() => d, get().version);  // the live frames follow the slider
+      liveGesture(d);  // and the newest one is warped to it meanwhile
+    } else update(() => ({preview: {doc: d, draft: true}}));
   });
   el.addEventListener("change", () => {
     const [, d] = next();
-    if (isLive()) clearPreview(null);  // the save replaces the preview
+    if (isLive()) {
+      liveGesture(null);
+      clearPreview(null);  // the save replaces the preview
+    }
     save(i, p.name, d.ops[i][p.name], shown);
   });
   return el;

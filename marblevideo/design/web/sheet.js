@@ -163,7 +163,8 @@ function paint() {
         if (rect[2] > 0 && rect[3] > 0) ctx.putImageData(image, 0, 0, ...rect);
       }
       job.answer.ms = [t1 - t0, performance.now() - t1];
-      const entry = note(isLive() ? "live-warp" : "warp", job.answer, done.shown);
+      const live = isLive(), answer = live ? answered(job.answer) : job.answer;  // (live: each input once)
+      const entry = note(live ? "live-warp" : "warp", answer, done.shown);
       if (gpu) whenDrawn(entry);
       lastWarp = done.shown;
     }
@@ -224,7 +225,7 @@ async function liveFrame(o) {
   liveBase = {bitmap, w: bitmap.width, h: bitmap.height, doc, t: time === null ? null : Number(time), key: liveSeq};
   sheet.dataset.seq = liveSeq;
   // mid-gesture, the frame warped to the gesture as it is now (it answers the newest input)
-  if (liveDraft && doc && warpLive(get(), liveDraft, liveBase, {...answered(newestInput()), stamp: ++stamp}, drawWarp)) return;
+  if (liveDraft && doc && warpLive(get(), liveDraft, liveBase, () => liveAnswer(newestInput()), drawWarp)) return;
   o = answered(o);
   await new Promise((resolve) => requestAnimationFrame(() => {
     warpJob = null;  // (a warp of an older frame not drawn yet: this one is newer)
@@ -244,13 +245,16 @@ function answered(o) {
   if (o.input !== null) liveAnswered = o.input;
   return o;
 }
+// The answer of a live frame the page warps (asked only when it draws one; counted
+// once per input when it is drawn: a warp not drawn leaves its input to the next frame).
+const liveAnswer = (inputs) => ({...inputs, stamp: ++stamp});
 // Live mode, a gesture's recipe as it is now (``doc``; null: the gesture is over):
 // the newest live frame warped to it at once, where the page can (warping.js warpLive);
 // the frames the session marbles with it follow.
 export function liveGesture(doc) {
   liveDraft = doc;
   if (!doc) warpJob = null;
-  if (doc && liveBase && liveBase.doc) warpLive(get(), doc, liveBase, {...answered(claimInput()), stamp: ++stamp}, drawWarp);
+  if (doc && liveBase && liveBase.doc) warpLive(get(), doc, liveBase, () => liveAnswer(claimInput()), drawWarp);
 }
 // The geometry of the frame shown now: device pixel -> canvas ([sx, sy, ox, oy]).
 export const shownMap = () => toCanvasMap(viewOf(), sheet.width, sheet.height);

@@ -191,7 +191,8 @@ export function prefetchLayers(s) {
 // sheet answers a pointer move at once instead of after the session's next frame
 // that shows it. ``frame``: {bitmap, w, h, doc, t, key}: the JPEG, the recipe it
 // shows (the preview it was marbled with, or the saved one), the clock time it
-// was marbled at and a key of its own. Where ``now`` differs from ``frame.doc``
+// was marbled at and a key of its own; ``answer()``: the inputs the frame answers,
+// asked only when it is drawn. Where ``now`` differs from ``frame.doc``
 // in its top op only: a new op on top is walked back over the frame (the ops
 // below it are what the frame shows); an op the frame shows as it was is taken
 // off forward first (warp.js ``before``), and a stroke drawn further since is
@@ -221,7 +222,7 @@ export function warpLive(s, now, frame, answer, draw) {
     const ok = before && stroke ? warp.drawStrokeSince(op, tNow, before, t, bg, edges)
       : warp.draw(op, tNow, bg, edges, before);
     return ok ? {read: (all) => warp.read(all), canvas, shown: {doc: now, t: +tNow.toFixed(3), w, h, view: viewOf(s), ops: null}} : null;
-  }, answer);
+  }, answer());
   return true;
 }
 
