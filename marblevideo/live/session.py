@@ -204,8 +204,7 @@ class LiveSession:
         thread.start()
 
     def latest_jpeg(self, after: int, timeout: float = 1.0):
-        """A JPEG newer than ``after``: (seq, bytes, its preview's serial or 0, the
-        clock time it was marbled at or None: :meth:`JpegPreview.latest`)."""
+        """A JPEG newer than ``after`` (:meth:`JpegPreview.latest`)."""
         return self.preview.latest(after, timeout)
 
     # -- the loop -------------------------------------------------------------
@@ -284,10 +283,9 @@ class LiveSession:
             return False
         marbler, bypass, mirror, serial = self._current()
         if not bypass:  # (bypassed, the frame shown is the captured one: as it is)
-            rgba = self.last.rgba[:, ::-1] if mirror else self.last.rgba
-            shown = self.clock.now()
-            with self.times.rendering(serial):
-                out = redrawn(marbler, self.motion, np.ascontiguousarray(rgba), shown)
+            rgba = np.ascontiguousarray(self.last.rgba[:, ::-1] if mirror else self.last.rgba)
+            with self.times.rendering(serial):  # (shown: the clock time it is marbled at)
+                out = redrawn(marbler, self.motion, rgba, shown := self.clock.now())
             self.last.count += 1
             self.preview.put(out, None, serial, shown)
         return True
