@@ -206,3 +206,29 @@ def test_a_slider_of_the_top_op_is_warped_on_the_newest_live_frame(browser, tmp_
         wait_for(lambda: abs(saved()[0]["alpha"] - 90) < 0.5, "the slider's value is saved")
         page.close()
         assert errors == []
+
+
+def test_with_motion_the_live_frames_are_not_warped_on_the_page(browser, tmp_path):
+    """A recipe with ``motion``: the session lays the motion strokes on top of
+    every op, the gesture's too, so the page cannot warp a frame to a newer
+    gesture by the gesture's op; it shows the session's frames of it."""
+    with live_designer(browser, tmp_path, {**EMPTY, "motion": {}}) as (live, page, errors, saved):
+        box = page.locator("#overlay").bounding_box()
+        before = live_settled(page, live)
+        page.evaluate("designer.setTool('comb')")
+        first = page.evaluate("window.marbleFrames.length")
+        page.mouse.move(box["x"] + 0.2 * box["width"], box["y"] + 0.5 * box["height"])
+        page.mouse.down()
+        for k in range(1, 12):
+            page.mouse.move(
+                box["x"] + (0.2 + 0.04 * k) * box["width"], box["y"] + 0.5 * box["height"]
+            )
+            time.sleep(0.05)
+        mid = live_settled(page, live)
+        assert np.abs(mid.astype(float) - before).mean() > 2  # the comb shows unsaved
+        kinds = {f["kind"] for f in page.evaluate("window.marbleFrames")[first:]}
+        assert kinds == {"live"}, kinds
+        page.mouse.up()
+        wait_for(saved, "the comb is saved")
+        page.close()
+        assert errors == []

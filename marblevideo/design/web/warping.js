@@ -198,9 +198,10 @@ export function prefetchLayers(s) {
 // off forward first (warp.js ``before``), and a stroke drawn further since is
 // walked back over its new steps only (warp.js drawStrokeSince). Draws through
 // ``draw(job, answer)`` as warpFrame does; false when it cannot (the caller
-// shows the frame as it is).
+// shows the frame as it is): a recipe with ``motion``, whose motion strokes the
+// session lays on top of every op, the gesture's too.
 export function warpLive(s, now, frame, answer, draw) {
-  if (s.view || !s.screen || !s.info || frame.t === null) return false;
+  if (s.view || !s.screen || !s.info || frame.t === null || now.motion !== undefined) return false;
   const [w, h] = s.screen, doc = frame.doc, k = now.ops.length - 1;
   if (k < 0 || changedOp(doc, now) !== k || !available(w, h)) return false;
   const op = now.ops[k], before = k < doc.ops.length ? doc.ops[k] : null, t = frame.t;
