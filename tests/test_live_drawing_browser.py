@@ -76,22 +76,29 @@ def test_a_stroke_moves_the_live_ink_as_it_is_drawn(browser, tmp_path):
         assert errors == []
 
 
+def _comb_held(page, live) -> tuple[np.ndarray, np.ndarray, list[dict]]:
+    """A comb pressed at the sheet's left and dragged right, the button still
+    held: the sheet before, the sheet once the session's frames show the comb,
+    and the frames drawn since the press."""
+    box = page.locator("#overlay").bounding_box()
+    before = live_settled(page, live)
+    page.evaluate("designer.setTool('comb')")
+    first = page.evaluate("window.marbleFrames.length")
+    y = box["y"] + 0.5 * box["height"]
+    page.mouse.move(box["x"] + 0.2 * box["width"], y)
+    page.mouse.down()
+    for k in range(1, 16):
+        page.mouse.move(box["x"] + (0.2 + 0.03 * k) * box["width"], y)
+        time.sleep(0.05)
+    mid = live_settled(page, live)
+    return before, mid, page.evaluate("window.marbleFrames")[first:]
+
+
 def test_a_comb_shows_in_the_live_frames_while_dragged(browser, tmp_path):
     with live_designer(browser, tmp_path, EMPTY) as (live, page, errors, saved):
-        box = page.locator("#overlay").bounding_box()
-        before = live_settled(page, live)
-        page.evaluate("designer.setTool('comb')")
-        first = page.evaluate("window.marbleFrames.length")
-        page.mouse.move(box["x"] + 0.2 * box["width"], box["y"] + 0.5 * box["height"])
-        page.mouse.down()
-        y = box["y"] + 0.5 * box["height"]
-        for k in range(1, 16):
-            page.mouse.move(box["x"] + (0.2 + 0.03 * k) * box["width"], y)
-            time.sleep(0.05)
-        mid = live_settled(page, live)
+        before, mid, frames = _comb_held(page, live)
         assert saved() == []
         assert np.abs(mid.astype(float) - before).mean() > 2  # the comb shows unsaved
-        frames = page.evaluate("window.marbleFrames")[first:]
         live = [f for f in frames if f["kind"] in ("live", "live-warp")]  # the session's, or warped
         answering = [f for f in live if f["input"] is not None]
         assert answering, "no live frame answered a pointer input"
@@ -213,21 +220,9 @@ def test_with_motion_the_live_frames_are_not_warped_on_the_page(browser, tmp_pat
     every op, the gesture's too, so the page cannot warp a frame to a newer
     gesture by the gesture's op; it shows the session's frames of it."""
     with live_designer(browser, tmp_path, {**EMPTY, "motion": {}}) as (live, page, errors, saved):
-        box = page.locator("#overlay").bounding_box()
-        before = live_settled(page, live)
-        page.evaluate("designer.setTool('comb')")
-        first = page.evaluate("window.marbleFrames.length")
-        page.mouse.move(box["x"] + 0.2 * box["width"], box["y"] + 0.5 * box["height"])
-        page.mouse.down()
-        for k in range(1, 12):
-            page.mouse.move(
-                box["x"] + (0.2 + 0.04 * k) * box["width"], box["y"] + 0.5 * box["height"]
-            )
-            time.sleep(0.05)
-        mid = live_settled(page, live)
+        before, mid, frames = _comb_held(page, live)
         assert np.abs(mid.astype(float) - before).mean() > 2  # the comb shows unsaved
-        kinds = {f["kind"] for f in page.evaluate("window.marbleFrames")[first:]}
-        assert kinds == {"live"}, kinds
+        assert {f["kind"] for f in frames} == {"live"}
         page.mouse.up()
         wait_for(saved, "the comb is saved")
         page.close()
