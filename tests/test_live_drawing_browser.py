@@ -152,7 +152,7 @@ def _agree(a: np.ndarray, b: np.ndarray, levels: int = 16) -> float:
     return float((diff <= levels).mean())
 
 
-@pytest.mark.parametrize("tool", ["comb", "stroke"])
+@pytest.mark.parametrize("tool", ["comb", "stroke", "drop"])
 def test_the_page_warps_the_newest_live_frame_to_the_gesture_at_once(browser, tmp_path, tool):
     """Mid-gesture the page answers a pointer move itself: the newest live frame
     (which shows the gesture as it was) warped to the gesture as it is now, drawn

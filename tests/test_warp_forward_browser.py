@@ -2,13 +2,13 @@
 are not here yet (warp.js ``draw(..., before)``): the base is the exact frame
 with the op as it was on top, which the pass takes off forward, then puts the
 op as it is now on. In real headless Chromium (SwiftShader): for each kind
-whose forward is closed-form, a base picture (samples/coffee.jpg) under the old
-op, warped so, agrees with the NumPy reference's render of the base under the
-new op on >= 96% of pixels within 8 levels (92-93% for a
-shift or turn, which push a band out of the canvas), where warping it by the new op
-alone does not; ops without a closed forward (drops, strokes, a changed list
-of tines) or whose twist loses the picture (oseen) are refused (the page
-then waits for the layers)."""
+whose forward is closed-form (a single drop's too), a base picture
+(samples/coffee.jpg) under the old op, warped so, agrees with the NumPy
+reference's render of the base under the new op on >= 96% of pixels within 8
+levels (92-93% for a shift or turn, which push a band out of the canvas), where
+warping it by the new op alone does not; ops without a closed forward here (a
+layout's many drops, strokes, a changed list of tines) or whose twist loses the
+picture (oseen) are refused (the page then waits for the layers)."""
 
 from __future__ import annotations
 
@@ -57,11 +57,14 @@ PAIRS = [
      {"center": [125, 85]}),
     ({"type": "jiggle", "angle": 30, "wavelength": 60, "phase": 20, "major": 8, "minor": 5},
      {"phase": 60}),
+    ({"type": "drop", "center": C, "radius": 40, "color": "#c03020"}, {"center": [100, 80]}),
+    ({"type": "drop", "center": C, "radius": 30, "color": "#c03020"}, {"radius": 55}),
 ]  # fmt: skip
 
 LOSES_EDGES = {"shift": 0.92, "turn": 0.93}
 REFUSED = [
-    ({"type": "drop", "center": C, "radius": 40, "color": "#c03020"}, {"center": [100, 80]}),
+    ({"type": "rings", "center": C, "width": 12, "count": 3, "colors": ["#1d3557", "#e9c46a"]},
+     {"center": [100, 80]}),
     ({"type": "stroke", "points": [[40, 50], [180, 130]], "width": 30},
      {"points": [[40, 60], [180, 130]]}),
     ({"type": "rake", "point": [100, 80], "angle": 0, "alpha": 7, "falloff": 5,
