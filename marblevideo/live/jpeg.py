@@ -37,7 +37,7 @@ class JpegPreview:
         self.seq = 0
         self._data: bytes | None = None
         self._tag = 0
-        self._time: float | None = None
+        self._time: Time = None
         self._cond = threading.Condition()
         self._closed = False
 
@@ -46,7 +46,7 @@ class JpegPreview:
         """Frames shown that the encoder never took (it was behind)."""
         return self.shown.dropped
 
-    def put(self, rgba: np.ndarray, ts: float | None, tag: int = 0, t: float | None = None) -> None:
+    def put(self, rgba: np.ndarray, ts: float | None, tag: int = 0, t: Time = None) -> None:
         """Offer a frame shown (RGBA), captured at ``ts`` (``time.monotonic()``;
         None: a captured frame marbled again, not in the latency), with its ``tag``
         and the clock time ``t`` it was marbled at (None: unknown)."""

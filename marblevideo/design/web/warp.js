@@ -178,10 +178,10 @@ class Warp {
       const tines = (op.tines ?? [0]).length;
       if (tines > 1 && was.count === 0) return false;  // N0 (the tines' offsets) not settled yet
       const back = stepRows(now, was.count, now.count, w, now.partial);
-      const rows = was.partial ? undoneRows(was.partial, w) : { list: [], n: 0, width: w, rect: back.rect };
+      const rows = undoneRows(stepRows(was, was.count, was.count, w, was.partial));
       rows.list.push(...back.list);
       rows.n += back.n;
-      rows.rect = union(rows.rect, back.rect) || [1, 1, -1, -1];
+      rows.rect = union(rows.rect, back.rect);
       this.lastStroke = null;
       this.drawPlan(op, t, { kind: 8, p: [], list: [], rows }, bg, EDGES[edges]);
       return true;
@@ -341,10 +341,10 @@ function grownFrom(op, before) {
   return (op.width ?? 24) === (before.width ?? 24) && same(op.tines ?? [0], before.tines ?? [0])
     && prefix(before.times, op.times) && prefix(before.points, op.points);
 }
-// A step's rows (stepRows') that take it off forward when walked back: its tines
-// in the reverse order, each with its half-vector negated.
-function undoneRows(step, width) {
-  const rows = stepRows({ wholeStep: () => null }, 0, 0, width, step), out = [];
+// Rows (stepRows') that take their steps off forward when walked back: in the
+// reverse order, each with its half-vector negated.
+function undoneRows(rows) {
+  const out = [];
   for (let i = rows.n - 1; i >= 0; i--) {
     const r = rows.list.slice(8 * i, 8 * i + 8);
     r[2] = -r[2];
