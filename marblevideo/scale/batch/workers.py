@@ -71,8 +71,8 @@ def on_processes(recipe: str, todo: list, options, overwrite, jobs: int, finishe
                 error = future.result()
             except concurrent.futures.process.BrokenProcessPool:
                 raise MediaError("a batch worker died; run again to resume") from None
-            recorded.add(future)
             finished(futures[future], error)
+            recorded.add(future)  # (after: an interrupt inside finished records it again)
     except BaseException:
         workers = list((pool._processes or {}).values())  # private: no public way
         pool.shutdown(wait=False, cancel_futures=True)
