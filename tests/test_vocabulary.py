@@ -346,3 +346,34 @@ def test_a_jiggle_too_strong_before_its_first_key_names_its_path():
     }
     with pytest.raises(RecipeError, match=r"ops\[0\]\.major"):
         parse_recipe({"canvas": [80, 60], "ops": [op]}, "r.json")
+
+
+@pytest.mark.parametrize(
+    "positions, falloff",
+    [
+        ([(k - 9) * 30.0 for k in range(19)], 4.0),  # bouquet's rake
+        ([(k - 21) * 8.0 for k in range(43)], 2.5),
+        ([5.0 + 3.0 * k for k in range(4)], 60.0),  # wide fall-off: every tine counts
+        ([(k - 2) * 0.1 for k in range(5)], 4.0),  # closer than MIN_RATIO: term by term
+        ([0.0, 1.0, 3.0, 7.0], 2.0),  # uneven: term by term
+    ],
+)
+def test_a_rakes_closed_form_is_the_sum_of_its_tines(positions, falloff):
+    """The float64 reference's closed form against the definition, term by term,
+    across the tines, on them, between them and far beyond either end."""
+    from marblevideo.ops.series import falloff_sum
+
+    rng = np.random.default_rng(7)
+    lo, hi = min(positions), max(positions)
+    u = np.concatenate(
+        [
+            rng.uniform(lo - 200, hi + 200, 4000),
+            np.array(positions),
+            np.array(positions) + 1e-13,
+            np.array([lo - 5000.0, hi + 5000.0, -1e300 if lo < 0 else 0.0]),
+        ]
+    )
+    sum_of_terms = sum(np.exp(-np.abs(u - p) / falloff) for p in positions)
+    got = falloff_sum(u, positions, falloff)
+    assert np.all(np.isfinite(got))
+    assert np.allclose(got, sum_of_terms, rtol=1e-12, atol=1e-300)

@@ -23,7 +23,7 @@ from marblevideo.ops.base import (
     direction,
 )
 from marblevideo.ops.gestures import Tool
-from marblevideo.ops.series import SERIES_SLOTS, pack_series
+from marblevideo.ops.series import SERIES_SLOTS, falloff_sum, pack_series
 
 
 def _tine_shift(v: Values, x: np.ndarray, y: np.ndarray, comb: bool):
@@ -215,14 +215,12 @@ def rake_offsets(v: Values) -> list[float]:
 
 
 def _rake_shift(v: Values, x: np.ndarray, y: np.ndarray, comb: bool = False):
-    """Shift along M: alpha * sum_i exp(-|d_i| / falloff), d_i = (P - A) . N - o_i."""
+    """Shift along M: alpha * sum_i exp(-|d_i| / falloff), d_i = (P - A) . N - o_i
+    (evenly spaced tines summed in closed form: :func:`~marblevideo.ops.series.falloff_sum`)."""
     mx, my = direction(v["angle"])
     ax, ay = v["point"]
     across = (x - ax) * -my + (y - ay) * mx  # (P - A) . N
-    total = np.zeros(np.shape(across))
-    for offset in rake_offsets(v):  # one tine at a time: memory stays that of the points
-        total += np.exp(-np.abs(across - offset) / v["falloff"])
-    return v["alpha"] * total, mx, my
+    return v["alpha"] * falloff_sum(across, rake_offsets(v), v["falloff"]), mx, my
 
 
 #: A rake's packed floats: the line, alpha, 1/falloff, then its tines as a series.

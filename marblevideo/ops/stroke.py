@@ -149,14 +149,16 @@ def clock(values: dict, t: float) -> dict:
     return values
 
 
-def _turn(x, y, cx, cy, angle, inv_w2):
-    """(x, y) turned about (cx, cy) by angle g(r), g = (1 - r^2/w^2)^2 inside w;
-    points from w on are kept exactly (not re-rounded through cx + (x - cx))."""
+def _turn(x, y, cx, cy, angle, inv_w2) -> None:
+    """(x, y) turned about (cx, cy) by angle g(r), g = (1 - r^2/w^2)^2 inside w, in
+    place; points from w on are kept exactly (not re-rounded through cx + (x - cx))."""
     qx, qy = x - cx, y - cy
-    g = np.maximum(1.0 - (qx * qx + qy * qy) * inv_w2, 0.0) ** 2
-    c, s = np.cos(angle * g), np.sin(angle * g)
-    inside = g > 0
-    return np.where(inside, cx + qx * c - qy * s, x), np.where(inside, cy + qx * s + qy * c, y)
+    g = 1.0 - (qx * qx + qy * qy) * inv_w2
+    inside = np.flatnonzero(g > 0)
+    if inside.size:
+        qx, qy, a = qx[inside], qy[inside], angle * g[inside] ** 2
+        c, s = np.cos(a), np.sin(a)
+        x[inside], y[inside] = cx + qx * c - qy * s, cy + qx * s + qy * c
 
 
 #: Steps walked together over the points in their joint reach (see :func:`_walk`).
@@ -196,15 +198,16 @@ def _steps(steps, block, sign: float, width: float, x, y) -> Points:
     the points (x, y), each on those within 3w/2 of its centre."""
     inv_w2, reach2 = 1.0 / (width * width), (1.5 * width) ** 2
     centres, halves, turns = steps
-    for j in block:
-        (cx, cy), (hx, hy) = centres[j], halves[j]
-        near = np.flatnonzero((x - cx) ** 2 + (y - cy) ** 2 < reach2)
+    for j in block.tolist():
+        (cx, cy), (hx, hy), turn = centres[j].tolist(), halves[j].tolist(), float(turns[j])
+        dx, dy = x - cx, y - cy
+        near = np.flatnonzero(dx * dx + dy * dy < reach2)
         if near.size == 0:
             continue
         px, py = x[near], y[near]
         first, second = ((cx + hx, cy + hy), (cx - hx, cy - hy))[:: int(sign)]
-        px, py = _turn(px, py, *first, turns[j], inv_w2)
-        px, py = _turn(px, py, *second, -turns[j], inv_w2)
+        _turn(px, py, *first, turn, inv_w2)
+        _turn(px, py, *second, -turn, inv_w2)
         x[near], y[near] = px, py
     return x, y
 
