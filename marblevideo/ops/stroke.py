@@ -150,8 +150,7 @@ def clock(values: dict, t: float) -> dict:
 
 
 def _turn(x, y, cx, cy, angle, inv_w2) -> None:
-    """(x, y) turned about (cx, cy) by angle g(r), g = (1 - r^2/w^2)^2 inside w, in
-    place; points from w on are kept exactly (not re-rounded through cx + (x - cx))."""
+    """(x, y) turned about (cx, cy) by g(r), g = (1 - r^2/w^2)^2 inside w, in place; others kept."""
     qx, qy = x - cx, y - cy
     g = 1.0 - (qx * qx + qy * qy) * inv_w2
     inside = np.flatnonzero(g > 0)
