@@ -358,3 +358,13 @@ def test_a_long_series_in_closed_form_agrees_with_the_reference(warp_page, op):
         got, _ = check(page, base, op, t)
         moved = max(moved, 1 - agreement(got, base))
     assert moved > 0.05, f"{op['type']}: the op changed too little for the test to see a fault"
+
+
+@pytest.mark.parametrize("k", [0, 1, 3])
+def test_one_drop_is_drawn_from_uniforms_and_a_layout_from_its_list(warp_page, k):
+    """A single drop or spray is kind 11 (its row in the uniforms: no texture fetch
+    per pixel, a third of SwiftShader's frame); a layout's drops stay kind 1. Both
+    are checked against the reference in test_each_op_agrees_with_the_reference."""
+    page, _ = warp_page
+    assert answer(page, KIND, {**OPS[k], **WINDOW}) == 11
+    assert answer(page, KIND, {**OPS[20], **WINDOW}) == 1  # line-drops

@@ -320,7 +320,7 @@ function forwardPlan(before, t, plan) {
   const old = resolve(before, t);
   if (!old || old.kind !== plan.kind || !FORWARD_KINDS.includes(old.kind)) return null;
   // drops: one drop, its row (centre, radius, whether it pushes) the forward's numbers
-  if (old.kind === 1) return old.list.length === 8 ? { ...old, p: old.list.slice(0, 4) } : null;
+  if (old.kind === 1 || old.kind === 11) return old.list.length === 8 ? { ...old, p: old.list.slice(0, 4) } : null;
   if (old.kind === 6 && old.p[2] === 2) return null;  // oseen: its twist loses the picture
   if (old.list.length !== plan.list.length || old.list.some((v, i) => v !== plan.list[i])) return null;
   return old;

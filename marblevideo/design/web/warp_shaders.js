@@ -128,7 +128,7 @@ void main() {
 // ``forward``: the base is the exact frame of the recipe with the op as it was
 // (its numbers uF0..uF3) on top, which the pass takes off forward (base(old(inv_op(q))));
 // for the kinds in FORWARD_KINDS, with no map above.
-export const FORWARD_KINDS = [1, 2, 3, 4, 5, 6, 7, 9, 10];
+export const FORWARD_KINDS = [1, 2, 3, 4, 5, 6, 7, 9, 10, 11];
 export function drawSource(kind, edges, above, forward = false) {
   return `#version 300 es
 #define KIND ${kind}
@@ -163,6 +163,14 @@ vec2 drops(vec2 P) {
     if (a.w > 0.5 && R > 0.0) P = a.xy + q * (sqrt(max((R - a.z) * (R + a.z), 0.0)) / R);
   }
   return P;
+}
+
+// One drop (kind 11): Q1 its centre, radius and whether it pushes, Q2 its colour.
+vec2 drop(vec2 P) {
+  vec2 q = P - Q1.xy;
+  float R = length(q);
+  if (R < Q1.z) { inkHit = true; inkColor = Q2.rgb; return P; }
+  return Q1.w > 0.5 && R > 0.0 ? Q1.xy + q * (sqrt(max((R - Q1.z) * (R + Q1.z), 0.0)) / R) : P;
 }
 
 // sum_k c_k e^(-|u - o_k| / L) over n evenly spaced terms in closed form, as
@@ -254,6 +262,8 @@ vec2 wave(vec2 P) {
 vec2 inverseOp(vec2 P) {
 #if KIND == 1
   return drops(P);
+#elif KIND == 11
+  return drop(P);
 #elif KIND == 2 || KIND == 5 || KIND == 9
   return shears(P);
 #elif KIND == 3
@@ -298,7 +308,7 @@ vec4 sampleBase(vec2 P) {
 // The op before the gesture, forward (the kinds whose inverse moves a point along
 // a line or circle it does not leave: forward is the same step the other way).
 vec2 forwardOp(vec2 P) {
-#if KIND == 1
+#if KIND == 1 || KIND == 11
   // one drop (uF0: centre, radius, whether it pushes): the plane pushed out from its
   // centre, P' = C + q sqrt(1 + r^2 / |q|^2) (the walk back is its inverse)
   vec2 q = P - Q0.xy;
