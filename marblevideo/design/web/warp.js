@@ -311,7 +311,7 @@ class Warp {
 // Whether a frame of ``op`` at t can take ``before`` (the op as it was) off
 // forward: the same kind, a forwardable one (not an oseen vortex, whose twist
 // packs the picture too tight to take off), and the same list (the pass has one;
-// drops: ``before`` one drop, whatever ``op``'s).
+// a single drop has none: its row is in its numbers).
 export function forwardable(op, before, t) {
   const plan = resolve(op, t);
   return !!plan && FORWARD_KINDS.includes(plan.kind) && !!forwardPlan(before, t, plan);
@@ -319,8 +319,6 @@ export function forwardable(op, before, t) {
 function forwardPlan(before, t, plan) {
   const old = resolve(before, t);
   if (!old || old.kind !== plan.kind || !FORWARD_KINDS.includes(old.kind)) return null;
-  // drops: one drop, its row (centre, radius, whether it pushes) the forward's numbers
-  if (old.kind === 1 || old.kind === 11) return old.list.length === 8 ? { ...old, p: old.list.slice(0, 4) } : null;
   if (old.kind === 6 && old.p[2] === 2) return null;  // oseen: its twist loses the picture
   if (old.list.length !== plan.list.length || old.list.some((v, i) => v !== plan.list[i])) return null;
   return old;

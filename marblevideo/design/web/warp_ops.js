@@ -169,7 +169,7 @@ function resolveOrThrow(op, t) {
     const list = inks(op, t), rows = list.flatMap((row) => [...row, 0]);
     // one drop (kind 11): its row in the uniforms too, read with no texture fetch
     // (SwiftShader: 31-35 ms a 930x620 frame from the list, 22 ms from uniforms)
-    if (list.length === 1) return { kind: 11, p: [1, 0, 0, 0, ...rows], list: rows };
+    if (list.length === 1) return { kind: 11, p: [1, 0, 0, 0, ...rows], list: [] };
     return { kind: list.length ? 1 : 0, p: [list.length], list: rows };
   }
   const p = progress(op, t), v = (name) => at(op[name], t);

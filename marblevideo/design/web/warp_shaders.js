@@ -128,7 +128,7 @@ void main() {
 // ``forward``: the base is the exact frame of the recipe with the op as it was
 // (its numbers uF0..uF3) on top, which the pass takes off forward (base(old(inv_op(q))));
 // for the kinds in FORWARD_KINDS, with no map above.
-export const FORWARD_KINDS = [1, 2, 3, 4, 5, 6, 7, 9, 10, 11];
+export const FORWARD_KINDS = [2, 3, 4, 5, 6, 7, 9, 10, 11];
 export function drawSource(kind, edges, above, forward = false) {
   return `#version 300 es
 #define KIND ${kind}
@@ -308,12 +308,12 @@ vec4 sampleBase(vec2 P) {
 // The op before the gesture, forward (the kinds whose inverse moves a point along
 // a line or circle it does not leave: forward is the same step the other way).
 vec2 forwardOp(vec2 P) {
-#if KIND == 1 || KIND == 11
-  // one drop (uF0: centre, radius, whether it pushes): the plane pushed out from its
-  // centre, P' = C + q sqrt(1 + r^2 / |q|^2) (the walk back is its inverse)
-  vec2 q = P - Q0.xy;
+#if KIND == 11
+  // one drop (Q1, as drop() reads it: centre, radius, whether it pushes): the plane
+  // pushed out from its centre, P' = C + q sqrt(1 + r^2 / |q|^2) (drop() is its inverse)
+  vec2 q = P - Q1.xy;
   float R2 = dot(q, q);
-  return Q0.w > 0.5 && R2 > 0.0 ? Q0.xy + q * sqrt(1.0 + Q0.z * Q0.z / R2) : P;
+  return Q1.w > 0.5 && R2 > 0.0 ? Q1.xy + q * sqrt(1.0 + Q1.z * Q1.z / R2) : P;
 #elif KIND == 2 || KIND == 5 || KIND == 9
   return 2.0 * P - shears(P);
 #elif KIND == 3
