@@ -75,11 +75,16 @@ def on_processes(recipe: str, todo: list, options, overwrite, jobs: int, finishe
             recorded.add(future)  # (after: an interrupt inside finished records it again)
     except BaseException:
         workers = list((pool._processes or {}).values())  # private: no public way
-        pool.shutdown(wait=False, cancel_futures=True)
         for worker in workers:  # stopped at once
             with contextlib.suppress(OSError):
                 worker.kill()
-        pool.shutdown(wait=True)
+        # One shutdown, that waits: the pool's thread sees the workers dead, fails
+        # what is left and joins them. (A shutdown(wait=False) first would let go
+        # of that thread, and a later wait would return at once, while a killed
+        # worker could still be renaming its output: written, never recorded.)
+        pool.shutdown(wait=True, cancel_futures=True)
+        for worker in workers:  # dead, before their outputs are looked at
+            worker.join()
         for future, item in futures.items():
             if future in recorded:
                 continue
