@@ -263,18 +263,10 @@ def stages(page, began: float, up: float) -> list[float] | None:
     return [round(sorted(m[i] for m in ms)[len(ms) // 2], 1) for i in range(len(ms[0]))]
 
 
-#: Chromium's flags for each compositor: with no GPU, Chromium composites in
-#: software and reads each WebGL frame back; "gpu" composites with SwiftShader's GL.
-COMPOSITING = {
-    "software": (),
-    "gpu": ("--ignore-gpu-blocklist", "--use-gl=angle", "--use-angle=swiftshader"),
-}
-
-
-def open_page(p, url: str, viewport: tuple[int, int], dpr: float, live: bool = False, flags=()):
+def open_page(p, url: str, viewport: tuple[int, int], dpr: float, live: bool = False):
     chromium = shutil.which("chromium") or "/usr/bin/chromium"
     browser = p.chromium.launch(
-        executable_path=chromium, args=["--no-sandbox", "--enable-unsafe-swiftshader", *flags]
+        executable_path=chromium, args=["--no-sandbox", "--enable-unsafe-swiftshader"]
     )
     context = browser.new_context(
         viewport={"width": viewport[0], "height": viewport[1]}, device_scale_factor=dpr
@@ -304,8 +296,7 @@ def served_page(name: str, args, live: bool = False, fps: float | None = None):
         try:
             query = getattr(args, "query", None)
             page_url = url + ("?" + query if query else "")
-            flags = COMPOSITING[getattr(args, "compositing", "software")]
-            browser, page = open_page(p, page_url, args.viewport, args.dpr, live, flags)
+            browser, page = open_page(p, page_url, args.viewport, args.dpr, live=live)
             yield url, page
             browser.close()
         finally:
@@ -383,13 +374,6 @@ def main() -> None:
     p.add_argument("--no-design", action="store_true", help="only --live")
     p.add_argument("--verify", action="store_true", help="also compare the settled sheet")
     p.add_argument("--pause", type=float, default=0.0, help="select -> press, s (handle, slider)")
-    p.add_argument(
-        "--compositing",
-        choices=list(COMPOSITING),
-        default="software",
-        help="Chromium's compositor: software (as it chooses on a machine without a GPU)"
-        " or gpu (its GL compositor on SwiftShader, the GPU blocklist ignored)",
-    )
     p.add_argument("--query", help="the page's address query, e.g. glsheet=0 (sheetgl.js)")
     p.add_argument("--json", metavar="FILE", help="write the rows as JSON")
     p.add_argument("--compare", nargs=2, metavar=("BEFORE", "AFTER"), help="two --json files")
