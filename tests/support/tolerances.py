@@ -26,7 +26,7 @@ SWSCALE_MAX, SWSCALE_MEAN, SWSCALE_CHROMA_MAX = 3, 1.5, 2
 SVG_LEVELS, SVG_SHARE = 32, 0.985
 #: Zoom fidelity: an SVG at the default tolerance, rasterized at 2x and 4x its
 #: size, against the 16-sample raster render at that size: the share of pixels
-#: within ZOOM_LEVELS. Rasterized ZOOM_SUPERSAMPLE times finer and averaged, so
+#: within ZOOM_LEVELS. Rasterized ZOOM_SUPERSAMPLE times finer (or more) and averaged, so
 #: that stripes thinner than a pixel are averaged by area (a rasterizer that
 #: composites shape by shape, cairo, blends them with the shape beneath).
 ZOOM_LEVELS, ZOOM_SHARE, ZOOM_SUPERSAMPLE = 24, 0.99, 4
