@@ -28,6 +28,7 @@ converted by the canvas->output scale.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -111,6 +112,7 @@ def _fmt(v: float) -> str:
     return f"{v:g}"
 
 
+@functools.lru_cache(maxsize=1 << 16)  # a path's steps are mostly a few small values
 def _decimal(units: int, decimals: int) -> str:
     """``units`` / 10**decimals written as briefly as SVG allows (``-.05``, ``12.3``)."""
     if not decimals:
