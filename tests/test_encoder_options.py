@@ -267,3 +267,35 @@ def test_summary_line_for_a_blank_sheet(cli, work):
     assert match and match.groups()[:5] == ("sheet.mp4", "5", "0.50", "64", "48"), proc.stderr
     proc = cli(*args, "-o", "quiet.mp4", "-q")
     assert proc.returncode == 0 and proc.stderr == ""
+
+
+@needs("libsvtav1")
+@pytest.mark.skipif(
+    not hasattr(os, "sched_getscheduler") or os.geteuid() != 0,
+    reason="SVT-AV1 makes threads real-time only when run as root (Linux)",
+)
+def test_svt_av1_leaves_no_thread_real_time(work):
+    """SVT-AV1, run as root, makes the thread that opens it, and its own threads,
+    SCHED_FIFO 99; the programs that thread starts inherit it, and busy ones then
+    starve a small machine. After its options are tried and an AV1 render, this
+    process and what it starts are scheduled as before."""
+    import subprocess
+    import sys
+
+    from marblevideo import api
+    from marblevideo.media.scheduling import realtime_threads
+
+    policy = os.sched_getscheduler(0)
+    plan_output(work / "probe.mkv", VideoOptions(codec="libsvtav1", crf=30))
+    api.render_video(work / "in.mp4", work / "r.json", work / "o.mkv", codec="libsvtav1")
+    with av.open(str(work / "o.mkv")) as written:
+        assert written.streams.video[0].codec_context.codec.canonical_name == "av1"
+    assert os.sched_getscheduler(0) == policy
+    assert realtime_threads() == []
+    child = subprocess.run(
+        [sys.executable, "-c", "import os; print(os.sched_getscheduler(0))"],
+        capture_output=True,
+        text=True,
+        check=True,
+    )
+    assert int(child.stdout) == policy

@@ -24,6 +24,7 @@ from marblevideo.media.formats import (
 )
 from marblevideo.media.palette import PaletteFrames
 from marblevideo.media.progress import MODES
+from marblevideo.media.scheduling import ordinary_scheduling
 from marblevideo.media.video import (
     AUDIO_MODES,
     AudioItem,
@@ -297,7 +298,11 @@ class Encoder:
             frame.pict_type = av.video.frame.PictureType.I
         if item.duration:
             frame.duration = item.duration
-        self.out.mux(self.stream.encode(frame))
+        if self.stream.codec_context.is_open:
+            self.out.mux(self.stream.encode(frame))
+        else:  # the first frame opens the encoder
+            with ordinary_scheduling():
+                self.out.mux(self.stream.encode(frame))
         self.stats.frames += 1
         self.span.extend(item)
 
@@ -317,8 +322,8 @@ class Encoder:
         if self.palette is not None:
             self.palette.finish(lambda frame: self.out.mux(self.stream.encode(frame)))
         if self.stream is not None:
-            self.out.mux(self.stream.encode(None))
-        if self.stream is not None:
+            with ordinary_scheduling():
+                self.out.mux(self.stream.encode(None))
             self.stats.duration = self.span.seconds(self.stream.codec_context.time_base)
         for stream in self.audio_out.values():
             if stream.codec_context.is_encoder:

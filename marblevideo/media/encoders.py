@@ -44,6 +44,7 @@ import av
 import av.logging
 
 from marblevideo.errors import UsageError
+from marblevideo.media.scheduling import ordinary_scheduling
 
 # x264's and x265's own names (x264.h x264_preset_names / x264_tune_names,
 # x265.h x265_preset_names / x265_tune_names, x264's profiles): FFmpeg passes
@@ -194,7 +195,7 @@ def _open(codec: str, pix_fmt: str, options: dict[str, str]):
     ctx.time_base = Fraction(1, 25)
     ctx.framerate = Fraction(25)
     ctx.options = dict(options)
-    with av.logging.Capture() as logs:
+    with av.logging.Capture() as logs, ordinary_scheduling():
         try:
             ctx.open()
         except (av.error.FFmpegError, ValueError) as exc:
