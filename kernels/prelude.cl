@@ -33,6 +33,13 @@
  * arguments (the I420 matrix) are read only in macros.
  */
 
+/* The address space of `lists`, the frame's variable-length data: a buffer
+ * for the renderer; an exported program (marblevideo/export) holds its frames'
+ * data as program-scope constants and defines it as __constant. */
+#ifndef LIST_SPACE
+#define LIST_SPACE __global
+#endif
+
 #define CAT_(a, b) a##b
 #define CAT(a, b) CAT_(a, b)
 
@@ -128,7 +135,7 @@ inline vf exp_neg(vf x) {
  * q)^(n-1-j)) / (1 - sigma q), q = e^(-s/L): four exponentials for any n; a
  * side without terms gets an argument of 0 and a factor of exactly 0.
  * d: o0, 1/s, s, s/L, 1/(1 - sigma q), c0, sigma, sigma^(n-1). */
-inline vf series_sum(vf u, __global const float *d, int n, int even, float inv_l) {
+inline vf series_sum(vf u, LIST_SPACE const float *d, int n, int even, float inv_l) {
     if (!even) {
         vf sum = (vf)0.0f;
         for (int k = 0; k < n; k++)
@@ -170,4 +177,30 @@ inline vf recip(vf x) {
  * `lists` the frame's variable-length data (the number of ops, then each op's
  * data where it packed it). */
 #define OP_ARGS vf *x, vf *y, vi *ink, __constant const float *p, int i, \
-                __global const float *lists
+                LIST_SPACE const float *lists
+
+/* The walk's macros, shared by the renderer's kernels (walk.cl) and the exported
+ * programs: a work-item's CHAINS chains hold their points in px[c], py[c] and
+ * ink[c]; PARAMS(i) is op i's packed row (in the renderer's frame buffer
+ * `params`; an export redefines it) and `lists` the frame's list data. */
+#define FOR_CHAINS for (int c = 0; c < CHAINS; c++)
+#define PARAMS(i) (params + (i) * PSTRIDE)
+/* Op i in every chain through its section `section` (op_<type>; the generated
+ * WALK is a list of these, or a loop whose switch has one case per op type). An
+ * op still this frame (CODE_STILL: not started yet) is skipped, by a branch
+ * every lane takes alike. */
+#define OP(i, section)                                                         \
+    if (PARAMS(i)[CODE_SLOT] >= 0.0f)                                          \
+        FOR_CHAINS section(&px[c], &py[c], &ink[c], PARAMS(i), i, lists);
+/* The same for a chained section (OpDef.chained), called once for every chain. */
+#define OP_CHAINS(i, section)                                                  \
+    if (PARAMS(i)[CODE_SLOT] >= 0.0f)                                          \
+        section(px, py, ink, PARAMS(i), i, lists);
+/* The colour of ink op i for the lanes whose walk ended there (INK lists these). */
+#define INK_COLOR(i)                                                           \
+    { vi m = ink[c] == i;                                                      \
+      float r_ = PARAMS(i)[COLOR_SLOT], g_ = PARAMS(i)[COLOR_SLOT + 1];        \
+      float b_ = PARAMS(i)[COLOR_SLOT + 2];                                    \
+      cr = select(cr, (vf)r_, m);                                              \
+      cg = select(cg, (vf)g_, m);                                              \
+      cb = select(cb, (vf)b_, m); }

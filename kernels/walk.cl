@@ -11,29 +11,6 @@
 
 /* Row of job j; constant-folds to 0 whenever ROWS == 1. */
 #define ROW_OF(j) (ROWS == 1 ? 0 : (j) / NSAMPLES)
-#define FOR_CHAINS for (int c = 0; c < CHAINS; c++)
-#define PARAMS(i) (params + (i) * PSTRIDE)
-/* Op i in every chain through its section `section` (op_<type>; the generated
- * WALK is a list of these, or a loop whose switch has one case per op type). An
- * op still this frame (CODE_STILL: not started yet) is skipped, by a branch
- * every lane takes alike. */
-#define OP(i, section)                                                         \
-    if (PARAMS(i)[CODE_SLOT] >= 0.0f)                                          \
-        FOR_CHAINS section(&px[c], &py[c], &ink[c], PARAMS(i), i, lists);
-/* The same for a chained section (OpDef.chained), called once for every chain. */
-#define OP_CHAINS(i, section)                                                  \
-    if (PARAMS(i)[CODE_SLOT] >= 0.0f)                                          \
-        section(px, py, ink, PARAMS(i), i, lists);
-/* The colour of ink op i for the lanes whose walk ended there (INK lists these). */
-#define INK_COLOR(i)                                                           \
-    { vi m = ink[c] == i;                                                      \
-      float r_ = PARAMS(i)[COLOR_SLOT], g_ = PARAMS(i)[COLOR_SLOT + 1];        \
-      float b_ = PARAMS(i)[COLOR_SLOT + 2];                                    \
-      cr = select(cr, (vf)r_, m);                                              \
-      cg = select(cg, (vf)g_, m);                                              \
-      cb = select(cb, (vf)b_, m); }
-
-
 #define KPARAMS __global const uint *src, int sw, int sh, __constant const float *params, \
                 __constant const float *samples, float4 gc, float4 gi, float4 bgc, \
                 __global const float *lists

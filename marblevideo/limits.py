@@ -31,3 +31,13 @@ MAX_LIST = 256
 MAX_COUNT = 4096
 #: A URL input whose reads stall this long fails (seconds).
 URL_TIMEOUT = 30
+#: An exported OpenCL program's frame data (every frame's packed values, the frame
+#: table and the pattern), in bytes: the constant memory every OpenCL device gives
+#: a program (CL_DEVICE_MAX_CONSTANT_BUFFER_SIZE is at least 64 KiB).
+EXPORT_CONSTANT_BYTES = 1 << 16
+#: The most an export's ``--constant-memory`` may allow (PoCL gives 2 MiB).
+EXPORT_MAX_CONSTANT_BYTES = 1 << 24
+#: Highest frame rate an export's frames are sampled at (``--fps``).
+EXPORT_MAX_FPS = 1000.0
+#: Most frames an export samples (10 minutes at 30 fps): the recipe settles within them.
+EXPORT_MAX_FRAMES = 18000

@@ -31,6 +31,7 @@ LAYERS = {
     "opencl": 5,
     "outputs": 5,
     "marbler": 6,
+    "export": 6,  # a recipe as another host's program: the renderer's packing and sections
     "api": 7,
     "serve": 8,
     "live": 9,

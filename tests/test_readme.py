@@ -77,7 +77,7 @@ VIDEO_EXTENSIONS = (".mp4", ".mov", ".mkv", ".webm", ".gif", ".apng", ".nut")
 #: Commands that print (to stdout) instead of writing an output file.
 PRINTING = (["devices"], ["schema"], ["presets"], ["ops"])
 #: Commands that write a file but take no --size.
-SIZELESS = (["import"],)
+SIZELESS = (["import"], ["export"])
 SMALL = 64  # the longest side of any output
 
 

@@ -51,7 +51,7 @@ inline void op_stir(OP_ARGS) {
     const float cx = p[P_STIR_CX], cy = p[P_STIR_CY];
     vf qx = *x - cx, qy = *y - cy;
     vf R = sqrt(qx * qx + qy * qy);
-    __global const float *d = lists + (int)p[P_STIR_SERIES_AT];
+    LIST_SPACE const float *d = lists + (int)p[P_STIR_SERIES_AT];
     const int n = (int)p[P_STIR_SERIES_N];
     if (p[P_STIR_RELATIVE] != 0.0f) {
         vf sum = (vf)0.0f;

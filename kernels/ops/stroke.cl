@@ -68,14 +68,14 @@ inline void op_stroke(OP_ARGS) {
     if (!ANY(inbox))
         return;
     const int n = (int)p[P_STROKE_STEPS_N], per = (int)p[P_STROKE_BLOCK];
-    __global const float *s = lists + (int)p[P_STROKE_STEPS_AT];
-    __global const float *blocks = s + 5 * n;
+    LIST_SPACE const float *s = lists + (int)p[P_STROKE_STEPS_AT];
+    LIST_SPACE const float *blocks = s + 5 * n;
     const float inv_w2 = p[P_STROKE_INV_W2], reach2 = p[P_STROKE_REACH2];
     for (int b = (n + per - 1) / per - 1; b >= 0; b--) {
         if (!stroke_near(x, y, blocks[3 * b], blocks[3 * b + 1], blocks[3 * b + 2]))
             continue;
         for (int k = min(n, (b + 1) * per) - 1; k >= b * per; k--) {
-            __global const float *q = s + 5 * k;
+            LIST_SPACE const float *q = s + 5 * k;
             if (!stroke_near(x, y, q[0], q[1], reach2))
                 continue;
             stroke_turn(x, y, q[0] - q[2], q[1] - q[3], q[4], inv_w2);

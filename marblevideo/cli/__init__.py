@@ -1,7 +1,8 @@
 """The command line: ``marblevideo [INPUT] --ops RECIPE -o OUTPUT`` (:mod:`.render`),
 ``devices`` and ``schema`` (:mod:`.info`), ``presets`` and ``ops`` (:mod:`.catalog`),
 ``live`` (:mod:`.live`), ``batch`` (:mod:`.batch`), ``design`` (:mod:`.design`),
-``midi`` (:mod:`.controllers`), ``import`` (:mod:`.importer`: a pst-marble design).
+``midi`` (:mod:`.controllers`), ``import`` (:mod:`.importer`: a pst-marble design),
+``export`` (:mod:`.export`: a recipe as a program for ffmpeg).
 
 Exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143
 interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
@@ -63,6 +64,12 @@ def _import(argv: list[str]) -> int:
     return import_command(argv)
 
 
+def _export(argv: list[str]) -> int:
+    from marblevideo.cli.export import export_command
+
+    return export_command(argv)
+
+
 def _midi(argv: list[str]) -> int:
     from marblevideo.cli.controllers import midi_command
 
@@ -79,6 +86,7 @@ COMMANDS = {
     "design": _design,
     "midi": _midi,
     "import": _import,
+    "export": _export,
 }
 
 

@@ -7,7 +7,7 @@ buffer by :func:`pack_params`, so animating a recipe never recompiles.
 :class:`Programs` caches each structure's kernels, fetched once.
 
 The source is kernels/prelude.cl, each op family's sections
-(kernels/ops/<family>.cl) and the files of :data:`KERNEL_FILES` (sampling, the
+(kernels/ops/<family>.cl) and the files of :data:`KERNEL_FILES` (edges, sampling, the
 walk, adaptive antialiasing, tables, I420, planes, the lattice), after a header
 generated from the op definitions (:mod:`marblevideo.opencl.header`: parameter
 offsets, type codes, edges modes, the walk). Every kernel in the source is
@@ -59,6 +59,7 @@ VECTOR_WIDTHS = (4, 8, 16)
 #: The kernels' files after the prelude and the op sections, in the order they are
 #: joined (each uses only what the files before it define).
 KERNEL_FILES = (
+    "edges.cl",
     "sampling.cl",
     "walk.cl",
     "adaptive.cl",
