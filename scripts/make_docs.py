@@ -52,7 +52,10 @@ PICTURES = (
     *(f"{name}.jpg" for name in CLASSICS),
     "bouquet-steps.jpg",
     *(f"{name}.jpg" for name in STROKES),
+    "export-ffmpeg.jpg",
 )
+#: docs/export.md's commands: the frame of the video shown (seconds), the sheet's size
+EXPORT_TIME, EXPORT_SHEET = 3.0, "360x240"
 
 
 def readme_command(output: str, text: str | None = None) -> list[str]:
@@ -167,6 +170,7 @@ def make(out: Path, tmp: Path) -> dict[str, str]:
     write(out / "bouquet-steps.jpg", read_rgb(tmp / "steps.png"))
 
     make_strokes(out, tmp)
+    make_export(out, tmp)
 
     # photos: the README's still command, and frames of the video through the API
     run(readme_command("out.png"), tmp / "comb-wave.png")
@@ -187,6 +191,44 @@ def make_strokes(out: Path, tmp: Path) -> None:
     for name, size in STROKES.items():
         run(with_option(readme_command(f"{name}.png"), "--size", size), tmp / f"{name}.png")
         write(out / f"{name}.jpg", read_rgb(tmp / f"{name}.png"))
+
+
+def make_export(out: Path, tmp: Path) -> None:
+    """docs/export.md's picture: its ```sh blocks run by bash as written (the
+    exports, then the real ffmpeg), from a folder with the samples, the sheet at
+    EXPORT_SHEET; the video's frame at EXPORT_TIME beside the sheet's last frame."""
+    import subprocess
+
+    import av
+
+    folder = tmp / "export"
+    folder.mkdir()
+    (folder / "samples").symlink_to(ROOT / "samples")
+    env = {**os.environ, "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}"}
+    outputs = []
+    for block in re.findall(r"```sh\n(.*?)```", (DOCS / "export.md").read_text(), re.S):
+        if "ffmpeg " not in block:
+            continue
+        script = block.replace("size=1280x720", f"size={EXPORT_SHEET}")
+        done = subprocess.run(["bash", "-euc", script], cwd=folder, env=env, capture_output=True)
+        if done.returncode:
+            raise SystemExit(f"make_docs: docs/export.md's commands failed: {done.stderr[-800:]}")
+        outputs.append(folder / block.split()[-1])
+    frames = []
+    for path, pick in zip(outputs, (EXPORT_TIME, None), strict=True):
+        with av.open(str(path)) as f:
+            decoded = [(float(fr.time), fr.to_ndarray(format="rgb24")) for fr in f.decode(video=0)]
+        frames.append(
+            decoded[-1][1] if pick is None else min(decoded, key=lambda d: abs(d[0] - pick))[1]
+        )
+    h = min(f.shape[0] for f in frames)
+    import cv2
+
+    scaled = [
+        cv2.resize(f, (round(f.shape[1] * h / f.shape[0]), h), interpolation=cv2.INTER_AREA)
+        for f in frames
+    ]
+    write(out / "export-ffmpeg.jpg", np.concatenate(scaled, axis=1))
 
 
 def with_numbers(text: str, numbers: dict[str, str]) -> str:

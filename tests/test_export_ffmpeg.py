@@ -7,8 +7,11 @@ from __future__ import annotations
 
 import json
 import math
+import os
+import re
 import shutil
 import subprocess
+import sys
 from pathlib import Path
 
 import av
@@ -261,3 +264,23 @@ def test_the_commands_the_file_documents_run(tmp_path):
     assert off <= LOSSY_MEAN_RESAMPLED < np.abs(source.frames[75].astype(int) - want).mean()
     with av.open(str(tmp_path / "sheet.mp4")) as sheet_file:  # the frames the file holds
         assert sheet_file.streams.video[0].frames == math.ceil(swirl.settled_time() * 25) + 1
+
+
+def test_the_commands_of_docs_export_run(tmp_path):
+    """docs/export.md's ```sh blocks as bash runs them (the exports and the real ffmpeg),
+    from a folder with the samples, the sheet smaller and shorter: each writes its video."""
+    (tmp_path / "samples").symlink_to(ROOT / "samples")
+    env = {**os.environ, "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}"}
+    blocks = re.findall(r"```sh\n(.*?)```", (ROOT / "docs" / "export.md").read_text(), re.S)
+    ran = 0
+    for block in blocks:
+        if "ffmpeg " not in block:
+            continue
+        script = re.sub(r"size=\d+x\d+", "size=48x32", block)
+        script = re.sub(r"-frames:v \d+", "-frames:v 20", script)
+        done = subprocess.run(["bash", "-euc", script], cwd=tmp_path, env=env, capture_output=True)
+        assert done.returncode == 0, done.stderr[-2000:]
+        with av.open(str(tmp_path / block.split()[-1])) as video:
+            assert video.streams.video[0].frames >= 20
+        ran += 1
+    assert ran == 2
