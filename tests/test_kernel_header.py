@@ -112,7 +112,13 @@ def test_every_kernel_file_is_in_the_program_and_small():
     from marblevideo.opencl.program import KERNEL_FILES
 
     families = {d.family for d in OPS}
-    joined = {"prelude.cl", *(f"ops/{f}.cl" for f in families), *KERNEL_FILES, *EXPORT_FILES}
+    joined = {
+        "prelude.cl",
+        "math.cl",
+        *(f"ops/{f}.cl" for f in families),
+        *KERNEL_FILES,
+        *EXPORT_FILES,
+    }
     files = {
         p.relative_to(ROOT / "kernels").as_posix(): p for p in (ROOT / "kernels").rglob("*.cl")
     }

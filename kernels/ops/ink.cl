@@ -24,6 +24,6 @@ inline void op_drop(OP_ARGS) {
 /* spray: ink inside, nothing moves. */
 inline void op_spray(OP_ARGS) {
     vf qx = *x - p[P_SPRAY_CX], qy = *y - p[P_SPRAY_CY];
-    vi inside = (qx * qx + qy * qy) < p[P_SPRAY_R2];
+    vm inside = (qx * qx + qy * qy) < p[P_SPRAY_R2];
     *ink = select(*ink, (vi)i, inside & (*ink < 0));
 }

@@ -19,8 +19,8 @@
  * circle: cx, cy, r^2. */
 
 /* Whether any lane of the CHAINS chains at (x, y) lies within sqrt(r2) of (cx, cy). */
-inline int stroke_near(const vf *x, const vf *y, float cx, float cy, float r2) {
-    vi near = (vi)0;
+inline bool stroke_near(const vf *x, const vf *y, float cx, float cy, float r2) {
+    vm near = (vm)0;
     for (int c = 0; c < CHAINS; c++) {
         vf dx = x[c] - cx, dy = y[c] - cy;
         near |= dx * dx + dy * dy < r2;
@@ -38,7 +38,7 @@ inline int stroke_near(const vf *x, const vf *y, float cx, float cy, float r2) {
  * keeps several in flight (one chain's alone is a chain of dependent FMAs). */
 inline void stroke_turn(vf *x, vf *y, float cx, float cy, float t, float inv_w2) {
     vf g[CHAINS];
-    vi near = (vi)0;
+    vm near = (vm)0;
     for (int c = 0; c < CHAINS; c++) {
         vf qx = x[c] - cx, qy = y[c] - cy;
         g[c] = fmax(1.0f - (qx * qx + qy * qy) * inv_w2, 0.0f);
@@ -54,14 +54,14 @@ inline void stroke_turn(vf *x, vf *y, float cx, float cy, float t, float inv_w2)
         vf cs = 1.0f + a2 * (-0.5f + a2 * (4.1666667e-2f + a2 * (-1.3888889e-3f
                    + a2 * (2.4801587e-5f + a2 * (-2.7557319e-7f + a2 * (2.0876757e-9f
                    + a2 * -1.1470746e-11f))))));
-        vi inside = g[c] > 0.0f;
+        vm inside = g[c] > 0.0f;
         x[c] = select(x[c], cx + qx * cs - qy * sn, inside);
         y[c] = select(y[c], cy + qx * sn + qy * cs, inside);
     }
 }
 
 inline void op_stroke(OP_ARGS) {
-    vi inbox = (vi)0;
+    vm inbox = (vm)0;
     for (int c = 0; c < CHAINS; c++)
         inbox |= ((x[c] >= p[P_STROKE_XMIN]) & (x[c] <= p[P_STROKE_XMAX])
                      & (y[c] >= p[P_STROKE_YMIN]) & (y[c] <= p[P_STROKE_YMAX]));

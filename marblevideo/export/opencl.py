@@ -102,6 +102,7 @@ def opencl_program(recipe, fps: float, constant_bytes: int = EXPORT_CONSTANT_BYT
         _table("float", "MV_BACKGROUND", table.background.ravel(), literal),
         _table("float", "MV_SAMPLES", table.samples.ravel(), literal),
         kernel_source("prelude.cl"),
+        kernel_source("math.cl"),
         *(kernel_source(f"ops/{family}.cl") for family in families),
         *(kernel_source(name) for name in EXPORT_FILES),
     ]

@@ -6,7 +6,7 @@ blank sheet or input) is built into a program once; the per-frame values (a
 buffer by :func:`pack_params`, so animating a recipe never recompiles.
 :class:`Programs` caches each structure's kernels, fetched once.
 
-The source is kernels/prelude.cl, each op family's sections
+The source is kernels/prelude.cl, kernels/math.cl, each op family's sections
 (kernels/ops/<family>.cl) and the files of :data:`KERNEL_FILES` (edges, sampling, the
 walk, adaptive antialiasing, tables, I420, planes, the lattice), after a header
 generated from the op definitions (:mod:`marblevideo.opencl.header`: parameter
@@ -108,11 +108,11 @@ def kernel_source(name: str = "walk.cl") -> str:
 
 
 def program_source() -> str:
-    """The program's source without its generated header: the prelude, each op
-    family's sections (kernels/ops/<family>.cl, in registry order) and
+    """The program's source without its generated header: the prelude, the math
+    helpers, each op family's sections (kernels/ops/<family>.cl, in registry order) and
     :data:`KERNEL_FILES`."""
     families = dict.fromkeys(d.family for d in REGISTRY.values())
-    parts = ["prelude.cl", *(f"ops/{family}.cl" for family in families), *KERNEL_FILES]
+    parts = ["prelude.cl", "math.cl", *(f"ops/{family}.cl" for family in families), *KERNEL_FILES]
     return "\n".join(kernel_source(name) for name in parts)
 
 

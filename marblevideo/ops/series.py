@@ -1,6 +1,6 @@
 """Sums of exponential fall-offs, sum_k c_k e^(-|u - o_k| / L): a rake's tines
 (u across the motion, c_k = 1) and a stir's rings (u the radius, c_k the
-rings' signs), packed for the kernel's ``series_sum`` (kernels/prelude.cl).
+rings' signs), packed for the kernel's ``series_sum`` (kernels/math.cl).
 
 Evenly spaced positions whose coefficients are all equal or alternate in sign
 are summed in closed form there: two geometric series either side of u, four

@@ -51,7 +51,7 @@ def run_op(
     lanes = lanes or renderer.lanes
     spec = FrameSpec((op,), (0.0, 0.0, 0.0), "none", "clamp", (1.0, 1.0))
     packed = pack_params(spec)
-    source = header_source() + kernel_source("prelude.cl")
+    source = header_source() + kernel_source("prelude.cl") + kernel_source("math.cl")
     source += kernel_source(f"ops/{definition.family}.cl") + PROBE
     options = [
         f"-DLANES={lanes}",
