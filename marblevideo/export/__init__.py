@@ -1,8 +1,13 @@
 """Exports: a recipe written as a program that another host runs on its own GPU.
 
-``.cl``: one self-contained OpenCL C file for ffmpeg's ``program_opencl`` filter
-and ``openclsrc`` source (:mod:`.opencl`), built from the renderer's own op
-sections (kernels/ops/) and the frames' packed values (:mod:`.frames`).
+- ``.cl``: one self-contained OpenCL C file for ffmpeg's ``program_opencl``
+  filter and ``openclsrc`` source (:mod:`.opencl`);
+- ``.frag``: a GLSL 3.30 fragment shader for GStreamer's ``glshader``, its vertex
+  shader beside as ``.vert``; ``.fs``: an ISF 2.0 file (:mod:`.shader`), filters
+  or, with ``sheet``, generators.
+
+All are built from the renderer's own op sections (kernels/ops/; GLSL through
+:mod:`.dialect`) and the frames' packed values (:mod:`.frames`).
 
 Generated code never holds a recipe's text: only validated numbers, written as
 float literals that read back to the same float32, and the kernels' own source.
@@ -15,7 +20,7 @@ from pathlib import Path
 from marblevideo.errors import UsageError
 
 #: Output formats by extension, and by ``--to`` name.
-FORMATS = {".cl": "ffmpeg"}
+FORMATS = {".cl": "ffmpeg", ".frag": "gstreamer", ".fs": "isf"}
 
 
 def format_of(output: str, to: str | None) -> str:
@@ -33,10 +38,14 @@ def format_of(output: str, to: str | None) -> str:
     return FORMATS[suffix]
 
 
-def export_source(recipe, fmt: str, fps: float, constant_bytes: int | None = None) -> str:
-    """``recipe`` (validated) as the source of format ``fmt``: frames at ``fps``
-    (.cl), tables within ``constant_bytes`` (default EXPORT_CONSTANT_BYTES)."""
+def export_source(
+    recipe, fmt: str, fps: float, constant_bytes: int | None = None, sheet: bool = False
+) -> str:
+    """``recipe`` (validated) as the source of format ``fmt``: frames at ``fps``,
+    tables within ``constant_bytes`` (.cl; default EXPORT_CONSTANT_BYTES), a
+    generator with ``sheet`` (.frag, .fs: the .cl file has both kernels)."""
     from marblevideo.export.opencl import opencl_program
+    from marblevideo.export.shader import gstreamer_shader, isf_shader
     from marblevideo.limits import EXPORT_CONSTANT_BYTES, EXPORT_MAX_CONSTANT_BYTES
 
     limit = EXPORT_CONSTANT_BYTES if constant_bytes is None else constant_bytes
@@ -47,4 +56,10 @@ def export_source(recipe, fmt: str, fps: float, constant_bytes: int | None = Non
         )
     if fmt == "ffmpeg":
         return opencl_program(recipe, fps, limit)
+    if constant_bytes is not None:
+        raise UsageError("--constant-memory: only for .cl (a shader's data is its own)")
+    if fmt == "gstreamer":
+        return gstreamer_shader(recipe, fps, sheet)
+    if fmt == "isf":
+        return isf_shader(recipe, fps, sheet)
     raise UsageError(f"unknown export format {fmt!r}")

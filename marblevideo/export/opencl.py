@@ -12,12 +12,11 @@ written: only its numbers.
 
 from __future__ import annotations
 
-import numpy as np
-
 from marblevideo.export.frames import check_exportable, frame_table
+from marblevideo.export.source import literal, one_pixel_defines, walk_types
 from marblevideo.limits import EXPORT_CONSTANT_BYTES
 from marblevideo.opencl.header import edges_macro, header_source, walk_source
-from marblevideo.opencl.program import UNROLL_LIMIT, kernel_source
+from marblevideo.opencl.program import kernel_source
 from marblevideo.ops import REGISTRY
 from marblevideo.version import __version__
 
@@ -47,17 +46,6 @@ rate={fps:g},\\
 """
 
 
-def literal(value: float) -> str:
-    """A float32 as a C float literal that reads back to the same float32."""
-    value = np.float32(value)
-    if not np.isfinite(value):
-        raise ValueError(f"cannot write {value} as a literal")
-    text = str(value)
-    if not any(c in text for c in ".en"):
-        text += ".0"
-    return text + "f"
-
-
 def _table(ctype: str, name: str, values, write) -> str:
     """A program-scope constant array of ``values``, each written by ``write``."""
     items = [write(v) for v in values]
@@ -72,20 +60,7 @@ def opencl_program(recipe, fps: float, constant_bytes: int = EXPORT_CONSTANT_BYT
     check_exportable(recipe, "a .cl export")
     canvas = recipe.canvas or (1.0, 1.0)
     table = frame_table(recipe, fps, canvas, constant_bytes)
-    types = tuple(op.type for op in recipe.ops)
-    walk_types = types if len(types) <= UNROLL_LIMIT else None
-    cw, ch = recipe.canvas or (0.0, 0.0)
-    defines = [
-        "#define LANES 1",
-        "#define CHAINS 1",
-        "#define ROWS 1",
-        f"#define NSAMPLES {len(table.samples)}",
-        "#define LIST_SPACE __constant",
-        f"#define MV_BACKGROUND_FIRST {table.background_first}",
-        f"#define MV_BACKGROUND_COUNT {len(table.background)}",
-        f"#define MV_CANVAS_W {literal(cw)}",
-        f"#define MV_CANVAS_H {literal(ch)}",
-    ]
+    defines = [*one_pixel_defines(recipe, table), "#define LIST_SPACE __constant"]
     families = dict.fromkeys(d.family for d in REGISTRY.values())
     header = header_source() + f"#define EDGES {edges_macro(recipe.edges)}\n"
     parts = [
@@ -93,7 +68,7 @@ def opencl_program(recipe, fps: float, constant_bytes: int = EXPORT_CONSTANT_BYT
             version=__version__, fps=fps, frames=table.frames, s="s" * (table.frames != 1)
         ),
         "\n".join(defines) + "\n",
-        header + walk_source(walk_types),
+        header + walk_source(walk_types(recipe)),
         _table("float", "MV_ROWS", table.rows.ravel(), literal),
         _table("int", "MV_ROW_AT", table.row_at, str),
         _table("int", "MV_FIRST", table.first, str),
