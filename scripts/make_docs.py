@@ -52,7 +52,7 @@ PICTURES = (
     *(f"{name}.jpg" for name in CLASSICS),
     "bouquet-steps.jpg",
     *(f"{name}.jpg" for name in STROKES),
-    "export-ffmpeg.jpg",
+    "export-hosts.jpg",
 )
 #: docs/export.md's commands: the frame of the video shown (seconds), the sheet's size
 EXPORT_TIME, EXPORT_SHEET = 3.0, "360x240"
@@ -194,41 +194,42 @@ def make_strokes(out: Path, tmp: Path) -> None:
 
 
 def make_export(out: Path, tmp: Path) -> None:
-    """docs/export.md's picture: its ```sh blocks run by bash as written (the
-    exports, then the real ffmpeg), from a folder with the samples, the sheet at
-    EXPORT_SHEET; the video's frame at EXPORT_TIME beside the sheet's last frame."""
+    """docs/export.md's picture: its ```sh blocks that run a host, run by bash as
+    written (the exports, then the real ffmpeg and GStreamer; under xvfb-run without
+    a display), from a folder with the samples, the sheet at EXPORT_SHEET; each
+    video's frame at EXPORT_TIME and the sheet's last frame, side by side."""
     import subprocess
 
     import av
+    import cv2
 
     folder = tmp / "export"
     folder.mkdir()
     (folder / "samples").symlink_to(ROOT / "samples")
-    env = {**os.environ, "PATH": f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}"}
-    outputs = []
+    path = f"{Path(sys.executable).parent}{os.pathsep}{os.environ['PATH']}"
+    env = {**os.environ, "PATH": path, "XDG_RUNTIME_DIR": str(folder)}
+    frames = []
     for block in re.findall(r"```sh\n(.*?)```", (DOCS / "export.md").read_text(), re.S):
-        if "ffmpeg " not in block:
+        if "ffmpeg " not in block and "gst-launch-1.0" not in block:
             continue
-        script = block.replace("size=1280x720", f"size={EXPORT_SHEET}")
-        done = subprocess.run(["bash", "-euc", script], cwd=folder, env=env, capture_output=True)
+        argv = ["bash", "-euc", block.replace("size=1280x720", f"size={EXPORT_SHEET}")]
+        if "gst-launch-1.0" in block and not os.environ.get("DISPLAY"):
+            argv = ["xvfb-run", "-a", *argv]
+        done = subprocess.run(argv, cwd=folder, env=env, capture_output=True)
         if done.returncode:
             raise SystemExit(f"make_docs: docs/export.md's commands failed: {done.stderr[-800:]}")
-        outputs.append(folder / block.split()[-1])
-    frames = []
-    for path, pick in zip(outputs, (EXPORT_TIME, None), strict=True):
-        with av.open(str(path)) as f:
+        written = folder / block.split()[-1].removeprefix("location=")
+        with av.open(str(written)) as f:
             decoded = [(float(fr.time), fr.to_ndarray(format="rgb24")) for fr in f.decode(video=0)]
-        frames.append(
-            decoded[-1][1] if pick is None else min(decoded, key=lambda d: abs(d[0] - pick))[1]
-        )
+        sheet = "openclsrc" in block
+        pick = decoded[-1] if sheet else min(decoded, key=lambda d: abs(d[0] - EXPORT_TIME))
+        frames.append(pick[1])
     h = min(f.shape[0] for f in frames)
-    import cv2
-
     scaled = [
         cv2.resize(f, (round(f.shape[1] * h / f.shape[0]), h), interpolation=cv2.INTER_AREA)
         for f in frames
     ]
-    write(out / "export-ffmpeg.jpg", np.concatenate(scaled, axis=1))
+    write(out / "export-hosts.jpg", np.concatenate(scaled, axis=1))
 
 
 def with_numbers(text: str, numbers: dict[str, str]) -> str:

@@ -36,6 +36,13 @@ if [ "${1:-}" = "--test" ] && ! command -v ffmpeg >/dev/null; then
   echo "setup: installing Debian's ffmpeg, the independent reader the output tests decode with" >&2
   apt_install ffmpeg
 fi
+if [ "${1:-}" = "--test" ] && { ! command -v gst-launch-1.0 >/dev/null || ! command -v glslangValidator >/dev/null \
+    || ! command -v xvfb-run >/dev/null || ! gst-inspect-1.0 glshader >/dev/null 2>&1 \
+    || ! gst-inspect-1.0 avdec_h264 >/dev/null 2>&1; }; then
+  echo "setup: installing GStreamer's GL plugins, Xvfb and glslang, the hosts the shader export tests run" >&2
+  apt_install gstreamer1.0-gl gstreamer1.0-tools gstreamer1.0-plugins-base gstreamer1.0-plugins-good \
+    gstreamer1.0-libav xvfb xauth glslang-tools
+fi
 if [ "${1:-}" = "--test" ] && [ ! -e /usr/lib/nginx/modules/ngx_rtmp_module.so ]; then
   echo "setup: installing Debian's nginx with its RTMP module, the server the stream tests send to" >&2
   apt_install nginx-light libnginx-mod-rtmp
