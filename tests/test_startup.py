@@ -1,6 +1,8 @@
 """What every command pays before its first frame: the modules a render imports
 leave SciPy out (``scipy.signal`` alone costs about 80 MB of peak memory and a
-second of start-up; only a recipe that follows audio filters anything)."""
+second of start-up; only a recipe that follows audio filters anything);
+``--version`` and ``--help`` import nothing heavy (the times these keep are in
+BENCHMARKS.md, start-up: the mechanism is tested here, not the clock)."""
 
 from __future__ import annotations
 
@@ -24,9 +26,11 @@ RENDER_MODULES = (
 )
 
 
-def imported_after(modules: tuple[str, ...], then: str = "") -> set[str]:
+def imported_after(
+    modules: tuple[str, ...], then: str = "", env: dict[str, str] | None = None
+) -> set[str]:
     """The top-level packages in ``sys.modules`` of a fresh interpreter that imported
-    ``modules`` and ran the statement ``then``."""
+    ``modules`` and ran the statement ``then`` (with ``env`` added to the environment)."""
     code = (
         "import importlib, json, sys\n"
         f"for name in {list(modules)!r}: importlib.import_module(name)\n"
@@ -36,13 +40,13 @@ def imported_after(modules: tuple[str, ...], then: str = "") -> set[str]:
     done = subprocess.run(
         [sys.executable, "-c", code],
         cwd=ROOT,
-        env=subprocess_env(),
+        env=subprocess_env(**(env or {})),
         capture_output=True,
         text=True,
         timeout=120,
         check=True,
     )
-    return set(json.loads(done.stdout))
+    return set(json.loads(done.stdout.splitlines()[-1]))  # after what ``then`` printed
 
 
 def test_a_render_imports_no_scipy_until_a_recipe_follows_audio():
@@ -53,3 +57,23 @@ def test_a_filter_bank_brings_scipy_when_it_is_made():
     """The check above sees SciPy when it is there: a bank made imports it."""
     bank = "from marblevideo.signals.bands import FilterBank; FilterBank(48000.0)"
     assert "scipy" in imported_after(RENDER_MODULES, then=bank)
+
+
+#: what a command that draws nothing needs none of
+HEAVY = ("numpy", "pyopencl", "av", "cv2", "jsonschema", "scipy", "tqdm", "PIL")
+
+
+@pytest.mark.parametrize(
+    "then",
+    [
+        "",
+        "import marblevideo; marblevideo.__version__",
+        "from marblevideo.cli import main\ntry: main(['--version'])\nexcept SystemExit: pass",
+        "from marblevideo.cli import main\ntry: main(['--help'])\nexcept SystemExit: pass",
+    ],
+    ids=["import-cli", "import-package", "version", "help"],
+)
+def test_version_and_help_import_nothing_heavy(then):
+    """``marblevideo --version`` and ``--help`` answer in a few hundredths of a second
+    (BENCHMARKS.md, start-up): neither NumPy nor OpenCL nor PyAV is loaded for them."""
+    assert not imported_after(("marblevideo.cli",), then=then) & set(HEAVY)
