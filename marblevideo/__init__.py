@@ -17,11 +17,15 @@ from marblevideo.errors import (
     RecipeError,
     UsageError,
 )
-from marblevideo.recipe import Recipe, load_recipe, parse_recipe
+from marblevideo.lazy import lazy_names
 from marblevideo.version import __version__
 
-#: The parts that need OpenCL or PyAV, imported on first use: name -> module.
+#: The parts that need NumPy, jsonschema, OpenCL or PyAV, imported on first use
+#: (``import marblevideo`` and ``marblevideo --version`` load none of them): name -> module.
 _LAZY = {
+    "Recipe": "marblevideo.recipe",
+    "load_recipe": "marblevideo.recipe",
+    "parse_recipe": "marblevideo.recipe",
     "Marbler": "marblevideo.marbler",
     "render_image": "marblevideo.api",
     "render_still": "marblevideo.api",
@@ -32,13 +36,7 @@ _LAZY = {
 }
 
 
-def __getattr__(name: str):
-    """Lazy access to :data:`_LAZY`'s names."""
-    import importlib
-
-    if name in _LAZY:
-        return getattr(importlib.import_module(_LAZY[name]), name)
-    raise AttributeError(f"module 'marblevideo' has no attribute {name!r}")
+__getattr__ = lazy_names(__name__, _LAZY)
 
 
 __all__ = [

@@ -1,5 +1,8 @@
 """The Python API: whole jobs on files, and single images.
 
+PyAV and OpenCV are imported by the jobs that read or write video (and follow
+an input's motion) only: a still of an image or of a blank sheet loads neither.
+
 Times are seconds; images are RGBA uint8 arrays (H, W, 4). A still is rendered
 at ``time`` or, without it, at the recipe's end (the finished design). Every
 job checks its output, then its input, before OpenCL starts.
@@ -16,7 +19,6 @@ import numpy as np
 
 from marblevideo.errors import UsageError
 from marblevideo.jobs.options import VIDEO_KINDS, as_options, positive, video_options
-from marblevideo.jobs.takes import start_take, take_document, write_take
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.marbler import (
     Marbler,
@@ -27,7 +29,6 @@ from marblevideo.marbler import (
     blank_size,
     fit_note,
 )
-from marblevideo.media.decode import grab_frame, open_input
 from marblevideo.media.formats import (
     is_stdio,
     still_extension,
@@ -179,6 +180,8 @@ def still_input(
         return None, False, time
     if source.kind == "image":
         return (*read_image(source), time)
+    from marblevideo.media.decode import grab_frame, open_input  # PyAV, for a frame grab
+
     with open_input(source, rate) as container:
         t, rgba = grab_frame(container, time)
     return rgba, False, t
@@ -285,8 +288,8 @@ def render_video(
     instead of interpolating from a lattice). ``renderer`` as for
     :func:`render_still`. ``automation``: write the take there too
     (:mod:`marblevideo.jobs.takes`), of the recipe's JSON ``document`` (default:
-    ``recipe``'s, a file or a dict).
-    Returns the job's :class:`marblevideo.media.video.Stats`."""
+    ``recipe``'s, a file or a dict). Returns the job's :class:`~marblevideo.media.video.Stats`."""
+    from marblevideo.jobs.takes import start_take, take_document, write_take
     from marblevideo.media.encode import plan_output
 
     given, recipe = recipe, as_recipe(recipe)

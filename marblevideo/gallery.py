@@ -159,7 +159,8 @@ def _main(argv: list[str] | None) -> int:
     from marblevideo.bundled import samples_path
     from marblevideo.cli.arguments import Parser
     from marblevideo.marbler import as_recipe, blank_canvas
-    from marblevideo.media.images import is_image_path, write_image
+    from marblevideo.media.formats import is_image_path
+    from marblevideo.media.images import write_image
     from marblevideo.media.output import atomic_output, check_output
 
     p = Parser(

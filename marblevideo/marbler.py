@@ -11,6 +11,7 @@ from __future__ import annotations
 import dataclasses
 import os
 from collections.abc import Callable
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -18,7 +19,6 @@ from marblevideo.errors import RecipeError, UsageError
 from marblevideo.jobs.route import Route, frames_route
 from marblevideo.jobs.transforms import PipelinedSource, PipelinedTransform
 from marblevideo.media.yuv import YuvMatrix
-from marblevideo.motion import StirredRecipe
 from marblevideo.opencl.renderer import Renderer
 from marblevideo.recipe import Recipe, load_recipe, parse_recipe
 from marblevideo.recipe.frame import (
@@ -29,6 +29,9 @@ from marblevideo.recipe.frame import (
     geometry,
     stretch_note,
 )
+
+if TYPE_CHECKING:
+    from marblevideo.motion import StirredRecipe
 
 RecipeLike = Recipe | dict | str | os.PathLike
 
@@ -224,6 +227,8 @@ class FrameTransform(PipelinedTransform):
         """See the input's frame at ``t`` (its luma plane, or RGBA; times increasing):
         the next frame started renders the recipe stirred by the motion so far."""
         if self.stirred is None:
+            from marblevideo.motion import StirredRecipe  # OpenCV, for inputs that move only
+
             size = (frame.shape[1], frame.shape[0])
             self.stirred = StirredRecipe(self.marbler.recipe, size, self.marbler.fit, self.size)
         self._current = self.stirred.see(frame, t)

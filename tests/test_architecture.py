@@ -19,6 +19,8 @@ LAYERS = {
     "limits": 0,
     "bundled": 0,
     "version": 0,
+    "lazy": 0,
+    "cache": 0,
     "media": 1,
     "ops": 1,
     "recipe": 2,

@@ -14,7 +14,7 @@ from helpers import one_line
 from jsonschema import Draft202012Validator
 
 from marblevideo import RecipeError, parse_recipe, render_image
-from marblevideo.recipe import schema
+from marblevideo.recipe.schema import schema
 
 pytestmark = pytest.mark.tier("fast")
 

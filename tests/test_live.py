@@ -208,6 +208,26 @@ def test_preview_server_binds_loopback_only(session):
         server.stop()
 
 
+def test_a_poll_with_no_new_frame_gets_no_content(session):
+    """The long poll's "none yet" after 2 s is 204 No Content (which a browser does
+    not log as an error), with the sequence number it was asked after."""
+    server = Server(session, 0)  # the session not running: no frame comes
+    server.start()
+    try:
+        conn = http.client.HTTPConnection(*server.address, timeout=10)
+        began = time.monotonic()
+        conn.request("GET", "/frame.jpg?after=7")
+        r = conn.getresponse()
+        assert r.status == 204 and r.read() == b""
+        assert time.monotonic() - began >= 1.9  # it waited for a frame first
+        assert r.getheader("X-Frame-Seq") == "7" and r.getheader("Content-Length") is None
+        conn.request("GET", "/stats")  # the connection is still usable after it
+        assert conn.getresponse().status == 200
+        conn.close()
+    finally:
+        server.stop()
+
+
 def test_the_clock_seeks(session):
     state = session.control({"paused": True, "time": 0.75})
     assert state["t"] == 0.75 and abs(session.clock.now() - 0.75) < 1e-9

@@ -106,8 +106,8 @@ def test_the_session_goes_on_while_the_server_is_away_and_the_stream_resumes(tmp
         server.stop()
         away = live.wait_stats(lambda s: not s["streams"][0]["connected"], timeout=10)
         frames = away["frames"]
-        time.sleep(1.5)
-        assert live.get("/stats")["frames"] > frames, "the session stopped with the server"
+        # the session goes on marbling without the server (within 10 s; not a fixed wait)
+        live.wait_stats(lambda s: s["frames"] > frames, timeout=10)
         server.start()
         back_at = time.monotonic()
         back = live.wait_stats(lambda s: s["streams"][0]["reconnects"] == 1, timeout=10)

@@ -24,8 +24,9 @@ from tolerances import KERNEL_SHARE
 from marblevideo.errors import RecipeError
 from marblevideo.motion import MotionSpec, MotionTracker, StirredRecipe, luma
 from marblevideo.opencl.selfcheck import agreement
-from marblevideo.recipe import parse_recipe, schema
+from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
+from marblevideo.recipe.schema import schema
 from marblevideo.reference import render as reference_render
 
 pytestmark = pytest.mark.tier("fast")

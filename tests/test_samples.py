@@ -28,7 +28,7 @@ def test_samples_load_and_point_to_the_schema(name):
 
 
 def test_bundled_schema_is_the_published_one():
-    from marblevideo.recipe import schema
+    from marblevideo.recipe.schema import schema
 
     assert json.loads((SAMPLES / "recipe.schema.json").read_text()) == schema()
 

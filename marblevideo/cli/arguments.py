@@ -5,10 +5,9 @@ from __future__ import annotations
 
 import argparse
 import logging
+import math
 import sys
 from collections.abc import Callable
-
-import numpy as np
 
 from marblevideo.errors import MarbleError, UsageError
 from marblevideo.limits import MAX_SIDE
@@ -97,7 +96,7 @@ def parse_view(text: str) -> tuple[float, float, float, float]:
         values = tuple(float(p) for p in parts)
     except ValueError:
         values = ()
-    if len(values) != 4 or not all(np.isfinite(values)):
+    if len(values) != 4 or not all(map(math.isfinite, values)):
         raise UsageError(
             f"--view: expected X,Y,W,H in canvas units such as 0,0,256,256, got {text!r}"
         )

@@ -14,9 +14,8 @@ from marblevideo.bundled import preset_path, presets, samples_dir
 from marblevideo.cli.arguments import Parser
 from marblevideo.errors import MediaError, UsageError
 from marblevideo.ops import LAYOUTS, REGISTRY, Param, recipe_types, type_def
-from marblevideo.recipe import schema
 from marblevideo.recipe.faults import did_you_mean
-from marblevideo.recipe.schema import SIGNAL_KINDS
+from marblevideo.recipe.schema import SIGNAL_KINDS, schema
 
 #: How each parameter kind reads in a listing.
 KIND_LABELS = {

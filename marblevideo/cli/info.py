@@ -37,7 +37,7 @@ def devices_command(argv: list[str]) -> int:
 
 
 def schema_command(argv: list[str]) -> int:
-    from marblevideo.recipe import schema
+    from marblevideo.recipe.schema import schema
 
     Parser(prog="marblevideo schema", description="Print the recipe JSON Schema.").parse_args(argv)
     print(json.dumps(schema(), indent=2))

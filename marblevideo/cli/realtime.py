@@ -13,7 +13,7 @@ from __future__ import annotations
 import argparse
 
 from marblevideo.errors import UsageError
-from marblevideo.live.stream import is_stream_url
+from marblevideo.media.formats import is_stream_url
 
 #: The render options passed on to the live session: (dest, flag).
 PASSED = (

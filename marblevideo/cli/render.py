@@ -12,6 +12,7 @@ import argparse
 import functools
 import sys
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from marblevideo.cli.applies import check_options
 from marblevideo.cli.arguments import (
@@ -28,9 +29,11 @@ from marblevideo.cli.vectors import render_extra
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.media.formats import is_stdio, output_kinds
-from marblevideo.media.video import VideoOptions
 from marblevideo.recipe.frame import FIT_MODES
 from marblevideo.version import __version__
+
+if TYPE_CHECKING:
+    from marblevideo.media.video import VideoOptions
 
 EPILOG = """\
 examples:
@@ -266,14 +269,14 @@ def _where(dst) -> str:
 
 
 def render_command(argv: list[str]) -> int:
+    args = _render_parser().parse_args(argv)  # --help and --version import nothing heavy
+    if wants_realtime(args):
+        return render_realtime(args)
     from marblevideo.api import render_still
     from marblevideo.recipe.load import read_recipe
     from marblevideo.signals.follow import check as check_signals
     from marblevideo.signals.follow import follow
 
-    args = _render_parser().parse_args(argv)
-    if wants_realtime(args):
-        return render_realtime(args)
     configure_logging(args.verbose)
     document, recipe = read_recipe(args.ops)  # validated before any input is opened
     size = resolve_size(args.size, args.input)
@@ -324,6 +327,8 @@ def render_command(argv: list[str]) -> int:
 
 def _video_options(args: argparse.Namespace, size: tuple[int, int] | None) -> VideoOptions:
     """The job's options of the flags, checked by the job against its input."""
+    from marblevideo.media.video import VideoOptions
+
     return VideoOptions(
         codec=args.codec,
         crf=args.crf,

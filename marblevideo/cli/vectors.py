@@ -5,12 +5,14 @@ from __future__ import annotations
 
 import argparse
 import sys
+from typing import TYPE_CHECKING
 
 from marblevideo.errors import UsageError
 from marblevideo.limits import DEFAULT_TOLERANCE
-from marblevideo.media.formats import VECTOR_EXTENSIONS
-from marblevideo.media.images import is_image_path
-from marblevideo.recipe import Recipe
+from marblevideo.media.formats import VECTOR_EXTENSIONS, is_image_path
+
+if TYPE_CHECKING:
+    from marblevideo.recipe import Recipe
 
 
 def render_extra(

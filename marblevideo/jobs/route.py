@@ -7,9 +7,12 @@ I420), the transform stage (which way it calls the transform) and the renderer
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
-from marblevideo.media.encode import OutputPlan
 from marblevideo.media.yuv import YuvMatrix
+
+if TYPE_CHECKING:
+    from marblevideo.media.encode import OutputPlan
 
 #: The colours of a blank sheet's I420 frames: untagged, so BT.601, limited range.
 SHEET_MATRIX = YuvMatrix.of(None, None)

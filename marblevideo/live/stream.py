@@ -35,22 +35,15 @@ import numpy as np
 
 from marblevideo.errors import UsageError
 from marblevideo.media.encode import Encoder, plan_output
-from marblevideo.media.formats import is_url
+from marblevideo.media.formats import is_stream_url, is_url
 from marblevideo.media.video import Stats, VideoItem, VideoOptions
 
-#: URL schemes a stream goes to.
-SCHEMES = ("rtmp://", "rtmps://")
 TIME_BASE = Fraction(1, 1000)
 KEYFRAME_SECONDS = 2.0
 BACKOFF = 0.5
 BACKOFF_MAX = 2.0
 QUEUE = 8
 AUDIO_RATE = 48000
-
-
-def is_stream_url(name: str) -> bool:
-    """Whether an output name is a stream to a server (``rtmp://``, ``rtmps://``)."""
-    return name.lower().startswith(SCHEMES)
 
 
 def check_stream_url(name: str) -> None:

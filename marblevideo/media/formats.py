@@ -23,6 +23,8 @@ STDIO = "-"
 IMAGE_EXTENSIONS = frozenset({".png", ".jpg", ".jpeg", ".tif", ".tiff", ".webp"})
 _FRAME_FIELD = re.compile(r"%0?(\d*)d")
 _URL = re.compile(r"^[A-Za-z][A-Za-z0-9+.-]*://")
+#: URL schemes a stream goes to.
+STREAM_SCHEMES = ("rtmp://", "rtmps://")
 
 
 @dataclass(frozen=True)
@@ -116,6 +118,16 @@ def is_stdio(name: str | os.PathLike | None) -> bool:
 
 def is_url(name: str | os.PathLike | None) -> bool:
     return name is not None and bool(_URL.match(os.fspath(name)))
+
+
+def is_stream_url(name: str) -> bool:
+    """Whether an output name is a stream to a server (``rtmp://``, ``rtmps://``)."""
+    return name.lower().startswith(STREAM_SCHEMES)
+
+
+def is_image_path(path: str | os.PathLike) -> bool:
+    """Whether ``path`` names a still image, by its extension."""
+    return Path(path).suffix.lower() in IMAGE_EXTENSIONS
 
 
 def is_local(name: str | os.PathLike | None) -> bool:

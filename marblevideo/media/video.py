@@ -8,12 +8,15 @@ import os
 import sys
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
-import av
 import numpy as np
 
 from marblevideo.errors import UsageError
 from marblevideo.media.yuv import YuvMatrix
+
+if TYPE_CHECKING:
+    import av
 
 QUEUE_FRAMES = 4
 AUDIO_MODES = ("auto", "copy", "aac", "none")

@@ -20,7 +20,8 @@ Programs build silently: the OpenCL compiler's warnings are switched off
 (``-w``) and its log is kept, unless the ``marblevideo`` logger is enabled for
 DEBUG (the CLI's ``--verbose``), which builds with warnings and logs the build
 log; a failed build raises a one-line DeviceError naming a file that holds the
-whole log.
+whole log. A silent build is kept as the device's binary between processes
+(:mod:`marblevideo.opencl.binaries`): the next process that needs it starts sooner.
 """
 
 from __future__ import annotations
@@ -39,6 +40,7 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import DeviceError, UsageError
+from marblevideo.opencl.binaries import binary_key, load_binary, store_binary
 from marblevideo.opencl.device import DeviceInfo
 from marblevideo.opencl.header import STILL_CODE, edges_macro, header_source, walk_source
 from marblevideo.ops import PSTRIDE, REGISTRY, op_def
@@ -316,19 +318,27 @@ class Programs:
         """A program of ``source`` built for this renderer's device with ``options``:
         silently (``-w``; pyopencl's CompilerWarning dropped) unless the
         ``marblevideo`` logger is enabled for DEBUG, which gets the build log. A
-        failed build raises DeviceError in one line (see the module)."""
+        silent build starts from the binary of an earlier one of the same source,
+        options and device where one is kept (:mod:`~marblevideo.opencl.binaries`).
+        A failed build raises DeviceError in one line (see the module)."""
         cl = self._cl
         verbose = log.isEnabledFor(logging.DEBUG)
+        if not verbose:
+            options = [*options, "-w"]
+            key = binary_key(self.info.device, source, options)
+            program = self._from_binary(key, options)
+            if program is not None:
+                return program
         began = time.perf_counter()
         try:
             with warnings.catch_warnings():
                 warnings.simplefilter("ignore", cl.CompilerWarning)
-                program = cl.Program(self.context, source).build(
-                    options=options if verbose else [*options, "-w"]
-                )
+                program = cl.Program(self.context, source).build(options=options)
         except cl.Error as exc:
             raise DeviceError(self._build_failure(str(exc), source, options)) from None
-        if verbose:
+        if not verbose:
+            store_binary(key, program.get_info(cl.program_info.BINARIES)[0])
+        else:
             text = program.get_build_info(self.info.device, cl.program_build_info.LOG)
             log.debug(
                 "built the kernels for %s in %.2f s (%s)%s",
@@ -338,6 +348,18 @@ class Programs:
                 f"; build log:\n{text.strip()}" if text.strip() else "; empty build log",
             )
         return program
+
+    def _from_binary(self, key: str, options: list[str]):
+        """The program kept under ``key`` (:mod:`~marblevideo.opencl.binaries`), built
+        from its binary; None when none is kept or the driver refuses it."""
+        binary = load_binary(key)
+        if binary is None:
+            return None
+        cl = self._cl
+        try:
+            return cl.Program(self.context, [self.info.device], [binary]).build(options=options)
+        except cl.Error:
+            return None
 
     def _build_failure(self, message: str, source: str, options: list[str]) -> str:
         """The one-line error of a failed build; the whole log, the options and the

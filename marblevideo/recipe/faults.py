@@ -10,12 +10,13 @@ import json
 import re
 from dataclasses import dataclass
 from functools import lru_cache
-from typing import Any
-
-from jsonschema import Draft202012Validator, ValidationError
+from typing import TYPE_CHECKING, Any
 
 from marblevideo.recipe.colors import CSS_NAMES, SHAPES
 from marblevideo.recipe.schema import COLOR_TITLE, LIMIT, schema
+
+if TYPE_CHECKING:
+    from jsonschema import Draft202012Validator, ValidationError
 
 
 class NonFinite:
@@ -37,6 +38,10 @@ class Fault:
 
 @lru_cache(maxsize=1)
 def validator() -> Draft202012Validator:
+    """The recipe schema's validator (jsonschema, imported here: a recipe file the
+    schema accepted before skips it, :mod:`marblevideo.recipe.accepted`)."""
+    from jsonschema import Draft202012Validator
+
     return Draft202012Validator(schema())
 
 

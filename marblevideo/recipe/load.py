@@ -30,6 +30,7 @@ from typing import Any
 from marblevideo.bundled import preset_name, presets, recipe_file
 from marblevideo.errors import RecipeError, UsageError
 from marblevideo.ops import LAYOUTS, expand, op_def, type_def
+from marblevideo.recipe.accepted import is_accepted, remember_accepted, text_digest
 from marblevideo.recipe.colors import color_components
 from marblevideo.recipe.document import check_depth, normalize, parse_json
 from marblevideo.recipe.faults import (
@@ -238,7 +239,12 @@ def read_recipe(path: str | os.PathLike[str]) -> tuple[object, Recipe]:
             reason += "`marblevideo presets` lists them"
         raise UsageError(f"cannot read recipe {source}: {reason}") from None
     data = parse_json(text, source)
-    return data, parse_recipe(data, source)
+    key = text_digest(text)
+    known = is_accepted(key)  # then the schema is skipped, the loader's own rules are not
+    recipe = _parse(data, source, schema=not known)
+    if not known:
+        remember_accepted(key)
+    return data, recipe
 
 
 def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
@@ -246,9 +252,15 @@ def parse_recipe(data: object, source: str = "<dict>") -> Recipe:
 
     ``source`` names it in messages. Raises RecipeError for the first fault.
     """
+    return _parse(data, source)
+
+
+def _parse(data: object, source: str, schema: bool = True) -> Recipe:
+    """:func:`parse_recipe`; ``schema`` False: ``data`` is known to pass the JSON
+    Schema (:mod:`marblevideo.recipe.accepted`), so only the loader's own rules run."""
     check_depth(data, source)
     doc = normalize(data)
-    faults = [schema_fault(error, doc) for error in validator().iter_errors(doc)]
+    faults = [schema_fault(e, doc) for e in validator().iter_errors(doc)] if schema else []
     if not faults:
         faults = _semantic_faults(doc)
     if faults:

@@ -7,10 +7,11 @@ Routes:
   (:mod:`marblevideo.design`; for ``live --preview``, in live mode).
 - ``GET /stream.mjpg``: the marbled frames as MJPEG (``multipart/x-mixed-replace``),
   each JPEG sent once, newest first: a slow client skips frames, it never queues them.
-- ``GET /frame.jpg``: the newest JPEG; ``?after=SEQ``: one newer than SEQ (the
+- ``GET /frame.jpg``: the newest JPEG; ``?after=SEQ``: one newer than SEQ, waited
+  for up to 2 s (none by then: 204 No Content, to be asked again). The
   sequence number comes as the ``X-Frame-Seq`` header, and the serial of the
   designer's preview it shows, if any, as ``X-Preview-Serial``, and the
-  animation clock's time it was marbled at as ``X-Frame-Time``, seconds).
+  animation clock's time it was marbled at as ``X-Frame-Time``, seconds.
 - ``GET /web/NAME``: the page's static files (its ES modules), from the
   session's ``web`` folder when it has one (:func:`static_file`).
 - ``GET /stats``: JSON counters (fps, latency, dropped frames, recipe version and
@@ -204,7 +205,9 @@ class _Handler(BaseHTTPRequestHandler):
 
     def _frame(self, query: str) -> None:
         """The newest JPEG; with ``after=SEQ``, one newer than SEQ (waited for up to
-        2 s: 503 when none came). Its sequence number is the X-Frame-Seq header."""
+        2 s: 204 No Content, X-Frame-Seq SEQ, when none came: a designed answer, ask
+        again; not an error a browser would log). Its sequence number is the
+        X-Frame-Seq header."""
         try:
             after = int(parse_qs(query).get("after", ["0"])[-1])
         except ValueError:
@@ -212,7 +215,10 @@ class _Handler(BaseHTTPRequestHandler):
             return
         seq, data, serial, shown = self.server.session.latest_jpeg(after, timeout=2.0)
         if data is None:
-            self._send(503, b"no new frame yet\n", "text/plain")
+            self.send_response(204)
+            self.send_header("Cache-Control", "no-store")
+            self.send_header("X-Frame-Seq", str(seq))
+            self.end_headers()
             return
         self.send_response(200)
         self.send_header("Content-Type", "image/jpeg")

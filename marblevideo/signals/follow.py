@@ -11,19 +11,20 @@ file from its start, so any segment of a render sees the same envelope.
 from __future__ import annotations
 
 import os
-
-import av
+from typing import TYPE_CHECKING
 
 from marblevideo.errors import UsageError
 from marblevideo.media.formats import is_local, is_stdio
 from marblevideo.media.inputs import Input, name_kind
-from marblevideo.recipe import Recipe
-from marblevideo.signals.audio import analyse
-from marblevideo.signals.values import AudioSignals
+
+if TYPE_CHECKING:
+    from marblevideo.recipe import Recipe
 
 
 def has_audio(path: str | os.PathLike) -> bool:
     """Whether the media file at ``path`` has an audio stream (False if unreadable)."""
+    import av  # PyAV and the analysis are imported by a recipe that follows audio only
+
     try:
         with av.open(os.fspath(path)) as container:
             return bool(container.streams.audio)
@@ -85,6 +86,9 @@ def follow(recipe: Recipe, src, soundtrack=None) -> Recipe:
     it follows none or is bound already."""
     if recipe.signals is not None or not recipe.signal_uses():
         return recipe
+    from marblevideo.signals.audio import analyse
+    from marblevideo.signals.values import AudioSignals
+
     check(recipe, src, soundtrack)  # a controller is refused: what is left is audio
     own = soundtrack is None
     if isinstance(src, Input):

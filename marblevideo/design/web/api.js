@@ -13,7 +13,7 @@ export const putRecipe = (doc) => fetch("/api/recipe", {method: "PUT", headers: 
 export const post = (path, obj) => fetch(path, {method: "POST", headers: JSON_HEADERS, body: JSON.stringify(obj)});
 // The frame of a recipe not saved, as raw RGBA (frame.rgba): nothing to encode or decode.
 export const frameOf = (query, doc) => post(`/api/frame.rgba?${query}`, doc);
-// Live mode: the newest marbled frame newer than seq (503 after 2 s without one).
+// Live mode: the newest marbled frame newer than seq (204 No Content after 2 s without one).
 export const liveFrame = (seq) => fetch(`/frame.jpg?after=${seq}`);
 export const control = (request) => post("/control", request);
 // Live mode: {recipe, version}: an unsaved recipe the live frames show until a save (recipe null: none).

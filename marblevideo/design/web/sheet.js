@@ -210,7 +210,7 @@ function liveReply(after) {
 }
 async function liveFrame(o) {
   const r = await liveReply(liveSeq);
-  if (!r.ok) return;  // none yet (503 after 2 s): ask again
+  if (r.status === 204 || !r.ok) return;  // none yet (204 No Content after 2 s): ask again
   liveSeq = Number(r.headers.get("X-Frame-Seq"));
   liveNext = {after: liveSeq, reply: api.liveFrame(liveSeq)};
   liveNext.reply.catch(() => {});  // (a failure is met when it is awaited)
