@@ -29,10 +29,11 @@ SUMMARIES = {
     "ffmpeg": "for ffmpeg (program_opencl kernel marble, openclsrc kernel marble_sheet)",
     "gstreamer": "{kind} for GStreamer's glshader (GLSL 3.30; GST_GL_API=opengl3)",
     "isf": "{kind} in ISF 2.0",
+    "shadertoy": "{kind} for Shadertoy's Image tab",
 }
 
 
-def export_command(argv: list[str]) -> int:
+def _parser():
     import argparse
 
     p = Parser(
@@ -53,13 +54,13 @@ def export_command(argv: list[str]) -> int:
     )
     p.add_argument(
         "--to",
-        choices=["ffmpeg", "gstreamer", "isf"],
-        help="the format (default: by the extension)",
+        choices=["ffmpeg", "gstreamer", "isf", "shadertoy"],
+        help="the format (default: by the extension; shadertoy only by --to)",
     )
     p.add_argument(
         "--sheet",
         action="store_true",
-        help=".frag, .fs: a generator on a blank sheet (default: a filter over the input)",
+        help=".frag, .fs, shadertoy: a generator on a blank sheet (default: a filter of the input)",
     )
     p.add_argument(
         "--fps",
@@ -79,7 +80,11 @@ def export_command(argv: list[str]) -> int:
     )
     p.add_argument("-y", "--overwrite", action="store_true", help="overwrite the output")
     p.add_argument("-q", "--quiet", action="store_true", help="no summary on stderr")
-    args = p.parse_args(argv)
+    return p
+
+
+def export_command(argv: list[str]) -> int:
+    args = _parser().parse_args(argv)
 
     from marblevideo.export import export_source, format_of
     from marblevideo.export.shader import GSTREAMER_VERTEX

@@ -22,6 +22,7 @@ from urllib.parse import parse_qs
 from marblevideo.controllers.api import learn, signals_state
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
 from marblevideo.design.describe import describe_ops
+from marblevideo.design.exports import export_routes
 from marblevideo.design.layers import above_map, layers_answer, parse_view
 from marblevideo.design.motion import DesignMotion
 from marblevideo.errors import MarbleError, RecipeError, UsageError
@@ -304,6 +305,7 @@ class DesignSession:
             ("POST", "/api/frame.rgba"): lambda: (self.frame_rgba(q, body or b"null"), RAW),
             ("POST", "/api/layers"): lambda: (self.layers(q, body or b"null"), RAW),
             ("GET", "/api/design.svg"): lambda: (self.svg(q), "image/svg+xml"),
+            **export_routes(self),
             ("GET", "/api/signals"): lambda: (self.signals(), None),
             ("POST", "/api/learn"): lambda: (learn(self.controllers), None),
             ("GET", "/api/motion"): lambda: (self.motion.state(q), None),

@@ -4,7 +4,7 @@
   filter and ``openclsrc`` source (:mod:`.opencl`);
 - ``.frag``: a GLSL 3.30 fragment shader for GStreamer's ``glshader``, its vertex
   shader beside as ``.vert``; ``.fs``: an ISF 2.0 file (:mod:`.shader`), filters
-  or, with ``sheet``, generators.
+  or, with ``sheet``, generators; ``--to shadertoy``: Shadertoy's Image tab.
 
 All are built from the renderer's own op sections (kernels/ops/; GLSL through
 :mod:`.dialect`) and the frames' packed values (:mod:`.frames`).
@@ -21,19 +21,23 @@ from marblevideo.errors import UsageError
 
 #: Output formats by extension, and by ``--to`` name.
 FORMATS = {".cl": "ffmpeg", ".frag": "gstreamer", ".fs": "isf"}
+#: Formats named by ``--to`` only (any extension).
+TO_ONLY = ("shadertoy",)
 
 
 def format_of(output: str, to: str | None) -> str:
     """The format of ``output``: ``to`` when given, else by its extension."""
     if to is not None:
-        if to not in FORMATS.values():
-            raise UsageError(f"--to: expected one of {', '.join(sorted(set(FORMATS.values())))}")
+        if to not in (*FORMATS.values(), *TO_ONLY):
+            names = ", ".join((*FORMATS.values(), *TO_ONLY))
+            raise UsageError(f"--to: expected one of {names}")
         return to
     suffix = Path(output).suffix.lower()
     if suffix not in FORMATS:
         known = ", ".join(f"{ext} ({name})" for ext, name in FORMATS.items())
         raise UsageError(
-            f"{output}: unknown export extension {suffix or '(none)'!r}; expected {known}"
+            f"{output}: unknown export extension {suffix or '(none)'!r}; expected {known}, "
+            "or --to shadertoy"
         )
     return FORMATS[suffix]
 
@@ -45,7 +49,7 @@ def export_source(
     tables within ``constant_bytes`` (.cl; default EXPORT_CONSTANT_BYTES), a
     generator with ``sheet`` (.frag, .fs: the .cl file has both kernels)."""
     from marblevideo.export.opencl import opencl_program
-    from marblevideo.export.shader import gstreamer_shader, isf_shader
+    from marblevideo.export.shader import gstreamer_shader, isf_shader, shadertoy_shader
     from marblevideo.limits import EXPORT_CONSTANT_BYTES, EXPORT_MAX_CONSTANT_BYTES
 
     limit = EXPORT_CONSTANT_BYTES if constant_bytes is None else constant_bytes
@@ -62,4 +66,6 @@ def export_source(
         return gstreamer_shader(recipe, fps, sheet)
     if fmt == "isf":
         return isf_shader(recipe, fps, sheet)
+    if fmt == "shadertoy":
+        return shadertoy_shader(recipe, fps, sheet)
     raise UsageError(f"unknown export format {fmt!r}")

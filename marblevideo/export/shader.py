@@ -1,8 +1,8 @@
 """A recipe as a GLSL fragment shader: ``.frag`` for GStreamer's ``glshader``
 (GLSL 3.30, its ``time`` the buffer's timestamp; a vertex shader beside as
-``.vert``) and ``.fs``, an ISF 2.0 file (VDMX, MadMapper, Millumin, Resolume's
-Wire, TouchDesigner's loader; ``TIME``), each a filter over the input or, with
-``sheet``, a generator.
+``.vert``), ``.fs``, an ISF 2.0 file (VDMX, MadMapper, Millumin, Resolume's
+Wire, TouchDesigner's loader; ``TIME``), and Shadertoy's Image tab (``--to
+shadertoy``), each a filter over the input or, with ``sheet``, a generator.
 
 The shader is kernels/glsl/prelude.glsl, the renderer's own op sections turned
 into GLSL by :mod:`.dialect` (kernels/math.cl, edges.cl, ops/*.cl), the frames'
@@ -82,6 +82,23 @@ void main() {
     gl_FragColor = marble_pixel(o.x, o.y, size.x, size.y, t, isz.x, isz.y);
 }
 """
+_SHADERTOY_HEAD = """\
+/* marblevideo {version}: a marbling recipe for Shadertoy's Image tab (WebGL2, GLSL ES
+ * 3.00), at iTime (in steps of 1/{fps:g} s; the last from {end:g} s on). {input}
+ */
+"""
+_SHADERTOY_MAIN = """
+void mainImage(out vec4 fragColor, in vec2 fragCoord) {
+    vec2 o = vec2(floor(fragCoord.x), iResolution.y - 1.0 - floor(fragCoord.y));
+    ivec2 isz = ivec2(iChannelResolution[0].xy);
+    fragColor = marble_pixel(o.x, o.y, iResolution.x, iResolution.y, iTime, isz.x, isz.y);
+}
+"""
+#: Shadertoy's iChannel0 (rows from the bottom) at row iy from the top.
+_SHADERTOY_TEXEL = (
+    "#define MV_TEXEL(ix, iy) "
+    "texelFetch(iChannel0, ivec2(ix, int(iChannelResolution[0].y) - 1 - (iy)), 0)\n"
+)
 #: An ISF host's pixel of the input (bottom-left origin) at row iy from the top.
 _ISF_TEXEL = (
     "#define MV_TEXEL(ix, iy) IMG_PIXEL(inputImage, "
@@ -195,3 +212,13 @@ def isf_shader(recipe, fps: float, sheet: bool) -> str:
     head = "/*" + json.dumps(header, indent=2) + "*/\n"
     texel = "" if sheet else _ISF_TEXEL
     return spliced(head + body + texel + kernel_source("glsl/marble.glsl") + _ISF_MAIN)
+
+
+def shadertoy_shader(recipe, fps: float, sheet: bool) -> str:
+    """The Image tab's code of ``recipe`` for Shadertoy (``mainImage``, ``iTime``,
+    ``iResolution``; the input on iChannel0 unless ``sheet``)."""
+    body, end = shader_body(recipe, fps, sheet, "a Shadertoy shader")
+    said = "A blank sheet." if sheet else "iChannel0: the input (a video, the webcam)."
+    head = _SHADERTOY_HEAD.format(version=__version__, fps=fps, end=end, input=said)
+    texel = "" if sheet else _SHADERTOY_TEXEL
+    return spliced(head + body + texel + kernel_source("glsl/marble.glsl") + _SHADERTOY_MAIN)

@@ -142,3 +142,30 @@ def _argv(pipeline: str) -> list[str]:
     """The pipeline as gst-launch-1.0's words (it joins its arguments again): the
     quoted property values kept whole, quotes included."""
     return re.findall(r'[^\s"]*"[^"]*"[^\s"]*|\S+', pipeline)
+
+
+#: What Shadertoy puts around an Image tab's code (WebGL2: GLSL ES 3.00).
+SHADERTOY_PRELUDE = """#version 300 es
+precision highp float;
+precision highp int;
+uniform vec3 iResolution;
+uniform float iTime;
+uniform float iTimeDelta;
+uniform int iFrame;
+uniform vec4 iMouse;
+uniform sampler2D iChannel0;
+uniform vec3 iChannelResolution[4];
+out vec4 shadertoy_color;
+"""
+SHADERTOY_MAIN = "void main() { mainImage(shadertoy_color, gl_FragCoord.xy); }\n"
+
+
+def isf_in_prelude(text: str, profile: str) -> str:
+    """An ISF file's body inside the prelude a host inserts for ``profile``."""
+    header, body = isf_parts(text)
+    return ISF_PRELUDES[profile] + ISF_BUILTINS + isf_uniforms(header) + body
+
+
+def shadertoy_in_prelude(text: str) -> str:
+    """An Image tab's code inside Shadertoy's prelude and main."""
+    return SHADERTOY_PRELUDE + text + SHADERTOY_MAIN
