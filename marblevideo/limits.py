@@ -31,3 +31,19 @@ MAX_LIST = 256
 MAX_COUNT = 4096
 #: A URL input whose reads stall this long fails (seconds).
 URL_TIMEOUT = 30
+#: Highest frame rate (``--fps``), frames per second.
+MAX_FPS = 1000.0
+#: Latest time and longest length, in seconds (``--time``, ``--start``, ``--end``,
+#: ``--duration``, a still animated): a week.
+MAX_SECONDS = 7 * 24 * 3600.0
+#: Largest pst-marble design file ``marblevideo import`` reads, in bytes.
+MAX_DESIGN_BYTES = 1 << 24
+#: Most steps one PostScript option of an import may take (each value or name
+#: evaluated and each turn of a loop is one), counted before a loop runs.
+PS_STEPS = 1_000_000
+#: Most values on an import's PostScript stack (an array's items included).
+PS_STACK = 100_000
+#: Deepest nesting of procedures an import's PostScript may call.
+PS_DEPTH = 64
+#: Most ops one import may make (its drops, sprays and motions together).
+MAX_IMPORT_OPS = 4 * MAX_COUNT
