@@ -78,15 +78,19 @@ def assert_refused(cli, folder: Path, text: str, path: str, expected: str, name:
 
 def run_main(*argv: str):
     """The command line ``marblevideo ARGV`` run in this process (``cli.main``), as a
-    CompletedProcess: its exit status and what it wrote to standard output and error
-    (text). What :func:`one_line` checks of a subprocess, it checks of this."""
+    CompletedProcess: its exit status and what it wrote to standard output (bytes
+    through its buffer too, decoded) and error (text). What :func:`one_line` checks
+    of a subprocess, it checks of this."""
     import contextlib
     import io
     import subprocess
 
     from marblevideo.cli import main
 
-    out, err = io.StringIO(), io.StringIO()
+    out = io.TextIOWrapper(io.BytesIO(), encoding="utf-8", write_through=True)
+    err = io.StringIO()
     with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
         status = main(list(argv))
-    return subprocess.CompletedProcess(list(argv), status, out.getvalue(), err.getvalue())
+        out.flush()
+    text = out.buffer.getvalue().decode("utf-8", errors="replace")
+    return subprocess.CompletedProcess(list(argv), status, text, err.getvalue())
