@@ -240,7 +240,7 @@ HOSTILE = [
     (actions("/f { @f } def f"), "procedures nested over the limit of 64 (PS_DEPTH)"),
     (actions("200000 { @1 } repeat"), "100,001 values on the stack, over the limit"),
     (actions("5 { 0 0 10 colors 4096 @concentric-rings } repeat"),
-     "the design makes 20,480 ops, over the limit of 16,384 (MAX_IMPORT_OPS)"),
+     "the design makes 8,192 ops, over the limit of 4,096 (MAX_IMPORT_OPS)"),
     (actions("0 0 1 0 @div (ff0000) drop"), "div: float division by zero"),
     (actions("0 0 -8 0.5 @exp (ff0000) drop"), "exp: a negative number to a fractional"),
     (actions("0 0 1e308 1e308 @mul (ff0000) drop"), "mul: the result is out of range"),
