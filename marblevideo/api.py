@@ -18,7 +18,14 @@ from pathlib import Path
 import numpy as np
 
 from marblevideo.errors import UsageError
-from marblevideo.jobs.options import VIDEO_KINDS, as_options, positive, video_options
+from marblevideo.jobs.options import (
+    VIDEO_KINDS,
+    as_options,
+    frame_rate,
+    moment,
+    sheet_duration,
+    video_options,
+)
 from marblevideo.limits import DEFAULT_FPS, DEFAULT_TOLERANCE
 from marblevideo.marbler import (
     Marbler,
@@ -97,7 +104,8 @@ def render_still(
     given ``band_rows``) are rendered in bands and written progressively, so
     their size is not bounded by memory; ``progress`` (a
     :class:`~marblevideo.media.progress.Progress` mode) reports the bands."""
-    positive("--fps", rate)
+    frame_rate("--fps", rate)
+    moment("--time", time)
     recipe, ext, to_stdout = as_recipe(recipe), still_extension(dst, format), is_stdio(dst)
     source = classify(src)  # standard input: read to tell a still from a video
     dst, source = _check_still(source, recipe, dst, ext, size, overwrite)
@@ -297,7 +305,7 @@ def render_video(
     if source.kind == "blank":
         blank_canvas(recipe)
     fields = {**fields, "fps": fps, "duration": duration}
-    opts = video_options(source, as_options(fields, "render_video", options))
+    opts = video_options(source, as_options(fields, "render_video", options), recipe)
     # the cheap checks first (the encoder is tried too; a build below delays an exit)
     plan = plan_output(dst, opts)
     check_output(dst, opts.overwrite, source.names)
@@ -331,7 +339,7 @@ def _animated(source: Input, marbler: Marbler, dst, opts: VideoOptions, plan):
 
     recipe = marbler.recipe
     image = None if source.kind == "blank" else read_image(source)[0]
-    duration = recipe.settled_time() + 1.0 if opts.duration is None else opts.duration
+    duration = sheet_duration(recipe, opts)
     size = opts.size or (blank_size(recipe) if image is None else image.shape[1::-1])
     frames = SheetSource(marbler, tuple(size), image)
     note = fit_note(recipe, None if image is None else image.shape[1::-1], opts.size, opts.fit)

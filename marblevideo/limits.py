@@ -31,6 +31,23 @@ MAX_LIST = 256
 MAX_COUNT = 4096
 #: A URL input whose reads stall this long fails (seconds).
 URL_TIMEOUT = 30
+#: Highest frame rate (``--fps``), frames per second.
+MAX_FPS = 1000.0
+#: Latest time and longest length, in seconds (``--time``, ``--start``, ``--end``,
+#: ``--duration``, a still animated): a week.
+MAX_SECONDS = 7 * 24 * 3600.0
+#: Largest pst-marble design file ``marblevideo import`` reads, in bytes.
+MAX_DESIGN_BYTES = 1 << 24
+#: Most steps one PostScript option of an import may take (each value or name
+#: evaluated and each turn of a loop is one), counted before a loop runs.
+PS_STEPS = 1_000_000
+#: Most values on an import's PostScript stack (an array's items included).
+PS_STACK = 100_000
+#: Deepest nesting of procedures an import's PostScript may call.
+PS_DEPTH = 64
+#: Most ops one import may make (its drops, sprays and motions together: a recipe
+#: of 8,000 ops took 4.7 s to validate, found by tests/test_fuzz_inputs.py).
+MAX_IMPORT_OPS = MAX_COUNT
 #: An exported OpenCL program's frame data (every frame's packed values, the frame
 #: table and the pattern), in bytes: the constant memory every OpenCL device gives
 #: a program (CL_DEVICE_MAX_CONSTANT_BUFFER_SIZE is at least 64 KiB).
@@ -38,6 +55,6 @@ EXPORT_CONSTANT_BYTES = 1 << 16
 #: The most an export's ``--constant-memory`` may allow (PoCL gives 2 MiB).
 EXPORT_MAX_CONSTANT_BYTES = 1 << 24
 #: Highest frame rate an export's frames are sampled at (``--fps``).
-EXPORT_MAX_FPS = 1000.0
+EXPORT_MAX_FPS = MAX_FPS
 #: Most frames an export samples (10 minutes at 30 fps): the recipe settles within them.
 EXPORT_MAX_FRAMES = 18000

@@ -27,11 +27,12 @@ import cv2
 import numpy as np
 import pytest
 from clips import write_clip
-from helpers import ROOT, fresh_renderer, one_line, subprocess_env
+from helpers import ROOT, files, fresh_renderer, one_line, run_main, subprocess_env
 from interrupts import interrupt
 from recipes import make_image
 
-from marblevideo.errors import DeviceError
+from marblevideo.cli.render import _render_parser
+from marblevideo.errors import DeviceError, UsageError
 from marblevideo.media.images import MAX_PIXELS
 from marblevideo.opencl.program import Structure
 from marblevideo.opencl.renderer import MAX_SIDE
@@ -538,8 +539,75 @@ def test_unknown_device_choice_is_a_usage_error(cli, tmp_path, blank):
 
 def test_readme_documents_exit_codes_and_limits():
     readme = (ROOT / "README.md").read_text()
-    for text in ("0 done", "1 runtime failure", "2 usage or recipe error", "130/143"):
+    for text in ("0 done", "1 runtime failure", "2 usage or recipe error", "130/143", "141"):
         assert text in readme
     assert "## Limits" in readme
-    for value in (f"{MAX_PIXELS:,}", f"{MAX_SIDE:,}", "1e30", "32 levels"):
+    for value in (f"{MAX_PIXELS:,}", f"{MAX_SIDE:,}", "1e30", "32 levels", "604,800 s"):
         assert value in readme, value
+
+
+# ---------------------------------------------------------------------------- the command line
+
+#: (the arguments, the one line): numbers that passed the options' checks and
+#: overflowed later, and messages that misled (issue 54); run in this process.
+REFUSED = [
+    (["-o", "m.mp4", "--duration", "1e308"],
+     "--duration: 1e+308 s is over the limit of 604800 s (MAX_SECONDS)"),
+    (["-o", "m.mp4", "--fps", "1e308", "--duration", "1"],
+     "--fps: 1e+308 fps is over the limit of 1000 fps (MAX_FPS)"),
+    (["-o", "o.png", "--time", "-1"], "--time: must be >= 0 seconds, got -1"),
+    (["-o", "o.png", "--time", "1e308"],
+     "--time: 1e+308 s is over the limit of 604800 s (MAX_SECONDS)"),
+    (["-o", "adir"], "adir: output is a folder; give a file name"),
+    (["-o", "o.png", "--size", "-1x10"], "--size: expected WxH such as 1280x720, got '-1x10'"),
+    (["-o", "o.png", "--ops", "binary.json"],
+     "cannot read recipe binary.json: not UTF-8 text (a recipe is JSON text; byte 0x96 at "
+     "offset 3 is not UTF-8)"),
+    (["-o", "o.png", "--ops", "samples/swirl.json"],
+     "cannot read recipe samples/swirl.json: No such file or directory; a preset has that "
+     "name: --ops swirl (`marblevideo presets` lists them)"),
+    (["-o", "m.mp4", "--ops", "long.json"],
+     "long.json: the animation lasts 1e+30 s, over the limit of 604800 s (MAX_SECONDS); "
+     "give --duration"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("args, says", REFUSED, ids=[" ".join(a) for a, _ in REFUSED])
+def test_options_are_refused_in_one_line_before_any_work(tmp_path, monkeypatch, blank, args, says):
+    """Exit 2, one line, nothing written; never a traceback (an OverflowError
+    from --duration 1e308 or from PyAV's stream of --fps 1e308, before)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "adir").mkdir()
+    (tmp_path / "binary.json").write_bytes(b'{"o\x96' + bytes(range(256)) * 64)
+    ops = [{"type": "drop", "center": [32, 24], "radius": 9, "color": "#2255aa", "start": 0,
+            "end": 1e30}]  # fmt: skip
+    (tmp_path / "long.json").write_text(json.dumps({**CANVAS, "ops": ops}))
+    before = files(tmp_path)
+    recipe = [] if "--ops" in args else ["--ops", "blank.json"]
+    proc = run_main(*recipe, *args)
+    assert proc.returncode == 2 and one_line(proc) == f"marblevideo: {says}"
+    assert files(tmp_path) == before and not list((tmp_path / "adir").iterdir())
+
+
+def test_an_option_value_may_start_with_a_dash():
+    """argparse would take ``-5,0,10,10`` for an option (and say --view has no value);
+    an option after one that takes a value is still an option."""
+    args = _render_parser().parse_args(["--ops", "r.json", "-o", "-", "--view", "-5,0,10,10"])
+    assert args.view == "-5,0,10,10" and args.output == "-"
+    with pytest.raises(UsageError, match="argument --size: expected one argument"):
+        _render_parser().parse_args(["--ops", "r.json", "-o", "o.png", "--size", "-q"])
+
+
+def test_a_closed_standard_output_ends_quietly_with_141(tmp_path):
+    """``marblevideo presets --paths | head`` with the reader gone before the first
+    write: exit 141 (128 + SIGPIPE), nothing on stderr (a BrokenPipeError traceback
+    about once in 20 runs, before)."""
+    read, write = os.pipe()
+    os.close(read)
+    try:
+        cmd = [sys.executable, "-m", "marblevideo", "presets", "--paths"]
+        proc = subprocess.run(cmd, stdout=write, stderr=subprocess.PIPE, text=True,
+                              env=subprocess_env(), timeout=60)  # fmt: skip
+    finally:
+        os.close(write)
+    assert (proc.returncode, proc.stderr) == (141, "")

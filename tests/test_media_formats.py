@@ -437,6 +437,12 @@ def test_options_that_do_not_apply(cli, tmp_path, clip, recipe, args, fault):
          "--duration and --end: give one"),
         ("in.mp4", ["--fps", "0"], {"fps": 0.0}, "--fps: must be > 0, got 0"),
         (None, ["--duration", "-1"], {"duration": -1.0}, "--duration: must be > 0, got -1"),
+        (None, ["--duration", "1e308"], {"duration": 1e308},
+         "--duration: 1e+308 s is over the limit of 604800 s (MAX_SECONDS)"),
+        ("in.mp4", ["--fps", "1e308"], {"fps": 1e308},
+         "--fps: 1e+308 fps is over the limit of 1000 fps (MAX_FPS)"),
+        ("in.mp4", ["--start", "1e308"], {"start": 1e308},
+         "--start: 1e+308 s is over the limit of 604800 s (MAX_SECONDS)"),
     ],
 )  # fmt: skip
 def test_option_values_are_refused_alike_by_the_cli_and_the_api(

@@ -96,11 +96,18 @@ def test_a_file_always_wins_over_a_preset(tmp_path, monkeypatch):
 
 
 def test_a_path_with_a_folder_is_never_a_preset(tmp_path):
+    """Not read as one; the message names the preset of its file's name (the
+    README's ``--ops samples/swirl.json`` run outside the checkout)."""
     with pytest.raises(UsageError) as info:
         load_recipe(tmp_path / "swirl.json")
+    assert str(info.value) == (
+        f"cannot read recipe {tmp_path / 'swirl.json'}: No such file or directory; a preset "
+        "has that name: --ops swirl (`marblevideo presets` lists them)"
+    )
+    with pytest.raises(UsageError) as info:
+        load_recipe(tmp_path / "mine.json")
     assert (
-        str(info.value)
-        == f"cannot read recipe {tmp_path / 'swirl.json'}: No such file or directory"
+        str(info.value) == f"cannot read recipe {tmp_path / 'mine.json'}: No such file or directory"
     )
 
 

@@ -14,14 +14,16 @@ from __future__ import annotations
 import json
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 import cv2
 import numpy as np
 import pytest
-from helpers import ROOT, one_line, subprocess_env
+from helpers import ROOT, files, one_line, run_main, subprocess_env
 
 from marblevideo.errors import UsageError
+from marblevideo.limits import MAX_DESIGN_BYTES
 from marblevideo.pstmarble import import_design
 from marblevideo.recipe import parse_recipe
 from marblevideo.recipe.frame import geometry
@@ -200,3 +202,132 @@ def test_psset_settings_apply_and_the_frame_follows_the_size(tmp_path):
     rake, drop = doc["ops"]
     assert rake["falloff"] == 10 * 10**2 / 500 and drop["center"] == [250, 500]
     assert drop["color"] == [255, 128, 0]
+
+
+# ---------------------------------------------------------------------------- hostile designs
+
+#: The issue's five lines: a list of 1e308 tines (it grew to 24 GB before).
+BIG = r"""\documentclass{article}
+\usepackage{pst-marble}
+\begin{document}
+\psMarble[actions={ 0 0 100 (1d3557) drop 0 [ 1e308 10 0 tines
+  ] 40 200 20 rake }](10,10)
+\end{document}
+"""
+
+
+def actions(text: str) -> str:
+    return f"\\psMarble[actions={{{text}}}](10,10)\n"
+
+
+# (the design's text, @ where the fault is, what the line says)
+HOSTILE = [
+    (BIG.replace(" tines", " @tines"), "tines: 1e+308 tines, over the limit of 256 (MAX_LIST)"),
+    (actions("0 0 10 colors 1e308 @concentric-rings"),
+     "concentric-rings: 1e+308 rings, over the limit of 4,096 (MAX_COUNT)"),
+    (actions("0 0 10 colors -3 @concentric-rings"),
+     "concentric-rings: -3 rings, expected a count of 0 or more"),
+    (actions("0 0 0 0 1 1 colors 1e9 5 @coil-drops"), "coil-drops: 1e+09 drops, over"),
+    (actions("0 0 9 9 0 colors 1e12 5 @normal-drops"), "normal-drops: 1e+12 drops"),
+    (actions("0 0 9 9 0 colors 5000 5 @uniform-drops"), "uniform-drops: 5000 drops"),
+    (actions("0 0 [ 256 1 0 tines ] [ 256 1 0 tines ] 0 colors 5 @serpentine-drops"),
+     "serpentine-drops: 65,536 drops, over the limit of 4,096"),
+    (actions("1e308 { 0 0 10 (ff0000) drop } @repeat"),
+     "repeat: 1e+308 steps, over the limit of 1,000,000"),
+    (actions("0 1e-300 1 { pop } @for"), "for: 1e+300 steps, over the limit"),
+    (actions("1e16 1 10000000000000002 { pop } @for"), "for: a step of 1 is lost in 1e+16"),
+    (actions("900000 { 1 @pop } repeat"), "the design takes over 1,000,000 steps"),
+    (actions("/f { @f } def f"), "procedures nested over the limit of 64 (PS_DEPTH)"),
+    (actions("200000 { @1 } repeat"), "100,001 values on the stack, over the limit"),
+    (actions("5 { 0 0 10 colors 4096 @concentric-rings } repeat"),
+     "the design makes 8,192 ops, over the limit of 4,096 (MAX_IMPORT_OPS)"),
+    (actions("0 0 1 0 @div (ff0000) drop"), "div: float division by zero"),
+    (actions("0 0 -8 0.5 @exp (ff0000) drop"), "exp: a negative number to a fractional"),
+    (actions("0 0 1e308 1e308 @mul (ff0000) drop"), "mul: the result is out of range"),
+    (actions("0 0 @1e999 (ff0000) drop"), "1e999: a number out of range"),
+    ("0 0 10 (ff0000) drop @{ 0", "a { is never closed"),
+    ("0 0 10 (ff0000) drop @}", "a } without its {"),
+    ("\\psMarble[@actions={0 0 10 (ff0000) drop { 0}](10,10)",
+     "\\psMarble: a { in this option is never closed"),
+    ("\\psMarble[actions={0 0 10 (ff0000) drop }@}](10,10)", "\\psMarble: a } without its {"),
+    (actions("@"), "the design makes no ops (its actions are empty)"),
+    ("@", "the design makes no ops"),
+    ("@\\documentclass{article}\n\\begin{document}\nhi\n\\end{document}\n",
+     "no \\psMarble in this file (\\documentclass is LaTeX, not an action)"),
+    ("\\psMarble@(0,10)", "\\psMarble: expected a size > 0"),
+    ("\\psMarble[overscan={@(2)}](10,10)", "overscan: expected a number, got (2)"),
+]  # fmt: skip
+
+
+@pytest.mark.parametrize("marked, says", HOSTILE)
+def test_hostile_designs_are_refused_in_one_line_before_the_work(tmp_path, marked, says):
+    """Each naming the file, the line and column, and the limit (the work bounded
+    before it is done: each in well under a second)."""
+    path = tmp_path / "d.tex"
+    path.write_text(marked.replace("@", ""))
+    before = marked[: marked.index("@")]
+    where = f"{before.count(chr(10)) + 1}:{len(before) - before.rfind(chr(10))}"
+    began = time.perf_counter()
+    with pytest.raises(UsageError) as info:
+        import_design(path)
+    assert time.perf_counter() - began < 1.0
+    message = str(info.value)
+    assert "\n" not in message and info.value.exit_code == 2
+    assert message.startswith(f"{path}:{where}: "), message
+    assert says in message, message
+
+
+def test_a_design_over_the_size_limit_is_refused_unread(tmp_path):
+    path = tmp_path / "huge.tex"
+    with path.open("wb") as f:
+        f.truncate(MAX_DESIGN_BYTES + 1)  # sparse: nothing to read before the refusal
+    with pytest.raises(UsageError, match=r"huge\.tex: 16,777,217 bytes, over the limit"):
+        import_design(path)
+
+
+def test_the_issues_design_is_refused_in_a_second_and_under_100_mb(tmp_path):
+    """The command line on the five lines under a 1 GB address-space limit (a
+    runaway would be a MemoryError): one line, exit 2, the work under 1 s and the
+    process under 100 MB resident at its peak (VmHWM: this program's own, not the
+    forking test's); nothing written."""
+    (tmp_path / "big.tex").write_text(BIG)
+    child = (
+        "import resource, re, sys, time\n"
+        "resource.setrlimit(resource.RLIMIT_AS, (1 << 30, 1 << 30))\n"
+        "from marblevideo.cli import main\n"
+        "began = time.perf_counter()\n"
+        "status = main(['import', 'big.tex', '-o', 'o.json'])\n"
+        "took = time.perf_counter() - began\n"
+        "peak = re.search(r'VmHWM:\\s*(\\d+)', open('/proc/self/status').read()).group(1)\n"
+        "print(took, peak)\n"
+        "sys.exit(status)\n"
+    )
+    proc = subprocess.run(
+        [sys.executable, "-c", child], cwd=tmp_path, capture_output=True, text=True,
+        env=subprocess_env(), timeout=60,
+    )  # fmt: skip
+    assert proc.returncode == 2, proc.stderr
+    assert "tines: 1e+308 tines, over the limit of 256" in one_line(proc)
+    took, kilobytes = proc.stdout.split()  # the work's seconds, the peak resident size
+    assert float(took) < 1.0 and int(kilobytes) < 100 * 1024, proc.stdout
+    assert files(tmp_path) == ["big.tex"]
+
+
+@pytest.mark.parametrize(
+    "design, output, says",
+    [
+        ("", "e.json", "e.tex:1:1: the design makes no ops (its actions are empty)"),
+        (actions("0 0 100 (1d3557) drop"), "out.png",
+         "out.png: a recipe is written as .json; give a .json name"),
+        (actions("0 0 100 (1d3557) drop"), "adir", "adir: output is a folder; give a file name"),
+    ],
+)  # fmt: skip
+def test_the_command_refuses_an_empty_design_and_an_output_not_json(
+    tmp_path, monkeypatch, design, output, says
+):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "e.tex").write_text(design)
+    (tmp_path / "adir").mkdir()
+    proc = run_main("import", "e.tex", "-o", output)
+    assert proc.returncode == 2 and one_line(proc) == f"marblevideo: {says}"
+    assert files(tmp_path) == ["adir", "e.tex"] and not list((tmp_path / "adir").iterdir())

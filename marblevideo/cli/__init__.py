@@ -5,11 +5,13 @@
 ``export`` (:mod:`.export`: a recipe as a program for ffmpeg).
 
 Exit status: 0 done, 1 runtime failure, 2 usage or recipe error, 130/143
-interrupted (SIGINT/SIGTERM). Errors are one line on stderr.
+interrupted (SIGINT/SIGTERM), 141 standard output closed early (SIGPIPE's, as
+``marblevideo presets --paths | head`` ends). Errors are one line on stderr.
 """
 
 from __future__ import annotations
 
+import os
 import signal
 import sys
 
@@ -110,6 +112,12 @@ def main(argv: list[str] | None = None) -> int:
     argv = sys.argv[1:] if argv is None else list(argv)
     previous = signal.signal(signal.SIGTERM, _on_sigterm)
     try:
-        return reported("marblevideo", lambda: run(argv))
+        status = reported("marblevideo", lambda: run(argv))
+        sys.stdout.flush()  # here, where a closed pipe is caught, not at exit
+        return status
+    except BrokenPipeError:  # the reader left (| head): quietly, as the Python docs do
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())  # the flush at exit writes nowhere
+        return 128 + signal.SIGPIPE
     finally:
         signal.signal(signal.SIGTERM, previous)

@@ -27,10 +27,41 @@ def reported(prog: str, run: Callable[[], int]) -> int:
 
 
 class Parser(argparse.ArgumentParser):
-    """argparse with one-line errors and exit status 2."""
+    """argparse with one-line errors and exit status 2, and an option's value that
+    starts with ``-`` taken as its value (``--size -1x10``, ``--view -5,0,9,9``: argparse
+    would call it an unknown option and the option's value missing)."""
 
     def error(self, message: str):
         raise UsageError(f"{message} (see {self.prog} --help)")
+
+    def parse_known_args(self, args=None, namespace=None):
+        args = sys.argv[1:] if args is None else list(args)
+        return super().parse_known_args(self._dashed_values(args), namespace)
+
+    def _dashed_values(self, args: list[str]) -> list[str]:
+        """``OPTION VALUE`` as ``OPTION=VALUE`` where the option takes one value and
+        the value starts with one ``-`` and is no option (nor ``-``, standard i/o)."""
+        out, i = [], 0
+        while i < len(args):
+            arg = args[i]
+            if arg == "--":
+                return out + args[i:]
+            action = self._option_string_actions.get(arg)
+            value = args[i + 1] if i + 1 < len(args) else ""
+            if (
+                action is not None
+                and action.nargs is None
+                and value.startswith("-")
+                and not value.startswith("--")
+                and value != "-"
+                and value not in self._option_string_actions
+            ):
+                out.append(f"{arg}={value}")
+                i += 2
+                continue
+            out.append(arg)
+            i += 1
+        return out
 
 
 def add_log_arguments(parser) -> None:

@@ -5,10 +5,11 @@ from __future__ import annotations
 
 import json
 import sys
+from pathlib import Path
 
 from marblevideo.cli.arguments import Parser
 from marblevideo.errors import UsageError
-from marblevideo.media.output import atomic_output
+from marblevideo.media.output import atomic_output, check_output
 from marblevideo.pstmarble import animate, import_design
 
 
@@ -32,6 +33,10 @@ def import_command(argv: list[str]) -> int:
     args = p.parse_args(argv)
     if args.animate is not None and not args.animate > 0:
         raise UsageError(f"--animate: must be > 0 seconds, got {args.animate:g}")
+    if args.output != "-":  # before the import: nothing is done for an output refused
+        check_output(args.output, args.overwrite, [args.design])
+        if Path(args.output).suffix.lower() != ".json":
+            raise UsageError(f"{args.output}: a recipe is written as .json; give a .json name")
     doc = import_design(args.design, lambda line: print(f"marblevideo: {line}", file=sys.stderr))
     if args.animate is not None:
         doc = animate(doc, args.animate)

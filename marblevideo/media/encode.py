@@ -22,6 +22,7 @@ from marblevideo.media.formats import (
     output_format,
     output_kinds,
 )
+from marblevideo.media.output import refuse_folder
 from marblevideo.media.palette import PaletteFrames
 from marblevideo.media.progress import MODES
 from marblevideo.media.scheduling import ordinary_scheduling
@@ -126,6 +127,7 @@ def _format_name(dst: str | os.PathLike, options: VideoOptions) -> str:
         return name
     if is_stdio(dst):
         raise UsageError("-o -: name the stream's format with --format (e.g. matroska, nut)")
+    refuse_folder(dst)  # before its extension (it has none) is blamed
     ext = Path(dst).suffix.lower()
     raise UsageError(f"{dst}: unknown output extension {ext or '(none)'!r}; use {output_kinds()}")
 

@@ -41,13 +41,18 @@ def check_output(
         same = src.exists() and target.exists() and os.path.samefile(src, target)
         if same or src.resolve() == target.resolve():
             raise UsageError(f"{target}: output is the same file as the input; choose another -o")
-    if target.is_dir():
-        raise UsageError(f"{target}: output is a folder; give a file name")
+    refuse_folder(target)
     if str(target.parent) and not target.parent.exists():
         raise UsageError(f"{target}: folder {target.parent} does not exist")
     if target.exists() and not overwrite:
         raise OutputExistsError(f"{target}: already exists; use -y to overwrite")
     return target
+
+
+def refuse_folder(target: str | os.PathLike) -> None:
+    """UsageError when the output ``target`` is a folder."""
+    if Path(target).is_dir():
+        raise UsageError(f"{target}: output is a folder; give a file name")
 
 
 def _check_sequence(pattern: Path, overwrite: bool) -> None:

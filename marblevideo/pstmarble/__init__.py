@@ -6,18 +6,23 @@ size, ``background``, ``colors``, ``viscosity``, ``seed``, ``overscan``,
 actions (then the frame is pst-marble's for a square: -500..500), and returns
 the recipe as JSON. The canvas is pst-marble's action frame: the larger side
 is 1000 units times ``overscan``, y turned down (docs/pst-marble.md). An
-action no op can say is refused naming it and its line and column (exit 2).
+action no op can say is refused naming it and its line and column (exit 2), and
+so is a design that makes no ops, a LaTeX file with no ``\\psMarble``, and work
+over the limits of :mod:`marblevideo.limits` (``MAX_DESIGN_BYTES``, the
+interpreter's ``PS_*``, ``MAX_COUNT``, ``MAX_IMPORT_OPS``), before it is done.
 """
 
 from __future__ import annotations
 
+import re
 from collections.abc import Callable
 from pathlib import Path
 
 from marblevideo.errors import MediaError, UsageError
+from marblevideo.limits import MAX_DESIGN_BYTES
 from marblevideo.pstmarble.actions import ACTIONS, SPRAYS, Design, Frame, colour, colours, words
 from marblevideo.pstmarble.latex import Marble, find_marble
-from marblevideo.pstmarble.postscript import Interpreter, PsFault, tokens
+from marblevideo.pstmarble.postscript import Interpreter, PsFault, describe, tokens
 from marblevideo.recipe import parse_recipe
 
 #: pst-marble's defaults (pst-marble.tex).
@@ -35,6 +40,8 @@ DEFAULTS = {
 }
 #: The op types an import makes that pour ink.
 INK = ("drop", "spray")
+#: A TeX control word: a file with one is LaTeX (or .pst), not a list of actions.
+_TEX = re.compile(r"\\[A-Za-z@]+")
 
 
 def _value(marble: Marble, key: str) -> tuple[str, int]:
@@ -50,6 +57,15 @@ def _evaluate(text: str, at: int, what: str):
     return ps.stack[0]
 
 
+def _number(marble: Marble, key: str) -> float:
+    """The number option ``key`` holds."""
+    text, at = _value(marble, key)
+    value = _evaluate(text, at, key)
+    if not isinstance(value, float):
+        raise PsFault(f"{key}: expected a number, got {describe(value)}", max(at, 0))
+    return value
+
+
 def _run(design: Design, text: str, at: int, table: dict) -> None:
     ps = Interpreter(words(design, table))
     ps.run(tokens(text, max(at, 0)))
@@ -61,12 +77,22 @@ def design_recipe(text: str) -> tuple[dict, list[tuple[int, str]]]:
     """The recipe (JSON) of a pst-marble design's text, and notes (offset, text) on
     what it changes; PsFault where it cannot be."""
     marble = find_marble(text)
-    if marble is None:  # a plain list of actions: pst-marble's frame of a square
+    if marble is None:
+        tex = _TEX.search(text)
+        if tex is not None:
+            raise PsFault(
+                f"no \\psMarble in this file ({tex.group()} is LaTeX, not an action)", tex.start()
+            )
+        # a plain list of actions: pst-marble's frame of a square
         marble = Marble((-500.0, -500.0, 500.0, 500.0), {"actions": (text, 0)})
     x0, y0, x1, y1 = marble.corners
-    overscan = float(_evaluate(*_value(marble, "overscan"), "overscan"))
+    overscan = _number(marble, "overscan")
+    if not overscan > 0:
+        raise PsFault(
+            f"overscan must be > 0, got {overscan:g}", max(_value(marble, "overscan")[1], 0)
+        )
     scale = 1000.0 * overscan / max(x1 - x0, y1 - y0)  # action units per unit
-    viscosity = abs(float(_evaluate(*_value(marble, "viscosity"), "viscosity")))
+    viscosity = abs(_number(marble, "viscosity"))
     if viscosity == 0:
         raise PsFault("viscosity must not be 0", max(_value(marble, "viscosity")[1], 0))
     text_c, at_c = _value(marble, "colors")
@@ -78,6 +104,10 @@ def design_recipe(text: str) -> tuple[dict, list[tuple[int, str]]]:
         raise PsFault("shadings: no marblevideo op can say a shading", max(at_s, 0))
     _run(design, *_value(marble, "actions"), ACTIONS)
     _run(design, *_value(marble, "spractions"), SPRAYS)
+    if not design.ops and not design.sprays:
+        raise PsFault(
+            "the design makes no ops (its actions are empty)", max(_value(marble, "actions")[1], 0)
+        )
     background = colour(_evaluate(*_value(marble, "background"), "background"), 0)
     canvas = [round((x1 - x0) * scale, 6), round((y1 - y0) * scale, 6)]
     doc = {"marblevideo": 1, "canvas": canvas, "background": background,
@@ -112,6 +142,12 @@ def import_design(path: str | Path, notify: Callable[[str], None] | None = None)
     (exit 2) naming the file, line and column of what cannot be imported;
     ``notify`` takes a line on each action imported as another model."""
     try:
+        size = Path(path).stat().st_size
+        if size > MAX_DESIGN_BYTES:
+            raise UsageError(
+                f"{path}: {size:,} bytes, over the limit of {MAX_DESIGN_BYTES:,} for a design "
+                "(MAX_DESIGN_BYTES)"
+            )
         text = Path(path).read_text(encoding="utf-8", errors="replace")
     except FileNotFoundError:
         raise UsageError(f"{path}: no such file") from None

@@ -15,7 +15,8 @@ import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
 
-from marblevideo.pstmarble.postscript import Interpreter, PsFault, PsString, describe
+from marblevideo.limits import MAX_IMPORT_OPS, MAX_LIST
+from marblevideo.pstmarble.postscript import Interpreter, PsFault, PsString, bounded, describe
 from marblevideo.pstmarble.random import Rc4
 
 #: pst-marble's most saturated colour component (it clamps to 0.999).
@@ -116,7 +117,7 @@ def drop(d: Design, ps: Interpreter, at: int) -> None:
 
 def concentric_rings(d: Design, ps: Interpreter, at: int) -> None:
     """xc yc w [c] n: radius w sqrt(2k+1) for k = n-1 down to 0, colour c[k mod len]."""
-    count = int(ps.pop_number(at))
+    count = ps.pop_count(at, "concentric-rings", "rings")
     rgb = colours(ps.pop(at, "colours"), at)
     x, y, width = _numbers(ps, at, 3)
     for k in range(count - 1, -1, -1):
@@ -127,10 +128,10 @@ def line_drops(d: Design, ps: Interpreter, at: int) -> None:
     """xc yc b [r] [c] drad: drops at (xc, yc) + r (sin b, cos b)."""
     radius = ps.pop_number(at)
     rgb = colours(ps.pop(at, "colours"), at)
-    offsets = ps.pop_array(at)
+    offsets = _floats(bounded(ps.pop_array(at), "line-drops", "drops", at), at)
     x, y, b = _numbers(ps, at, 3)
     s, c = math.sin(math.radians(b)), math.cos(math.radians(b))
-    for k, r in enumerate(_floats(offsets, at)):
+    for k, r in enumerate(offsets):
         _drop(d, x + r * s, y + r * c, radius, rgb[k % len(rgb)])
 
 
@@ -147,6 +148,7 @@ def serpentine_drops(d: Design, ps: Interpreter, at: int) -> None:
     th = -ps.pop_number(at)
     ys, xs = _floats(ps.pop_array(at), at), _floats(ps.pop_array(at), at)
     x, y = _numbers(ps, at, 2)
+    bounded(range(len(xs) * len(ys)), "serpentine-drops", "drops", at)
     k = 0
     for row, yr in enumerate(ys):
         for xr in xs if row % 2 == 0 else xs[::-1]:
@@ -156,7 +158,7 @@ def serpentine_drops(d: Design, ps: Interpreter, at: int) -> None:
 
 def coil_drops(d: Design, ps: Interpreter, at: int) -> None:
     """xc yc r th arcinc rinc [c] n drad: a spiral of drops at bearings th."""
-    radius, count = ps.pop_number(at), int(ps.pop_number(at))
+    radius, count = ps.pop_number(at), ps.pop_count(at, "coil-drops", "drops")
     rgb = colours(ps.pop(at, "colours"), at)
     x, y, r, th, arc, step = _numbers(ps, at, 6)
     for k in range(count):
@@ -167,11 +169,12 @@ def coil_drops(d: Design, ps: Interpreter, at: int) -> None:
         r += step
 
 
-def _scatter(d: Design, ps: Interpreter, at: int, normal: bool, size=None) -> list:
-    """The drops of normal-drops / uniform-drops (xc yc Lx Ly angle [c] n drad), as
-    (x, y, radius, colour); ``size(drad)`` draws each one's radius right after its
-    place (a spray's), else every radius is drad."""
-    radius, count = ps.pop_number(at), int(ps.pop_number(at))
+def _scatter(d: Design, ps: Interpreter, at: int, name: str, size=None) -> list:
+    """The drops of normal-drops / uniform-drops (xc yc Lx Ly angle [c] n drad) or
+    the action ``name`` made of one, as (x, y, radius, colour); ``size(drad)`` draws
+    each one's radius right after its place (a spray's), else every radius is drad."""
+    normal = not name.startswith("uniform")
+    radius, count = ps.pop_number(at), ps.pop_count(at, name, "drops")
     rgb = colours(ps.pop(at, "colours"), at)
     x, y, lx, ly, angle = _numbers(ps, at, 5)
     out = []
@@ -187,9 +190,9 @@ def _scatter(d: Design, ps: Interpreter, at: int, normal: bool, size=None) -> li
     return out
 
 
-def scatter_drops(normal: bool):
+def scatter_drops(name: str):
     def action(d: Design, ps: Interpreter, at: int) -> None:
-        for x, y, radius, rgb in _scatter(d, ps, at, normal):
+        for x, y, radius, rgb in _scatter(d, ps, at, name):
             _drop(d, x, y, radius, rgb)
 
     return action
@@ -201,10 +204,10 @@ def gaussian_drops(d: Design, ps: Interpreter, at: int) -> None:
     x, y, r, angle, ecc = _numbers(ps, at, 5)
     e = math.sqrt(ecc)
     ps.stack += [x, y, 2 * r / e, 2 * r * e, angle, rgb, count, radius]
-    scatter_drops(True)(d, ps, at)
+    scatter_drops("Gaussian-drops")(d, ps, at)
 
 
-def spray(normal: bool):
+def spray(name: str):
     """normal-spray / uniform-spray: dots drawn over the marbling, each of radius
     e^((g + 9 log10 drad) / 3), g the first of a normal pair drawn after its place."""
 
@@ -212,7 +215,7 @@ def spray(normal: bool):
         def size(drad: float) -> float:
             return math.exp((d.rng.normal2()[0] + 9 * math.log10(drad)) / 3)
 
-        for x, y, radius, rgb in _scatter(d, ps, at, normal, size):
+        for x, y, radius, rgb in _scatter(d, ps, at, name, size):
             d.sprays.append(
                 {"type": "spray", "center": d.frame.point(x, y), "radius": _r(radius), "color": rgb}
             )
@@ -227,10 +230,12 @@ def _floats(values: list, at: int) -> list[float]:
 
 
 def tines(d: Design, ps: Interpreter, at: int) -> None:
-    """n s o tines: offsets i s + o for i from int(-(n - 1) / 2), n of them."""
-    n, s, o = _numbers(ps, at, 3)
+    """n s o tines: offsets i s + o for i from int(-(n - 1) / 2), n of them (at
+    most MAX_LIST, a rake's)."""
+    s, o = _numbers(ps, at, 2)
+    n = ps.pop_count(at, "tines", "tines", MAX_LIST, "MAX_LIST")
     first = int(-(n - 1) / 2)
-    ps.stack += [float(i * s + o) for i in range(first, first + int(n))]
+    ps.stack += [float(i * s + o) for i in range(first, first + n)]
 
 
 def _positive(value: float, name: str, at: int) -> float:
@@ -345,8 +350,8 @@ ACTIONS: dict[str, Callable] = {
     "line-drops": line_drops,
     "serpentine-drops": serpentine_drops,
     "coil-drops": coil_drops,
-    "normal-drops": scatter_drops(True),
-    "uniform-drops": scatter_drops(False),
+    "normal-drops": scatter_drops("normal-drops"),
+    "uniform-drops": scatter_drops("uniform-drops"),
     "Gaussian-drops": gaussian_drops,
     "rake": rake,
     "stir": stir,
@@ -358,7 +363,8 @@ ACTIONS: dict[str, Callable] = {
     "stylus": stylus,
     "stroke": stylus,
 }
-SPRAYS: dict[str, Callable] = {"normal-spray": spray(True), "uniform-spray": spray(False)}
+SPRAYS: dict[str, Callable] = {"normal-spray": spray("normal-spray"),
+                               "uniform-spray": spray("uniform-spray")}  # fmt: skip
 HELPERS: dict[str, Callable] = {"tines": tines, "tint": tint(False), "shade": tint(True)}
 
 
@@ -373,7 +379,14 @@ def words(design: Design, table: dict[str, Callable]) -> dict[str, Callable]:
 
 
 def _bind(design: Design, f: Callable) -> Callable:
-    return lambda ps, at: f(design, ps, at)
+    def action(ps: Interpreter, at: int) -> None:
+        f(design, ps, at)
+        made = len(design.ops) + len(design.sprays)
+        if made > MAX_IMPORT_OPS:
+            limit = f"over the limit of {MAX_IMPORT_OPS:,} (MAX_IMPORT_OPS)"
+            raise PsFault(f"the design makes {made:,} ops, {limit}", at)
+
+    return action
 
 
 def _refuse(name: str, what: str) -> Callable:

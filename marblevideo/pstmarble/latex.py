@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 from dataclasses import dataclass, field
 
+from marblevideo.limits import NUMBER_LIMIT
 from marblevideo.pstmarble.postscript import PsFault
 
 _COMMAND = re.compile(r"\\psMarble\b")
@@ -44,6 +45,8 @@ def _split_options(text: str, base: int) -> dict[str, tuple[str, int]]:
     out, depth, start = {}, 0, 0
     for k, ch in enumerate(text + ","):
         depth += {"{": 1, "}": -1}.get(ch, 0)
+        if depth < 0:
+            raise PsFault("\\psMarble: a } without its {", base + k)
         if ch == "," and depth == 0:
             part = text[start:k]
             if part.strip():
@@ -55,6 +58,8 @@ def _split_options(text: str, base: int) -> dict[str, tuple[str, int]]:
                     value, value_start = value[1:-1], value_start + 1
                 out[key.strip()] = (value, offset + value_start)
             start = k + 1
+    if depth:
+        raise PsFault("\\psMarble: a { in this option is never closed", base + start)
     return out
 
 
@@ -99,6 +104,9 @@ def find_marble(text: str) -> Marble | None:
         raise PsFault("\\psMarble needs its size (w,h)", m.start())
     if len(corners) == 1:
         w, h = corners[0]
-        return Marble((-w / 2, -h / 2, w / 2, h / 2), options)
-    (x0, y0), (x1, y1) = corners
+        x0, y0, x1, y1 = -w / 2, -h / 2, w / 2, h / 2
+    else:
+        (x0, y0), (x1, y1) = corners
+    if not (x1 - x0 > 0 and y1 - y0 > 0 and max(map(abs, (x0, y0, x1, y1))) < NUMBER_LIMIT):
+        raise PsFault(f"\\psMarble: expected a size > 0 (and under {NUMBER_LIMIT:g})", m.end())
     return Marble((x0, y0, x1, y1), options)

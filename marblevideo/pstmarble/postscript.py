@@ -5,6 +5,13 @@ keeps its offset in the file, so a fault names its line and column.
 
 Names the interpreter does not know are handed to ``words`` (the actions, in
 :mod:`marblevideo.pstmarble.actions`); a name nobody knows is refused.
+
+The work a design asks for is bounded before it is done (:mod:`marblevideo.limits`):
+a loop's turns and every value or name evaluated count against ``PS_STEPS``, the
+stack holds at most ``PS_STACK`` values, procedures nest at most ``PS_DEPTH``
+deep, and a count (an action's drops, ``tines``) is checked before anything is
+made of it. Arithmetic that fails (a division by 0, an overflow) is a fault at
+its operator.
 """
 
 from __future__ import annotations
@@ -15,6 +22,7 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from marblevideo.errors import UsageError
+from marblevideo.limits import MAX_COUNT, PS_DEPTH, PS_STACK, PS_STEPS
 
 _TOKEN = re.compile(
     r"%[^\n]*|(?P<s>\()|(?P<open>[\[\]{}])|(?P<lit>/[^\s\[\]{}()/%]*)|(?P<word>[^\s\[\]{}()/%]+)"
@@ -32,7 +40,7 @@ class PsFault(UsageError):
 
 @dataclass(frozen=True)
 class Token:
-    kind: str  # number, string, mark, close, proc_open, proc_close, literal, name
+    kind: str  # number, string, mark, close, proc, literal, name
     value: object
     at: int
 
@@ -55,11 +63,15 @@ MARK = _Mark()
 
 
 def tokens(text: str, base: int = 0) -> list[Token]:
-    """The tokens of ``text`` (comments dropped); offsets count from ``base``."""
+    """The tokens of ``text`` (comments dropped); offsets count from ``base``. A
+    procedure ``{...}`` is one token, its value the :class:`Proc` of its tokens."""
     out, pos = [], 0
+    opened: list[tuple[list[Token], int]] = []  # the enclosing lists and where each { is
     while True:
         m = _TOKEN.search(text, pos)
         if m is None:
+            if opened:
+                raise PsFault("a { is never closed", opened[-1][1])
             return out
         at = base + m.start()
         if m.group("s"):
@@ -73,8 +85,17 @@ def tokens(text: str, base: int = 0) -> list[Token]:
             pos = end
             continue
         pos = m.end()
-        if m.group("open"):
-            kind = {"[": "mark", "]": "close", "{": "proc_open", "}": "proc_close"}[m.group("open")]
+        if m.group("open") == "{":
+            opened.append((out, at))
+            out = []
+        elif m.group("open") == "}":
+            if not opened:
+                raise PsFault("a } without its {", at)
+            body = tuple(out)
+            out, start = opened.pop()
+            out.append(Token("proc", Proc(body), start))
+        elif m.group("open"):
+            kind = {"[": "mark", "]": "close"}[m.group("open")]
             out.append(Token(kind, m.group("open"), at))
         elif m.group("lit"):
             out.append(Token("literal", m.group("lit")[1:], at))
@@ -83,22 +104,37 @@ def tokens(text: str, base: int = 0) -> list[Token]:
             if word == ")":
                 raise PsFault("a ) without its (", at)
             if _NUMBER.match(word):
+                if not math.isfinite(float(word)):
+                    raise PsFault(f"{word}: a number out of range", at)
                 out.append(Token("number", float(word), at))
             else:
                 out.append(Token("name", word, at))
 
 
+def _power(a: float, b: float) -> float:
+    value = a**b
+    if isinstance(value, complex):
+        raise ValueError("a negative number to a fractional power")
+    return value
+
+
+def _finite(value: float) -> float:
+    if not math.isfinite(value):
+        raise ArithmeticError(f"the result is out of range ({value})")
+    return value
+
+
 def _binary(f):
     def op(ps: Interpreter, at: int) -> None:
         b, a = ps.pop_number(at), ps.pop_number(at)
-        ps.stack.append(f(a, b))
+        ps.stack.append(_finite(f(a, b)))
 
     return op
 
 
 def _unary(f):
     def op(ps: Interpreter, at: int) -> None:
-        ps.stack.append(f(ps.pop_number(at)))
+        ps.stack.append(_finite(f(ps.pop_number(at))))
 
     return op
 
@@ -114,7 +150,7 @@ OPERATORS: dict[str, Callable] = {
     "div": _binary(lambda a, b: a / b),
     "idiv": _binary(lambda a, b: float(int(a / b))),
     "mod": _binary(lambda a, b: float(math.fmod(int(a), int(b)))),
-    "exp": _binary(lambda a, b: a**b),
+    "exp": _binary(_power),
     "atan": _binary(_atan),
     "max": _binary(max),
     "min": _binary(min),
@@ -142,6 +178,8 @@ class Interpreter:
         self.stack: list = []
         self.words = words
         self.names: dict[str, object] = dict(CONSTANTS)
+        self.steps = 0  # spent of PS_STEPS
+        self.depth = 0  # procedures running
 
     def pop(self, at: int, what: str = "a value"):
         if not self.stack or self.stack[-1] is MARK:
@@ -160,32 +198,66 @@ class Interpreter:
             raise PsFault(f"expected an array [...], got {describe(value)}", at)
         return value
 
+    def pop_count(
+        self, at: int, action: str, noun: str, limit: int = MAX_COUNT, name: str = "MAX_COUNT"
+    ) -> int:
+        """The whole part of a count of ``noun`` for ``action``, 0 to ``limit`` (the
+        limit called ``name`` in :mod:`marblevideo.limits`), checked before anything
+        is made of it."""
+        value = self.pop_number(at)
+        if not value >= 0:  # NaN too
+            raise PsFault(f"{action}: {value:g} {noun}, expected a count of 0 or more", at)
+        if value > limit:
+            raise PsFault(f"{action}: {value:g} {noun}, over the limit of {limit:,} ({name})", at)
+        return int(value)
+
+    def spend(self, steps: float, at: int, what: str) -> None:
+        """Count ``steps`` against PS_STEPS before they are taken."""
+        self.afford(steps, at, what)
+        self.steps += int(steps)
+
+    def afford(self, steps: float, at: int, what: str) -> None:
+        """PsFault when ``steps`` more would take the design over PS_STEPS."""
+        if not self.steps + steps <= PS_STEPS:  # NaN too
+            raise PsFault(
+                f"{what}: {steps:g} steps, over the limit of {PS_STEPS:,} a design may take "
+                f"({self.steps:,} taken; PS_STEPS)",
+                at,
+            )
+
     def run(self, toks: list[Token] | tuple[Token, ...]) -> None:
-        i = 0
-        while i < len(toks):
-            tok = toks[i]
-            if tok.kind == "proc_open":
-                end = _matching(toks, i)
-                self.stack.append(Proc(tuple(toks[i + 1 : end])))
-                i = end + 1
-                continue
-            self._one(tok)
-            i += 1
+        self.depth += 1
+        try:
+            if self.depth > PS_DEPTH and toks:
+                raise PsFault(
+                    f"procedures nested over the limit of {PS_DEPTH} (PS_DEPTH)", toks[0].at
+                )
+            for tok in toks:
+                if self.steps >= PS_STEPS:
+                    raise PsFault(f"the design takes over {PS_STEPS:,} steps (PS_STEPS)", tok.at)
+                self.steps += 1
+                self._one(tok)
+                if len(self.stack) > PS_STACK:
+                    raise PsFault(
+                        f"{len(self.stack):,} values on the stack, over the limit of "
+                        f"{PS_STACK:,} (PS_STACK)",
+                        tok.at,
+                    )
+        finally:
+            self.depth -= 1
 
     def _one(self, tok: Token) -> None:
-        if tok.kind in ("number", "string"):
+        if tok.kind in ("number", "string", "proc"):
             self.stack.append(tok.value)
         elif tok.kind == "mark":
             self.stack.append(MARK)
         elif tok.kind == "close":
-            if MARK not in self.stack:
+            k = next((k for k in range(len(self.stack) - 1, -1, -1) if self.stack[k] is MARK), -1)
+            if k < 0:
                 raise PsFault("a ] without its [", tok.at)
-            k = len(self.stack) - 1 - self.stack[::-1].index(MARK)
             items = self.stack[k + 1 :]
             del self.stack[k:]
             self.stack.append(items)
-        elif tok.kind == "proc_close":
-            raise PsFault("a } without its {", tok.at)
         elif tok.kind == "literal":
             self.stack.append(("/", tok.value))
         else:
@@ -198,23 +270,24 @@ class Interpreter:
                 self.run(value.tokens)
             else:
                 self.stack.append(value)
-        elif name in OPERATORS:
-            OPERATORS[name](self, at)
-        elif name in STACK_WORDS:
-            STACK_WORDS[name](self, at)
-        elif name in self.words:
-            self.words[name](self, at)
-        else:
+            return
+        f = OPERATORS.get(name) or STACK_WORDS.get(name) or self.words.get(name)
+        if f is None:
             raise PsFault(f"{name}: unknown name (no marblevideo counterpart)", at)
+        try:
+            f(self, at)
+        except PsFault:
+            raise
+        except (ArithmeticError, ValueError) as exc:  # a division by 0, an overflow
+            raise PsFault(f"{name}: {exc}", at) from None
 
 
-def _matching(toks, i: int) -> int:
-    depth = 0
-    for k in range(i, len(toks)):
-        depth += {"proc_open": 1, "proc_close": -1}.get(toks[k].kind, 0)
-        if depth == 0:
-            return k
-    raise PsFault("a { is never closed", toks[i].at)
+def bounded(items, action: str, noun: str, at: int):
+    """``items``, at most MAX_COUNT of them (the drops an action makes)."""
+    if len(items) > MAX_COUNT:
+        limit = f"over the limit of {MAX_COUNT:,} (MAX_COUNT)"
+        raise PsFault(f"{action}: {len(items):,} {noun}, {limit}", at)
+    return items
 
 
 def describe(value) -> str:
@@ -238,10 +311,12 @@ def _def(ps: Interpreter, at: int) -> None:
 
 def _repeat(ps: Interpreter, at: int) -> None:
     proc = ps.pop(at, "a procedure")
-    count = int(ps.pop_number(at))
+    count = ps.pop_number(at)
     if not isinstance(proc, Proc):
         raise PsFault("repeat needs a procedure {...}", at)
-    for _ in range(count):
+    turns = max(count, 0.0)
+    ps.spend(turns, at, "repeat")  # every turn is a step, before any is taken
+    for _ in range(int(turns)):
         ps.run(proc.tokens)
 
 
@@ -250,7 +325,11 @@ def _for(ps: Interpreter, at: int) -> None:
     limit, step, value = ps.pop_number(at), ps.pop_number(at), ps.pop_number(at)
     if not isinstance(proc, Proc) or step == 0:
         raise PsFault("for needs start step limit {...} with a non-zero step", at)
+    ps.afford(max((limit - value) / step, 0.0), at, "for")  # its turns, before any
+    if value + step == value:
+        raise PsFault(f"for: a step of {step:g} is lost in {value:g}", at)
     while (step > 0 and value <= limit + 1e-9) or (step < 0 and value >= limit - 1e-9):
+        ps.spend(1, at, "for")
         ps.stack.append(value)
         ps.run(proc.tokens)
         value += step

@@ -27,7 +27,7 @@ import os
 from dataclasses import dataclass, field
 from typing import Any
 
-from marblevideo.bundled import preset_name, presets, recipe_file
+from marblevideo.bundled import preset_name, preset_path, presets, recipe_file
 from marblevideo.errors import RecipeError, UsageError
 from marblevideo.ops import LAYOUTS, expand, op_def, type_def
 from marblevideo.recipe.accepted import is_accepted, remember_accepted, text_digest
@@ -231,12 +231,20 @@ def read_recipe(path: str | os.PathLike[str]) -> tuple[object, Recipe]:
     try:
         with open(path, encoding="utf-8-sig") as f:
             text = f.read()
-    except (OSError, UnicodeDecodeError) as exc:
-        reason = exc.strerror if isinstance(exc, OSError) and exc.strerror else str(exc)
+    except UnicodeDecodeError as exc:
+        raise UsageError(
+            f"cannot read recipe {source}: not UTF-8 text (a recipe is JSON text; byte "
+            f"{exc.object[exc.start]:#04x} at offset {exc.start:,} is not UTF-8)"
+        ) from None
+    except OSError as exc:
+        reason = exc.strerror or str(exc)
         stem = preset_name(source)
         if isinstance(exc, FileNotFoundError) and stem is not None:
             reason += f", nor a preset of that name{did_you_mean(stem, presets(), n=3)}; "
             reason += "`marblevideo presets` lists them"
+        elif isinstance(exc, FileNotFoundError) and preset_path(os.path.basename(source)):
+            name = preset_name(os.path.basename(source))
+            reason += f"; a preset has that name: --ops {name} (`marblevideo presets` lists them)"
         raise UsageError(f"cannot read recipe {source}: {reason}") from None
     data = parse_json(text, source)
     key = text_digest(text)

@@ -74,3 +74,23 @@ def assert_refused(cli, folder: Path, text: str, path: str, expected: str, name:
     assert line.startswith(f"marblevideo: r.json: {path}: "), (name, line)
     assert expected in line, (name, line)
     assert files(folder) == ["r.json"], name
+
+
+def run_main(*argv: str):
+    """The command line ``marblevideo ARGV`` run in this process (``cli.main``), as a
+    CompletedProcess: its exit status and what it wrote to standard output (bytes
+    through its buffer too, decoded) and error (text). What :func:`one_line` checks
+    of a subprocess, it checks of this."""
+    import contextlib
+    import io
+    import subprocess
+
+    from marblevideo.cli import main
+
+    out = io.TextIOWrapper(io.BytesIO(), encoding="utf-8", write_through=True)
+    err = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        status = main(list(argv))
+        out.flush()
+    text = out.buffer.getvalue().decode("utf-8", errors="replace")
+    return subprocess.CompletedProcess(list(argv), status, text, err.getvalue())
