@@ -119,14 +119,18 @@ def isf_on_glshader(fs: Path) -> str:
 
 def test_nonpareil_as_an_isf_generator_and_a_frag(tmp_path):
     """The bundled nonpareil (143 ops after its layouts: the loop walk) as an ISF
-    generator at offset 3 s, drawn by glshader, and as a .frag: both as the
-    reference draws it."""
+    generator at offset 3 s and as a .frag generator, each drawn by glshader: both
+    as the reference draws it."""
     recipe = json.loads(preset_path("nonpareil").read_text())
     fs = export(recipe, tmp_path, ".fs", "--sheet")
     uniforms = "speed=(float)1.0, offset=(float)3.0, loop=(boolean)false"
     (tmp_path / "isf").mkdir()
     got = glshader(isf_on_glshader(fs), tmp_path / "isf", (72, 48), FRAMES, FPS, uniforms=uniforms)
     assert_agrees(got, expected(recipe, (72, 48), start=3.0))
+    frag = export(recipe, tmp_path, ".frag", "--sheet")
+    (tmp_path / "frag").mkdir()
+    got = glshader(frag.read_text(), tmp_path / "frag", (72, 48), FRAMES, FPS)
+    assert_agrees(got, expected(recipe, (72, 48)))
 
 
 def test_isf_files_compile_in_each_hosts_prelude(tmp_path):
