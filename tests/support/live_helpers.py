@@ -61,7 +61,9 @@ class LiveProcess:
         return self.stderr_path.read_text()
 
     def get(self, path: str):
-        with urllib.request.urlopen(self.url.rstrip("/") + path, timeout=10) as r:
+        """The answer's body (JSON decoded); a first render may build its program on
+        a cold cache, so it is given a minute, as :meth:`post` is given 30 s."""
+        with urllib.request.urlopen(self.url.rstrip("/") + path, timeout=60) as r:
             body = r.read()
             return json.loads(body) if r.headers.get_content_type() == "application/json" else body
 
