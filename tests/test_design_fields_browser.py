@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 
 import pytest
-from live_helpers import designer_page, wait_for
+from live_helpers import RECIPE, designer_page, live_designer, wait_for
 
 pytestmark = pytest.mark.tier("integration")
 
@@ -78,4 +78,31 @@ def test_shortcuts_leave_a_focused_field_alone(browser, tmp_path):
         wait_for(lambda: _page_state(page)["view"] is None, "0 resets the view")
         page.keyboard.press("c")
         wait_for(lambda: _page_state(page)["tool"] == "comb", "C picks the comb")
+    assert errors == []
+
+
+def test_the_live_timeline_says_the_clock_is_past_the_recipes_end(browser, tmp_path):
+    """``live --preview`` with loop off: the session's clock runs on past the
+    recipe's end (1 s); the clock says so, with the session's time, and the time
+    slider rests at the end."""
+    with live_designer(browser, tmp_path, RECIPE) as (live, page, errors, _saved):
+        assert not page.is_checked("#loop")
+        live.wait_stats(lambda s: s["t"] > 2.0 and s["loop"] is None)
+        page.wait_for_function(
+            """() => { const m = /^t = ([0-9.]+) s, past the recipe's end \\(1\\.00 s\\)$/
+                    .exec(document.getElementById('clock').textContent);
+                return m && Number(m[1]) > 2; }"""
+        )
+        shown = float(page.text_content("#clock").split()[2])
+        assert abs(shown - live.get("/stats")["t"]) < 2.0
+        assert float(page.input_value("#time")) == 1
+        # within the recipe again (a seek), the clock is the plain time shown
+        page.locator("#time").evaluate(
+            "el => { el.value = 0.5; el.dispatchEvent(new Event('input', {bubbles: true})); }"
+        )
+        page.click("#play")  # paused there
+        live.wait_stats(lambda s: s["paused"])
+        page.wait_for_function(
+            "/^t = 0\\.[5-9][0-9] s$/.test(document.getElementById('clock').textContent)"
+        )
     assert errors == []
