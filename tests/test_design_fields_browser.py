@@ -106,3 +106,57 @@ def test_the_live_timeline_says_the_clock_is_past_the_recipes_end(browser, tmp_p
             "/^t = 0\\.[5-9][0-9] s$/.test(document.getElementById('clock').textContent)"
         )
     assert errors == []
+
+
+#: Tracks and how a field shows them (a key's ease, in brackets, leaves it).
+SHOWN_KEYS = [
+    ({"keys": [{"t": 0, "v": 10, "ease": "ease-in-out"}, {"t": 1.5, "v": 18}]},
+     "0 s: 10 (ease-in-out) → 1.5 s: 18"),
+    ({"keys": [{"t": 0.25, "v": -3.5, "ease": [0, 0.9, 0, 1]},
+               {"t": 2, "v": 1e-7, "ease": "hold"}]},
+     "0.25 s: -3.5 (0, 0.9, 0, 1) → 2 s: 1e-7 (hold)"),
+    ({"keys": [{"t": 0, "v": [10, 20.5]}, {"t": 1, "v": [30, 40]}]},
+     "0 s: [10, 20.5] → 1 s: [30, 40]"),
+    ({"keys": [{"t": 0, "v": "#1d3557", "ease": "linear"}, {"t": 3, "v": "white"}]},
+     "0 s: #1d3557 (linear) → 3 s: white"),
+]  # fmt: skip
+
+
+def test_a_keyed_field_shows_its_keys_as_a_list(browser, tmp_path):
+    track, text = SHOWN_KEYS[0]
+    recipe = _recipe(tmp_path, {**DROP, "radius": track})
+    with designer_page(browser, tmp_path, "--ops", recipe) as (page, errors):
+        page.click("#op-0 .name")
+        assert page.input_value("#p-radius") == text
+        # each track's list reads back as the track, and the lists as typed by hand
+        back = page.evaluate(
+            """async (cases) => { const m = await import('/web/keys.js');
+                return cases.map(([track, text]) => [m.keysText(track), m.parseField(text)]); }""",
+            SHOWN_KEYS,
+        )
+        assert back == [[text, track] for track, text in SHOWN_KEYS]
+        typed = page.evaluate(
+            """async () => { const m = await import('/web/keys.js');
+                return [m.parseField('0s:1->2 s : 3(ease-in)'), m.parseField('12'),
+                        m.parseField('#ff0000'), m.parseField('  ')]; }"""
+        )
+        assert typed == [{"keys": [{"t": 0, "v": 1}, {"t": 2, "v": 3, "ease": "ease-in"}]}, 12,
+                         "#ff0000", None]  # fmt: skip
+        # edited as a list, it saves the keys
+        page.fill("#p-radius", "0 s: 10 → 2 s: 25 (hold) → 3 s: 5")
+        page.press("#p-radius", "Enter")
+        expected = {
+            "keys": [{"t": 0, "v": 10}, {"t": 2, "v": 25, "ease": "hold"}, {"t": 3, "v": 5}]
+        }
+        wait_for(lambda: json.loads(recipe.read_text())["ops"][0]["radius"] == expected, "saved")
+        page.wait_for_function(
+            "document.getElementById('p-radius').value === '0 s: 10 → 2 s: 25 (hold) → 3 s: 5'"
+        )
+        # a list it cannot read: one line, the file kept
+        before = recipe.read_bytes()
+        page.fill("#p-radius", "0 s: 10 → soon: 4")
+        page.press("#p-radius", "Enter")
+        page.wait_for_selector("#error", state="visible")
+        assert page.text_content("#error").startswith("ops[0].radius: key 2 'soon: 4': expected")
+        assert recipe.read_bytes() == before
+    assert errors == []
