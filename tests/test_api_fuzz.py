@@ -14,6 +14,7 @@ from pathlib import Path
 import pytest
 from api_fuzz import TIMEOUT, api_cases, check_answer, designer
 from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 from marblevideo.design.routes import ROUTES, TABLE, openapi
 
@@ -22,7 +23,7 @@ pytestmark = pytest.mark.tier("integration")
 
 @pytest.fixture(scope="module")
 def url(tmp_path_factory):
-    with designer(tmp_path_factory.mktemp("api")) as base:
+    with designer(tmp_path_factory.mktemp("api"), seconds=86400) as base:  # a campaign's hours
         yield base
 
 
@@ -42,13 +43,10 @@ def cases(url):
     return api_cases(url)
 
 
-def test_every_answer_is_well_formed(url, cases):
-    @settings(max_examples=300, deadline=None, suppress_health_check=list(HealthCheck))
-    @given(case=cases)
-    def fuzz(case):
-        check_answer(url, case)
-
-    fuzz()
+@settings(max_examples=300, deadline=None, suppress_health_check=list(HealthCheck))
+@given(data=st.data())
+def test_every_answer_is_well_formed(url, cases, data):
+    check_answer(url, data.draw(cases, label="request"))
 
 
 CORPUS = Path(__file__).resolve().parent / "data" / "fuzz"

@@ -70,7 +70,7 @@ def check_answer(url: str, case) -> int:
     code, what = response.status_code, case.as_curl_command()
     if code >= 500:  # the saved recipe too: a route's answer depends on it
         with urllib.request.urlopen(f"{url}api/recipe", timeout=TIMEOUT) as r:
-            saved = r.read().decode()[:4000]
+            saved = json.dumps(json.loads(r.read()))[:4000]
         raise AssertionError(f"{what}: {code} {response.text[:300]} over {saved}")
     if code >= 400:
         ctype = response.headers.get("content-type", [None])[0]  # lower-case keys, lists
