@@ -1,7 +1,9 @@
 """``python -m benchmarks [PART ...] [options]``, from the checkout: the parts
 named (the package's docstring says what each measures), one Markdown report on
 standard output. ``python -m benchmarks compare BASE [HEAD]`` runs the end-to-end
-commands of two commits side by side (benchmarks/compare.py). ``lanes-child`` is
+commands of two commits side by side (benchmarks/compare.py); ``python -m
+benchmarks fuzz --minutes N [HARNESS ...]`` runs the fuzz harnesses for N minutes
+each with fresh seeds (benchmarks/fuzz.py). ``lanes-child`` is
 one process of ``lanes`` (internal)."""
 
 from __future__ import annotations
@@ -89,6 +91,9 @@ def parser() -> argparse.ArgumentParser:
         help="kernels: time each kernel on a profiling queue",
     )
     p.add_argument("--rounds", type=int, default=5, help="compare: paired rounds (default 5)")
+    p.add_argument(
+        "--minutes", type=float, default=1.0, help="fuzz: minutes per harness (default 1)"
+    )
     return p
 
 
@@ -96,6 +101,16 @@ def main(argv: list[str] | None = None) -> None:
     args = parser().parse_args(argv)
     if args.parts == ["lanes-child"]:
         return function("lanes", "lanes_child")(args.device)
+    if args.parts[:1] == ["fuzz"]:
+        from .fuzz import HARNESSES
+        from .fuzz import main as fuzz
+
+        names = [p.replace("-", " ").replace("HTTP API", "HTTP API") for p in args.parts[1:]]
+        if args.minutes <= 0 or any(n not in HARNESSES for n in names):
+            known = ", ".join(n.replace(" ", "-") for n in HARNESSES)
+            parser().error(f"fuzz [HARNESS ...] --minutes N (> 0); harnesses: {known}")
+        header()
+        raise SystemExit(fuzz(args.minutes, names))
     if args.parts[:1] == ["compare"]:
         if not 2 <= len(args.parts) <= 3 or args.rounds < 1:
             parser().error("compare BASE [HEAD]: one or two commits, --rounds at least 1")

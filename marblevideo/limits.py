@@ -14,6 +14,10 @@ MAX_PIXELS = 1 << 28
 #: standard output): 16384 x 16384, as an input; PNG and TIFF files are written in
 #: bands at any size.
 MAX_ONE_PIECE = 1 << 28
+#: Largest frame the designer's API renders (``/api/frame.*``, ``/api/layers``), in
+#: pixels: an 8K screen's (7680 x 4320) fits; a huge frame took the designer's
+#: memory (found by tests/test_api_fuzz.py).
+MAX_FRAME_PIXELS = 1 << 25
 #: Largest side of a WebP (libwebp's WEBP_MAX_DIMENSION).
 WEBP_MAX_SIDE = 16383
 #: Largest output (or input) side, in pixels (OpenCL buffers and int indices).

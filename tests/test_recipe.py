@@ -261,7 +261,10 @@ def test_bad_background_and_canvas():
     assert fault(recipe_with(background="whit")).startswith(
         "swirl.json: background: unknown color 'whit' (did you mean 'white'?)"
     )
-    assert fault({"canvas": [0, 10], "ops": []}) == "swirl.json: canvas[0]: must be > 0, got 0"
+    assert fault({"canvas": [0, 10], "ops": []}) == "swirl.json: canvas[0]: must be >= 1e-30, got 0"
+    # a side so small that pixels per unit overflow (5e-324: the API fuzz's SVG crash)
+    tiny = fault({"canvas": [9, 5e-324], "ops": []})
+    assert tiny.endswith("canvas[1]: must be >= 1e-30, got 5e-324")
     assert fault({"canvas": [10], "ops": []}) == (
         "swirl.json: canvas: expected a size [W, H], got a list of 1"
     )

@@ -108,6 +108,7 @@ def design_command(argv: list[str]) -> int:
     from marblevideo.cli.working_copy import copy_preset, plan_working_copy
     from marblevideo.design.backdrop import open_backdrop
     from marblevideo.design.session import DesignSession
+    from marblevideo.marbler import blank_canvas
     from marblevideo.recipe import load_recipe
     from marblevideo.serve.recipefile import DEFAULT_CANVAS, RecipeFile
     from marblevideo.serve.server import Server
@@ -122,9 +123,11 @@ def design_command(argv: list[str]) -> int:
     if canvas is None and args.input is None:
         canvas = DEFAULT_CANVAS
     # a bad FILE is refused here (exit 2); a bad save by another program later is said
-    document = RecipeFile(
-        args.ops, canvas, notify=lambda m: print(f"marblevideo: {m}", file=sys.stderr, flush=True)
-    )
+    say = lambda m: print(f"marblevideo: {m}", file=sys.stderr, flush=True)  # noqa: E731
+    # over a blank sheet, a save (or a change on disk) without a canvas is refused:
+    # the sheet's size is the canvas
+    check = blank_canvas if args.input is None else None
+    document = RecipeFile(args.ops, canvas, notify=say, check=check)
     if preset is None:
         check_controllers(args, document.recipe)
     if args.input is None and document.recipe.canvas is None:

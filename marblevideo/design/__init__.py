@@ -4,7 +4,9 @@ sheet, a photo, a video frame or a live source.
 The page (``web/index.html`` and its ES modules, ``GET /web/NAME``) is served
 by the HTTP server of both modes (:class:`marblevideo.serve.server.Server`) on
 127.0.0.1 only, and does
-everything through this HTTP API, which scripts and tests may use too:
+everything through this HTTP API, which scripts and tests may use too (described
+as OpenAPI 3.1 at ``GET /api/openapi.json``, from the one table the session
+answers from: :mod:`marblevideo.design.routes`):
 
 - ``GET /api/recipe``: the recipe as saved in FILE (JSON). While FILE on disk
   is broken (another program saved an invalid recipe), ``409 {"error": "FILE:
@@ -52,7 +54,9 @@ everything through this HTTP API, which scripts and tests may use too:
 (:mod:`marblevideo.design.live`): ``/api/info`` says ``"mode": "live"``, the
 sheet shows the live frames, and edits go to the live recipe file.
 
-Errors are JSON ``{"error": "..."}`` with status 400 (a bad request or recipe,
+Errors are JSON ``{"error": "..."}`` with status 400 (a bad request or recipe, a
+frame of more than :data:`~marblevideo.limits.MAX_FRAME_PIXELS`, a blank sheet's
+recipe without a canvas,
 a body nested deeper than :data:`~marblevideo.limits.MAX_DEPTH` levels), 403 (a
 write from another origin: :mod:`marblevideo.serve.server`), 404/405 (no such
 route), 409 (FILE is broken on disk) or 500. Hot reload: FILE is polled; when another

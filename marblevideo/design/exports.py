@@ -1,4 +1,5 @@
-"""The designer's Export links for other hosts (GET /api/export.SUFFIX): the
+"""The designer's Export links for other hosts (GET /api/export.SUFFIX, routes in
+:mod:`marblevideo.design.routes`): the
 design as ``marblevideo export`` writes it (:mod:`marblevideo.export`), a
 generator where the designer draws on a blank sheet, else a filter of the input."""
 
@@ -10,14 +11,6 @@ from marblevideo.limits import DEFAULT_FPS
 #: runs with, ISF's .fs.
 EXPORTS = (".cl", ".frag", ".vert", ".fs")
 TEXT = "text/plain; charset=utf-8"
-
-
-def export_routes(session) -> dict:
-    """The session API's routes of the exports: (method, path) -> a function
-    giving (body, content type)."""
-    return {
-        ("GET", f"/api/export{x}"): (lambda x=x: (export_file(session, x), TEXT)) for x in EXPORTS
-    }
 
 
 def export_file(session, suffix: str) -> bytes:

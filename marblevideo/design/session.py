@@ -19,21 +19,18 @@ from importlib import resources
 from pathlib import Path
 from urllib.parse import parse_qs
 
-from marblevideo.controllers.api import learn, signals_state
+from marblevideo.controllers.api import signals_state
 from marblevideo.controllers.values import ControllerSignals, SessionSignals
-from marblevideo.design.describe import describe_ops
-from marblevideo.design.exports import export_routes
 from marblevideo.design.layers import above_map, layers_answer, parse_view
 from marblevideo.design.motion import DesignMotion
 from marblevideo.errors import MarbleError, RecipeError, UsageError
-from marblevideo.limits import MAX_SIDE
+from marblevideo.limits import MAX_FRAME_PIXELS, MAX_SIDE
 from marblevideo.marbler import Marbler, blank_size, image_size
 from marblevideo.recipe import Recipe, parse_recipe
 from marblevideo.recipe.frame import fit
 from marblevideo.serve.server import json_answer, request_json
 
 RELOAD_POLL = 0.25
-RAW = "application/octet-stream"
 #: The page: ``index.html`` and its ES modules, served as ``/web/NAME``.
 WEB = resources.files("marblevideo.design") / "web"
 
@@ -109,15 +106,18 @@ def _view(query: dict) -> tuple[float, float, float, float] | None:
 
 def _size(query: dict, frame: tuple[int, int]) -> tuple[int, int]:
     """The render's size: ``w`` and ``h`` both given (1..MAX_SIDE), else the
-    frame's, ``w`` wide at most when only ``w`` is given (the aspect kept)."""
+    frame's, ``w`` wide at most when only ``w`` is given (the aspect kept); at most
+    MAX_FRAME_PIXELS in all (a frame the size of a huge canvas must be asked smaller)."""
     w, h = frame
     width, height = _number(query, "w", None), _number(query, "h", None)
     if width is not None and height is not None:
         if not (1 <= width <= MAX_SIDE and 1 <= height <= MAX_SIDE):
             raise Answer(400, f"w, h: expected 1..{MAX_SIDE} pixels each")
-        return round(width), round(height)
-    if width is not None and 8 <= width < w:
-        return round(width), max(1, round(h * width / w))
+        w, h = round(width), round(height)
+    elif width is not None and 8 <= width < w:
+        w, h = round(width), max(1, round(h * width / w))
+    if w * h > MAX_FRAME_PIXELS:
+        raise Answer(400, f"a frame of {w} x {h} pixels: more than {MAX_FRAME_PIXELS:,} (ask w, h)")
     return w, h
 
 
@@ -295,32 +295,17 @@ class DesignSession:
             return json_answer({"error": f"{path}: {type(exc).__name__}: {exc}"}, 500)
 
     def _answer(self, method: str, path: str, q: dict, body: bytes | None):
-        routes = {
-            ("PUT", "/api/recipe"): lambda: ({"version": self.put(body), **self.info()}, None),
-            ("GET", "/api/info"): lambda: (self.info(), None),
-            ("GET", "/api/ops"): lambda: (describe_ops(), None),
-            ("GET", "/api/frame.png"): lambda: (self.frame_png(q), "image/png"),
-            ("POST", "/api/frame.png"): lambda: (self.frame_png(q, body or b"null"), "image/png"),
-            ("GET", "/api/frame.rgba"): lambda: (self.frame_rgba(q), RAW),
-            ("POST", "/api/frame.rgba"): lambda: (self.frame_rgba(q, body or b"null"), RAW),
-            ("POST", "/api/layers"): lambda: (self.layers(q, body or b"null"), RAW),
-            ("GET", "/api/design.svg"): lambda: (self.svg(q), "image/svg+xml"),
-            **export_routes(self),
-            ("GET", "/api/signals"): lambda: (self.signals(), None),
-            ("POST", "/api/learn"): lambda: (learn(self.controllers), None),
-            ("GET", "/api/motion"): lambda: (self.motion.state(q), None),
-        }
-        if (method, path) == ("GET", "/api/recipe"):  # 409 while FILE is broken on disk
-            code, doc = self.document.answer()
-            return code, json.dumps(doc, indent=1).encode(), "application/json"
-        route = routes.get((method, path))
-        if route is None:
-            known = {p for m, p in routes} | {"/api/recipe"}
-            raise Answer(405 if path in known else 404, f"{method} {path}: no such route")
-        data, ctype = route()
-        if isinstance(data, bytes):
-            return 200, data, ctype
-        return 200, json.dumps(data, indent=1 if ctype else None).encode(), "application/json"
+        from marblevideo.design.routes import answer
+
+        try:
+            return answer(self, method, path, q, body)
+        except LookupError as exc:
+            raise Answer(exc.args[0], f"{method} {path}: no such route") from None
+
+    def recipe_answer(self) -> tuple[int, bytes, str]:
+        """``GET /api/recipe``: the recipe as saved; 409 while FILE is broken on disk."""
+        code, doc = self.document.answer()
+        return code, json.dumps(doc, indent=1).encode(), "application/json"
 
     def signals(self) -> dict:
         """``GET /api/signals`` (:mod:`marblevideo.controllers.api`)."""

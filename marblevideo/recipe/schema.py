@@ -330,7 +330,9 @@ def _properties() -> dict:
         "canvas": {
             "title": "size [W, H]",
             "type": "array",
-            "items": _ref("positive"),
+            # each side 1/LIMIT at least: a frame's pixels per canvas unit stay finite
+            # (a side of 5e-324 gave the SVG writer an infinite scale: the API fuzz)
+            "items": _number(minimum=1e-30),  # 1 / LIMIT
             "minItems": 2,
             "maxItems": 2,
             "description": "Size of the design in canvas units (default: the input's size).",

@@ -42,11 +42,13 @@ def save_recipe(path: str | os.PathLike, doc: object) -> Recipe:
     return save_stamped(path, doc)[0]
 
 
-def save_stamped(path: str | os.PathLike, doc: object) -> tuple[Recipe, tuple | None]:
+def save_stamped(path: str | os.PathLike, doc: object, check=None) -> tuple[Recipe, tuple | None]:
     """:func:`save_recipe`, and the saved file's stamp (:func:`file_stamp`), taken
     before the rename moves it into place: a change another program makes at once
-    is never taken for this save."""
+    is never taken for this save. ``check(recipe)`` may refuse it (RecipeError) first."""
     recipe = parse_recipe(doc, str(path))
+    if check is not None:
+        check(recipe)
     text = json.dumps(doc, indent=2) + "\n"
     with atomic_output(path, overwrite=True) as tmp:
         tmp.write_text(text, encoding="utf-8")
@@ -71,7 +73,9 @@ class RecipeFile:
 
     A missing FILE is made (a blank sheet of ``canvas``) when ``create``, else
     refused as :func:`~marblevideo.recipe.load_recipe` refuses it. ``notify``
-    gets the one-line message of each change on disk that is refused."""
+    gets the one-line message of each change on disk that is refused; ``check``
+    (of a Recipe, raising RecipeError) refuses what the session cannot show (a
+    blank sheet's recipe without a canvas), in a save and in a change on disk."""
 
     def __init__(
         self,
@@ -80,8 +84,10 @@ class RecipeFile:
         *,
         create: bool = True,
         notify=None,
+        check=None,
     ):
         self.path = Path(path)
+        self._check = check or (lambda recipe: None)
         self._lock = threading.Lock()
         self._notify = notify or (lambda message: None)
         self.error: str | None = None
@@ -115,7 +121,7 @@ class RecipeFile:
         """Validate ``doc``, save it atomically and make it current; its version.
         RecipeError (nothing saved) when it is not a valid recipe."""
         with self._lock:
-            recipe, self._stamp = save_stamped(self.path, doc)
+            recipe, self._stamp = save_stamped(self.path, doc, self._check)
             self.doc, self.recipe = doc, recipe
             self.version += 1
             self.error = None
@@ -134,6 +140,7 @@ class RecipeFile:
             self._stamp = stamp
         try:
             doc, recipe = read_recipe(self.path)
+            self._check(recipe)
             error = None
         except (RecipeError, UsageError, ValueError) as exc:
             error = f"{exc} (keeping the previous recipe)"

@@ -25,7 +25,10 @@ with a ``page()`` method gives the page. The live routes are a live session's
 (``stats()``, ``latest_jpeg()``, ``control()``): 404 for a session without them
 (the designer's, :class:`~marblevideo.design.session.DesignSession`).
 
-Requests must name the server as their Host (127.0.0.1 or localhost), and
+Every error is answered as JSON, ``{"error": "..."}`` in one line (the
+designer's routes are described at ``GET /api/openapi.json``:
+:mod:`marblevideo.design.routes`). Requests must name the server as their Host
+(127.0.0.1 or localhost), and
 ``/control`` and the API's PUT and POST take ``Content-Type: application/json``
 only, so other web pages open in the same browser cannot drive it (no CORS
 headers are ever sent). A PUT or POST that says where it comes from (its
@@ -118,7 +121,7 @@ class _Handler(BaseHTTPRequestHandler):
         allowed = {f"{HOST}:{port}", f"localhost:{port}"}
         if self.headers.get("Host", "") in allowed:
             return True
-        self._send(403, b"forbidden host\n", "text/plain")
+        self._json({"error": f"Host {self.headers.get('Host', '')!r} is not this server"}, 403)
         return False
 
     def _origin_ok(self) -> bool:
@@ -146,6 +149,9 @@ class _Handler(BaseHTTPRequestHandler):
 
     def _json(self, obj, code: int = 200) -> None:
         self._send(code, json.dumps(obj).encode(), "application/json")
+
+    def _not_found(self) -> None:
+        self._json({"error": f"{self.command} {self.path.partition('?')[0]!r}: not found"}, 404)
 
     def _api(self, method: str) -> bool:
         """Hand an ``/api/`` request to the session; whether it was one."""
@@ -201,7 +207,7 @@ class _Handler(BaseHTTPRequestHandler):
         elif path == "/stream.mjpg" and hasattr(session, "latest_jpeg"):
             self._stream()
         else:
-            self._send(404, b"not found\n", "text/plain")
+            self._not_found()
 
     def _frame(self, query: str) -> None:
         """The newest JPEG; with ``after=SEQ``, one newer than SEQ (waited for up to
@@ -211,7 +217,7 @@ class _Handler(BaseHTTPRequestHandler):
         try:
             after = int(parse_qs(query).get("after", ["0"])[-1])
         except ValueError:
-            self._send(400, b"after: expected a frame number\n", "text/plain")
+            self._json({"error": "after: expected a frame number"}, 400)
             return
         seq, data, serial, shown = self.server.session.latest_jpeg(after, timeout=2.0)
         if data is None:
@@ -257,13 +263,13 @@ class _Handler(BaseHTTPRequestHandler):
 
     def do_PUT(self):  # noqa: N802 - http.server's naming
         if self._host_ok() and self._origin_ok() and not self._api("PUT"):
-            self._send(404, b"not found\n", "text/plain")
+            self._not_found()
 
     def do_POST(self):  # noqa: N802 - http.server's naming
         if not (self._host_ok() and self._origin_ok()) or self._api("POST"):
             return
         if self.path != "/control" or not hasattr(self.server.session, "control"):
-            self._send(404, b"not found\n", "text/plain")
+            self._not_found()
             return
         body = self._body("control", 65536)
         if body is None:

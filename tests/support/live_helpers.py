@@ -34,18 +34,21 @@ RECIPE = {
 
 class LiveProcess:
     """``marblevideo COMMAND ARGS`` running (``live`` by default, or ``design``);
-    ``url`` is the address of its page (live: with --preview)."""
+    ``url`` is the address of its page (live: with --preview); ``preexec`` runs in
+    the child before it starts (a resource limit)."""
 
     def __init__(
-        self, *args, cwd: Path, preview: bool = True, timeout: float = 60.0, command="live"
-    ):
+        self, *args, cwd: Path, preview: bool = True, timeout: float = 60.0, command="live",
+        preexec=None,
+    ):  # fmt: skip
         cmd = [sys.executable, "-m", "marblevideo", command, *map(str, args)]
         env = subprocess_env(PYTHONUNBUFFERED="1")
         self.stderr_path = cwd / f"{command}.stderr"
         self.stderr_file = self.stderr_path.open("w")
         self.proc = subprocess.Popen(
-            cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=self.stderr_file, text=True
-        )
+            cmd, cwd=cwd, env=env, stdout=subprocess.PIPE, stderr=self.stderr_file, text=True,
+            preexec_fn=preexec,
+        )  # fmt: skip
         self.url = None
         if preview:
             line = self.proc.stdout.readline()

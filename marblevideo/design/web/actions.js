@@ -3,6 +3,7 @@
 // perform(state) and enabled(state) (and, for a mode such as a tool, on(state)).
 // The keyboard shortcuts, the buttons' hints (title), clicks and disabled or
 // "on" looks are all built from it: a button names its action (data-action).
+import { isField } from "./dom.js";
 import { clearOps, remove, select } from "./edits.js";
 import { redo, undo } from "./recipe.js";
 import { get, update } from "./store.js";
@@ -54,7 +55,7 @@ export function perform(name) {
   if (a.enabled(s)) a.perform(s);
 }
 function onKey(ev) {
-  if (["INPUT", "SELECT", "TEXTAREA"].includes(ev.target.tagName) || ev.target.isContentEditable) return;
+  if (isField(ev.target)) return;
   for (const a of registry.values()) {
     const key = a.keys.find((k) => matches(k, ev));
     if (key === undefined) continue;

@@ -1,5 +1,8 @@
 // Small DOM helpers every view uses.
 export const $ = (id) => document.getElementById(id);
+// Whether ``el`` is a field that takes the keys typed (an input of any kind, a
+// menu, a text area, a contenteditable): the page's shortcuts leave its keys alone.
+export const isField = (el) => !!el && (["INPUT", "SELECT", "TEXTAREA"].includes(el.tagName) || el.isContentEditable);
 
 // A button of the op list or the editors: ``title`` is also its data-act.
 export function button(label, title, action) {

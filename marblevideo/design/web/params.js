@@ -1,10 +1,11 @@
 // The selected op's parameter editors (a view of the store), built from its
 // type's parameters in /api/ops: numbers (a field and a slider of the
 // parameter's range law; a key at the current time), points (x and y),
-// colours, choices, and JSON for lists and keyframe tracks; a bind menu where
-// controllers exist (signals.js).
+// colours, choices, keyframe tracks as their list of keys (keys.js) and JSON for
+// lists and signals; a bind menu where controllers exist (signals.js).
 import { $, button, hexColor, input } from "./dom.js";
 import { keyed, setParam } from "./edits.js";
+import { keysText, parseField } from "./keys.js";
 import { rangeOf, valueNow } from "./numbers.js";
 import { clearPreview, sendPreview } from "./livepreview.js";
 import { liveGesture } from "./sheet.js";
@@ -22,7 +23,7 @@ function readParam(p) {
   const el = $(`p-${p.name}`);
   if (el.type === "number") return el.value === "" ? undefined : Number(el.value);
   if (el.tagName === "SELECT") return el.value;
-  return el.value.trim() === "" ? undefined : JSON.parse(el.value);
+  return parseField(el.value);
 }
 let fields = 0;  // counts the editors shown: a field removed with a value typed in is dropped
 // Save parameter ``name`` of op i from the editors shown as ``shown``.
@@ -75,10 +76,12 @@ function slider(i, p, v, shown) {
 function editor(i, p, v, shown) {
   const saved = (read) => () => save(i, p.name, read(), shown);
   if (isTrack(v) || isSignal(v) || !(NUMBER_KINDS.includes(p.kind) || p.kind === "point" || p.kind === "color" || p.choices)) {
-    const field = input(`p-${p.name}`, "text", v === undefined ? "" : JSON.stringify(v));
+    const list = isTrack(v) ? keysText(v) : null;
+    const field = input(`p-${p.name}`, "text", v === undefined ? "" : list ?? JSON.stringify(v));
+    if (list !== null) field.title = "keys: TIME s: VALUE (EASE) → ...; or a value, set as a key here by \"key\"";
     field.addEventListener("change", () => {
       let value;
-      try { value = readParam(p); } catch (e) { setError(`ops[${i}].${p.name}: invalid JSON: ${e.message}`); return; }
+      try { value = readParam(p); } catch (e) { setError(`ops[${i}].${p.name}: ${e.message}`); return; }
       save(i, p.name, value, shown);
     });
     return field;

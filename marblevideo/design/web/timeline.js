@@ -54,12 +54,17 @@ async function control(request) {
 }
 
 // The time slider and the clock (live mode: the session's time, set only while
-// the hand is not on the slider, see liveStats).
-export const clockOf = (s) => [s.t, s.duration];
+// the hand is not on the slider, see liveStats). Past the recipe's end (live, loop
+// off: the session's clock runs on) the slider rests at the end and the clock
+// says so, with the session's time.
+export const clockOf = (s) => [s.t, s.duration, isLive(s) && s.live ? s.live.t : null];
 export function showClock(s) {
+  const session = isLive(s) && s.live ? s.live.t : null, past = session !== null && session > s.duration;
   $("time").max = s.duration;
   $("time").value = s.t;
-  $("clock").textContent = `t = ${s.t.toFixed(2)} s`;
+  $("clock").textContent = past ? `t = ${session.toFixed(2)} s, past the recipe's end (${s.duration.toFixed(2)} s)`
+    : `t = ${s.t.toFixed(2)} s`;
+  $("clock").classList.toggle("past", past);
 }
 // Play, loop, and live mode's counters and switches.
 export const playOf = (s) => [s.playing, s.loop, s.live];

@@ -6,7 +6,7 @@
 // pointer, + and -, 0 resets) and pan (a drag with Space held or the middle
 // button, the arrow keys) change the view; the sheet renders it exactly.
 // A "pixel" here is a device pixel of the sheet: (0, 0) its top-left corner.
-import { $ } from "./dom.js";
+import { $, isField } from "./dom.js";
 import { get, update } from "./store.js";
 import { round1 } from "./values.js";
 
@@ -103,10 +103,17 @@ const KEYS = {
   ArrowLeft: () => panBy(sheet.width / 10, 0), ArrowRight: () => panBy(-sheet.width / 10, 0),
   ArrowUp: () => panBy(0, sheet.height / 10), ArrowDown: () => panBy(0, -sheet.height / 10),
 };
+// Space held is the keyboard's state, wherever the focus is: a field keeps its
+// key (a space typed, a colour chooser's), and a press on the sheet while it is
+// held pans and takes the focus from the field, so the keys after it are the page's.
 let space = false, panning = null;
 function onKey(ev) {
-  if (ev.target.tagName === "INPUT" || ev.target.tagName === "SELECT" || ev.target.tagName === "TEXTAREA") return;
-  if (ev.key === " ") { space = ev.type === "keydown"; ev.preventDefault(); return; }
+  if (ev.key === " ") {
+    if (!ev.repeat) space = ev.type === "keydown";
+    if (!isField(ev.target)) ev.preventDefault();  // the page does not scroll
+    return;
+  }
+  if (isField(ev.target)) return;
   if (ev.type !== "keydown" || ev.ctrlKey || ev.metaKey || ev.altKey || !KEYS[ev.key] || !get().info) return;
   ev.preventDefault();
   KEYS[ev.key]();
@@ -114,6 +121,7 @@ function onKey(ev) {
 // A press with Space held or the middle button pans; it never reaches the gestures.
 function onPointer(ev) {
   if (ev.type === "pointerdown" && (ev.button === 1 || (ev.button === 0 && space))) {
+    if (isField(document.activeElement)) document.activeElement.blur();
     panning = {id: ev.pointerId, at: eventPixel(ev)};
     overlay.setPointerCapture(ev.pointerId);
   } else if (!panning || ev.pointerId !== panning.id) return;
@@ -132,6 +140,7 @@ function onWheel(ev) {
 export function initView() {
   document.addEventListener("keydown", onKey);
   document.addEventListener("keyup", onKey);
+  window.addEventListener("blur", () => { space = false; });  // its keyup goes to another window
   const wrap = $("wrap");
   for (const kind of ["pointerdown", "pointermove", "pointerup", "pointercancel"]) {
     wrap.addEventListener(kind, onPointer, {capture: true});
