@@ -42,6 +42,7 @@ class PaletteFrames:
         self.width, self.height, self.time_base = width, height, time_base
         self.spill = tempfile.TemporaryFile(prefix="marblevideo-gif-")  # noqa: SIM115 (closed in finish)
         self.times: list[tuple[int, int]] = []  # (pts, duration) of each frame
+        self.palettes: list[av.VideoFrame] = []  # palettegen's answer (at the end)
         self.graph = av.filter.Graph()
         self.source = self._buffer(self.graph, width, height, "rgba")
         generate = self.graph.add("palettegen", PALETTEGEN)
@@ -63,6 +64,10 @@ class PaletteFrames:
     def add(self, rgba: np.ndarray, pts: int, duration: int) -> None:
         """Take frame ``rgba`` (h, w, 4) uint8 shown from ``pts`` for ``duration``."""
         self.source.push(self._frame(rgba, pts))
+        # pulled at once: a frame pushed is queued in the buffer source until the
+        # graph is asked for output (a 7 s GIF at 1600x900 held 0.9 GB of them,
+        # found by tests/test_fuzz_inputs.py under its 1 GiB limit)
+        _drain(self.sink, self.palettes.append)
         self.spill.write(np.ascontiguousarray(rgba).tobytes())
         self.times.append((pts, duration))
 
@@ -72,9 +77,8 @@ class PaletteFrames:
             if not self.times:
                 return
             self.source.push(None)
-            palettes: list[av.VideoFrame] = []
-            _drain(self.sink, palettes.append)
-            palette = palettes[-1]
+            _drain(self.sink, self.palettes.append)
+            palette = self.palettes[-1]
             graph = av.filter.Graph()
             frames = self._buffer(graph, self.width, self.height, "rgba")
             colours = self._buffer(graph, palette.width, palette.height, palette.format.name)
