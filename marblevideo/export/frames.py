@@ -124,34 +124,45 @@ def _window(items: list[bytes]) -> tuple[int, int]:
 class _Budget:
     """The tables' size so far, refused past ``limit`` bytes."""
 
-    def __init__(self, recipe, fps: float, limit: int):
+    def __init__(self, recipe, fps: float, limit: int, raise_limit: bool):
         self.recipe, self.fps, self.limit, self.words = recipe, fps, limit, 0
+        self.raise_limit = raise_limit
 
     def add(self, words: int) -> None:
         self.words += words
         if _WORD * self.words <= self.limit:
             return
-        every = (
-            " (every OpenCL device gives that much)" if self.limit <= EXPORT_CONSTANT_BYTES else ""
+        every = ""
+        if self.raise_limit and self.limit <= EXPORT_CONSTANT_BYTES:
+            every = " (every OpenCL device gives that much)"
+        more = (
+            ", or give --constant-memory BYTES for a device with more (clinfo: max constant "
+            "buffer size)"
+            if self.raise_limit
+            else ""
         )
         raise UsageError(
             f"{self.recipe.source}: its frames at {self.fps:g} fps need over "
             f"{_WORD * self.words} bytes, more than the {self.limit} bytes of constant memory "
-            f"the program may use{every}: export at a lower --fps, or give "
-            "--constant-memory BYTES for a device with more (clinfo: max constant buffer size)"
+            f"the program may use{every}: export at a lower --fps{more}"
         )
 
 
 def frame_table(
-    recipe, fps: float, canvas: tuple[float, float], limit: int = EXPORT_CONSTANT_BYTES
+    recipe,
+    fps: float,
+    canvas: tuple[float, float],
+    limit: int = EXPORT_CONSTANT_BYTES,
+    raise_limit: bool = True,
 ) -> FrameTable:
     """The tables of ``recipe`` at ``fps`` on ``canvas`` (see the module). Raises
     UsageError, before storing past it, when they would take more than ``limit``
-    bytes."""
+    bytes (its message offers ``--constant-memory`` where ``raise_limit``: the .cl
+    export's option; a shader's limit is fixed)."""
     samples = pattern(recipe.antialias).astype(np.float32)
     frames = frame_count(recipe, fps)
     nops = len(recipe.ops)
-    budget = _Budget(recipe, fps, limit)
+    budget = _Budget(recipe, fps, limit, raise_limit)
     budget.add(samples.size + 3 * max(nops, 1) + 1)
     per_op: list[list[tuple[np.ndarray, np.ndarray]]] = [[] for _ in range(nops)]
     backgrounds = []

@@ -133,7 +133,7 @@ def shader_body(recipe, fps: float, sheet: bool, what: str) -> tuple[str, float]
     pixel) and the time the recipe settles (seconds)."""
     check_exportable(recipe, what)
     canvas = recipe.canvas or (1.0, 1.0)
-    table = frame_table(recipe, fps, canvas, EXPORT_CONSTANT_BYTES)
+    table = frame_table(recipe, fps, canvas, EXPORT_CONSTANT_BYTES, raise_limit=False)
     data = [table.rows.ravel(), table.lists, table.background.ravel(), table.samples.ravel()]
     at = np.cumsum([0, *(a.size for a in data)])
     translator = Translator()
